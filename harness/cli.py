@@ -1,0 +1,90 @@
+"""`python -m harness COMMAND`: the bench's command line (DESIGN §7)."""
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import sys
+
+from harness import DEFAULT_DB, DEFAULT_MISSION_DIR
+from harness.errors import UntimelyError
+
+VARIANTS_HELP = "genom, bip-a, bip-b, bare, reference"
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="python -m harness",
+        description="Untimely: mutate a mission script, run it against a simulated functional "
+                    "layer, store every request and reply in DuckDB, judge traces with SQL oracles.")
+    sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    def command(name, help, target):
+        c = sub.add_parser(name, help=help, description=help)
+        c.set_defaults(target=target)
+        return c
+
+    def db(c, help="the DuckDB store"):
+        c.add_argument("--db", default=str(DEFAULT_DB), help=f"{help} (default: %(default)s)")
+
+    c = command("run", "run one script on one variant, store and summarise its trace", "harness.run:main")
+    c.add_argument("mission", help="a mission script, e.g. missions/dala/golden.mission")
+    c.add_argument("--sut", required=True, help=f"implementation variant: {VARIANTS_HELP}")
+    c.add_argument("--seed", type=int, default=0, help="seed of the observation delays (default: 0)")
+    c.add_argument("--interface", help="interface description (default: interface.toml beside the script)")
+    c.add_argument("--max-delay", type=float, default=0.003,
+                   help="largest interface observation delay in seconds (default: %(default)s)")
+    db(c)
+
+    c = command("campaign", "run golden + seeded mutants on each variant; resumable", "harness.campaign:main")
+    c.add_argument("--mission", default=str(DEFAULT_MISSION_DIR), help="mission folder (default: %(default)s)")
+    c.add_argument("--mutants", type=int, default=300, help="number of mutants (default: %(default)s)")
+    c.add_argument("--sut", default="genom,bip-a,bip-b", help="comma-separated variants (default: %(default)s)")
+    c.add_argument("--seed", type=int, default=2012, help="campaign seed (default: %(default)s)")
+    c.add_argument("--jobs", type=int, default=0, help="worker processes, 0 = all cores (default: %(default)s)")
+    c.add_argument("--ops-per-mutant", type=int, default=1, help="mutation operations per mutant (default: 1)")
+    c.add_argument("--time-mutations", action="store_true", help="also drop waits and change sleeps")
+    c.add_argument("--max-delay", type=float, default=0.003,
+                   help="largest interface observation delay in seconds (default: %(default)s)")
+    db(c)
+
+    c = command("analyze", "(re)materialise verdicts from the stored traces and print Tables II-IV",
+                "harness.analyzer:main")
+    c.add_argument("--properties", default=str(DEFAULT_MISSION_DIR / "properties.toml"),
+                   help="properties file (default: %(default)s)")
+    c.add_argument("--epsilon", type=float, default=0.01,
+                   help="margin in seconds below which a verdict is suspicious (default: %(default)s)")
+    db(c)
+
+    c = command("report", "write the HTML report and CSV tables from the store alone", "harness.report:main")
+    c.add_argument("--out", default="reports", help="output folder (default: %(default)s)")
+    c.add_argument("--trace", type=int, action="append", default=[],
+                   help="also write the page of this trace id (repeatable)")
+    db(c)
+
+    c = command("import", "load foreign traces (CSV, JSON lines, Parquet) into the store",
+                "harness.importer:main")
+    c.add_argument("file", help="a .csv, .jsonl or .parquet file with the events columns")
+    c.add_argument("--interface", required=True, help="interface description giving the reply classes")
+    db(c)
+
+    c = command("sql", "run ad-hoc SQL against the store and print an aligned table", "harness.sqlshell:main")
+    c.add_argument("query", help="a SQL query, e.g. \"select * from trace_robustness\"")
+    db(c)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    module, function = args.target.split(":")
+    try:
+        return getattr(importlib.import_module(module), function)(args) or 0
+    except UntimelyError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("interrupted; the store keeps every finished transaction", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1

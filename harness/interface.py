@@ -1,0 +1,174 @@
+"""The interface description and the properties, read from TOML data files (DESIGN §2-§3)."""
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from harness.errors import InputFileError
+
+SERVICE_KINDS = ("init", "control", "exec")
+REPLY_CLASSES = ("T", "Z", "R")
+PROPERTY_TYPES = ("PC", "ES", "EE", "EX", "MX_R", "MX_I")
+# Which parameters each basic type needs besides x (DESIGN §6).
+TYPE_PARAMETERS = {
+    "PC": ("q", "r_p"),
+    "ES": ("y", "r_p"),
+    "EE": ("y", "z_p"),
+    "EX": ("y", "r_p", "z_p"),
+    "MX_R": ("y", "r_p"),
+    "MX_I": ("y", "z_p"),
+}
+
+
+@dataclass(frozen=True)
+class Argument:
+    name: str
+    type: str  # "float" or "str"
+    min: float | None = None
+    max: float | None = None
+    choices: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Service:
+    module: str
+    name: str
+    kind: str
+    args: dict[str, Argument] = field(default_factory=dict)
+
+    @property
+    def qualified(self) -> str:
+        return f"{self.module}.{self.name}"
+
+
+@dataclass(frozen=True)
+class Interface:
+    path: str
+    replies: dict[str, str]  # reply code -> class T/Z/R
+    services: dict[str, Service]  # "module.Service" -> Service
+    posters: dict[str, str]  # module -> poster name
+
+    @property
+    def modules(self) -> list[str]:
+        return list(dict.fromkeys(s.module for s in self.services.values()))
+
+    def reply_codes(self) -> list[tuple[str, str, str, str]]:
+        """Rows of the reply_codes table: every service may end with every catalogued code."""
+        return [(s.module, s.name, code, cls)
+                for s in self.services.values() for code, cls in self.replies.items()]
+
+
+@dataclass(frozen=True)
+class Property:
+    id: str
+    family: str
+    type: str
+    x: tuple[str, ...]
+    y: tuple[str, ...] = ()
+    q: tuple[str, ...] = ()
+    r_p: str | None = None
+    z_p: str | None = None
+
+
+def _read_toml(path: Path) -> dict:
+    try:
+        with open(path, "rb") as f:
+            return tomllib.load(f)
+    except FileNotFoundError:
+        raise InputFileError(path, "", "file not found; pass an existing file") from None
+    except tomllib.TOMLDecodeError as e:
+        raise InputFileError(path, "", f"not valid TOML: {e}") from None
+
+
+def _argument(path, where, name, spec) -> Argument:
+    if not isinstance(spec, dict) or spec.get("type") not in ("float", "str"):
+        raise InputFileError(path, where, f"argument {name!r} has type {spec!r}; "
+                             "use { type = \"float\", min = .., max = .. } or { type = \"str\", choices = [..] }")
+    if spec["type"] == "float":
+        lo, hi = spec.get("min"), spec.get("max")
+        if not isinstance(lo, (int, float)) or not isinstance(hi, (int, float)) or lo > hi:
+            raise InputFileError(path, where, f"argument {name!r} needs numeric min <= max, got min={lo!r} max={hi!r}")
+        return Argument(name, "float", float(lo), float(hi))
+    choices = spec.get("choices")
+    if not choices or not all(isinstance(c, str) for c in choices):
+        raise InputFileError(path, where, f"argument {name!r} needs a non-empty list of string choices, got {choices!r}")
+    return Argument(name, "str", choices=tuple(choices))
+
+
+def load_interface(path: str | Path) -> Interface:
+    path = Path(path)
+    data = _read_toml(path)
+    replies = data.get("replies")
+    if not isinstance(replies, dict) or not replies:
+        raise InputFileError(path, "[replies]", "missing reply catalogue; add a [replies] table of code = \"T|Z|R\"")
+    for code, cls in replies.items():
+        if cls not in REPLY_CLASSES:
+            raise InputFileError(path, f"[replies] {code}", f"class {cls!r} is not one of T, Z, R")
+    if "ok" not in replies or replies["ok"] != "T":
+        raise InputFileError(path, "[replies]", "the catalogue must contain ok = \"T\"")
+    modules = data.get("modules")
+    if not isinstance(modules, dict) or not modules:
+        raise InputFileError(path, "[modules]", "no modules declared; add [modules.NAME] tables")
+    services, posters = {}, {}
+    for module, mspec in modules.items():
+        if mspec.get("poster"):
+            posters[module] = mspec["poster"]
+        for name, sspec in (mspec.get("services") or {}).items():
+            where = f"[modules.{module}] services.{name}"
+            kind = sspec.get("kind") if isinstance(sspec, dict) else None
+            if kind not in SERVICE_KINDS:
+                raise InputFileError(path, where, f"kind {kind!r} is not one of {', '.join(SERVICE_KINDS)}")
+            args = {a: _argument(path, where, a, spec) for a, spec in (sspec.get("args") or {}).items()}
+            services[f"{module}.{name}"] = Service(module, name, kind, args)
+        if not any(s.module == module for s in services.values()):
+            raise InputFileError(path, f"[modules.{module}]", "module declares no services")
+    return Interface(str(path), dict(replies), services, posters)
+
+
+def _names(path, where, value, key, interface: Interface) -> tuple[str, ...]:
+    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
+        raise InputFileError(path, where, f"{key} = {value!r}; give a non-empty list of \"module.Service\"")
+    for v in value:
+        if v not in interface.services:
+            raise InputFileError(path, where, f"{key} names {v!r}, which the interface "
+                                 f"{interface.path} does not declare")
+    return tuple(value)
+
+
+def load_properties(path: str | Path, interface: Interface) -> list[Property]:
+    path = Path(path)
+    entries = _read_toml(path).get("property")
+    if not isinstance(entries, list) or not entries:
+        raise InputFileError(path, "", "no properties; add [[property]] entries")
+    props, seen = [], set()
+    for n, e in enumerate(entries, 1):
+        where = f"property #{n} ({e.get('id', '?')})"
+        if not isinstance(e.get("id"), str) or not e["id"]:
+            raise InputFileError(path, where, f"id = {e.get('id')!r}; every property needs a string id")
+        if e["id"] in seen:
+            raise InputFileError(path, where, f"id {e['id']!r} is used twice; ids must be unique")
+        seen.add(e["id"])
+        if e.get("type") not in PROPERTY_TYPES:
+            raise InputFileError(path, where, f"type {e.get('type')!r} is not one of {', '.join(PROPERTY_TYPES)}")
+        if not isinstance(e.get("family"), str) or not e["family"]:
+            raise InputFileError(path, where, f"family = {e.get('family')!r}; give a family name such as \"PEX\"")
+        needed = ("x",) + TYPE_PARAMETERS[e["type"]]
+        unknown = set(e) - {"id", "family", "type", *needed}
+        if unknown:
+            raise InputFileError(path, where, f"key(s) {sorted(unknown)} do not apply to type {e['type']}; "
+                                 f"it takes {', '.join(needed)}")
+        fields = {}
+        for key in needed:
+            if key not in e:
+                raise InputFileError(path, where, f"type {e['type']} needs {key!r}, which is missing")
+            if key in ("r_p", "z_p"):
+                expected = "R" if key == "r_p" else "Z"
+                if interface.replies.get(e[key]) != expected:
+                    raise InputFileError(path, where, f"{key} = {e[key]!r} is not a class-{expected} reply code "
+                                         f"of the interface {interface.path}")
+                fields[key] = e[key]
+            else:
+                fields[key] = _names(path, where, e[key], key, interface)
+        props.append(Property(id=e["id"], family=e["family"], type=e["type"], **fields))
+    return props

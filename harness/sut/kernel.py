@@ -1,0 +1,176 @@
+"""A tiny discrete-event kernel in virtual time, in the manner of SimPy.
+
+Processes are generators that yield events; the kernel resumes a process when the event
+it waits on is processed. Scheduled events sit in a heap of (time, priority, seq, event):
+`seq` is a global counter, so events at equal times run in a reproducible order.
+Nothing here sleeps: time jumps from one event to the next.
+"""
+from __future__ import annotations
+
+import heapq
+from itertools import count
+from typing import Any, Callable, Generator
+
+URGENT, NORMAL = 0, 1
+
+
+class Interrupt(Exception):
+    """Thrown into a process by Process.interrupt(cause)."""
+
+    @property
+    def cause(self) -> Any:
+        return self.args[0] if self.args else None
+
+
+class Event:
+    """Something that happens once; callbacks run when the kernel processes it."""
+
+    def __init__(self, env: "Environment"):
+        self.env = env
+        self.callbacks: list[Callable[[Event], None]] | None = []
+        self.triggered = False
+        self.ok = True
+        self.value: Any = None
+
+    @property
+    def processed(self) -> bool:
+        return self.callbacks is None
+
+    def succeed(self, value: Any = None, priority: int = NORMAL) -> "Event":
+        if self.triggered:
+            raise RuntimeError(f"{self!r} has already been triggered")
+        self.triggered, self.value = True, value
+        self.env._schedule(self, 0.0, priority)
+        return self
+
+    def fail(self, exception: BaseException) -> "Event":
+        if self.triggered:
+            raise RuntimeError(f"{self!r} has already been triggered")
+        self.triggered, self.ok, self.value = True, False, exception
+        self.env._schedule(self, 0.0, NORMAL)
+        return self
+
+    def __repr__(self) -> str:
+        state = "processed" if self.processed else "triggered" if self.triggered else "pending"
+        return f"<{type(self).__name__} {state} at t={self.env.now:.6f}>"
+
+
+class Timeout(Event):
+    def __init__(self, env: "Environment", delay: float, value: Any = None):
+        if delay < 0:
+            raise ValueError(f"negative timeout delay {delay!r}")
+        super().__init__(env)
+        self.delay, self.triggered, self.value = delay, True, value
+        env._schedule(self, delay, NORMAL)
+
+    def __repr__(self) -> str:
+        return f"<Timeout {self.delay:g}s {'processed' if self.processed else 'pending'}>"
+
+
+class Process(Event):
+    """Runs a generator; the process is itself an event that triggers when the generator returns."""
+
+    def __init__(self, env: "Environment", generator: Generator, name: str = ""):
+        super().__init__(env)
+        self.generator, self.name = generator, name or getattr(generator, "__name__", "process")
+        self.target: Event | None = None
+        start = Event(env)
+        start.callbacks.append(self._resume)
+        start.succeed(priority=URGENT)
+
+    @property
+    def is_alive(self) -> bool:
+        return not self.triggered
+
+    def interrupt(self, cause: Any = None) -> None:
+        """Throw Interrupt(cause) into the process at the current time, ahead of normal events."""
+        if not self.is_alive:
+            return
+        kick = Event(self.env)
+        kick.ok, kick.value = False, Interrupt(cause)
+        kick.callbacks.append(self._resume)
+        kick.triggered = True
+        self.env._schedule(kick, 0.0, URGENT)
+
+    def _resume(self, event: Event) -> None:
+        if not self.is_alive:
+            return
+        if self.target is not None and self.target is not event and self.target.callbacks is not None:
+            # An interruption overtakes the event the process was waiting on.
+            self.target.callbacks.remove(self._resume)
+        self.target = None
+        try:
+            if event.ok:
+                nxt = self.generator.send(event.value)
+            else:
+                nxt = self.generator.throw(event.value)
+        except StopIteration as stop:
+            self.triggered, self.value = True, stop.value
+            self.env._schedule(self, 0.0, NORMAL)
+            return
+        if not isinstance(nxt, Event):
+            raise TypeError(f"process {self.name!r} yielded {nxt!r}; yield an Event")
+        if nxt.callbacks is None:  # already processed: resume right away
+            resume = Event(self.env)
+            resume.callbacks.append(self._resume)
+            resume.succeed(nxt.value, priority=URGENT)
+            self.target = resume
+        else:
+            nxt.callbacks.append(self._resume)
+            self.target = nxt
+
+    def __repr__(self) -> str:
+        return f"<Process {self.name} {'alive' if self.is_alive else 'done'}>"
+
+
+class Environment:
+    """The virtual clock and the event heap."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+        self._heap: list[tuple[float, int, int, Event]] = []
+        self._seq = count()
+
+    def _schedule(self, event: Event, delay: float, priority: int) -> None:
+        heapq.heappush(self._heap, (self.now + delay, priority, next(self._seq), event))
+
+    def event(self) -> Event:
+        return Event(self)
+
+    def timeout(self, delay: float, value: Any = None) -> Timeout:
+        return Timeout(self, delay, value)
+
+    def process(self, generator: Generator, name: str = "") -> Process:
+        return Process(self, generator, name)
+
+    def call_at(self, time: float, callback: Callable[[], None]) -> Event:
+        """Run a plain callback at an absolute time (used for message delivery)."""
+        event = Timeout(self, max(0.0, time - self.now))
+        event.callbacks.append(lambda _e: callback())
+        return event
+
+    def peek(self) -> float:
+        return self._heap[0][0] if self._heap else float("inf")
+
+    def step(self) -> None:
+        self.now, _, _, event = heapq.heappop(self._heap)
+        callbacks, event.callbacks = event.callbacks, None
+        for callback in callbacks:
+            callback(event)
+        if not event.ok and not callbacks and not isinstance(event.value, Interrupt):
+            raise event.value  # a failure nobody waits for must not pass silently
+
+    def run(self, until: float | Event | None = None) -> None:
+        """Process events until the heap is empty, a time is reached, or an event is processed."""
+        if isinstance(until, Event):
+            while not until.processed and self._heap:
+                self.step()
+            return
+        limit = float("inf") if until is None else until
+        while self._heap and self._heap[0][0] <= limit:
+            self.step()
+        if until is not None:
+            self.now = max(self.now, limit)
+
+    def __repr__(self) -> str:
+        return f"<Environment t={self.now:.6f} pending={len(self._heap)}>"

@@ -1,0 +1,76 @@
+-- The trace store (DESIGN §5). Column names are a contract: add, never rename.
+-- Identifiers are integers so that joins over millions of events stay fast.
+
+create table if not exists campaigns (
+    campaign_id  integer primary key,
+    created_at   timestamp not null,
+    mission      varchar not null,
+    seed         bigint not null,
+    config       json not null
+);
+
+create table if not exists scripts (
+    script_id      integer primary key,
+    campaign_id    integer not null,
+    kind           varchar not null check (kind in ('golden', 'mutant')),
+    parent         integer,             -- script_id of the script it was mutated from
+    mutations      json not null,       -- list of operations, empty for golden
+    body           varchar not null,    -- the script text as run
+    valid          boolean not null,
+    invalid_reason varchar              -- the validator's message when not valid
+);
+
+create table if not exists traces (
+    trace_id     integer primary key,
+    campaign_id  integer not null,
+    script_id    integer,               -- null for imported traces
+    sut          varchar not null,
+    seed         bigint,
+    outcome      varchar not null check (outcome in ('completed', 'hung', 'crashed')),
+    sim_s        double,
+    wall_s       double,
+    error        varchar,               -- the exception of a crashed run
+    label        varchar                -- the trace's own name in an imported file
+);
+
+-- Observed at the interface: the only table the oracles read.
+create table if not exists events (
+    trace_id  integer not null,
+    seq       integer not null,
+    t         double not null,
+    kind      varchar not null check (kind in ('request', 'intermediate', 'final')),
+    rqst_id   integer not null,
+    module    varchar not null,
+    service   varchar not null,
+    args      json,
+    reply     varchar
+);
+
+-- Simulator ground truth: the same events on the layer's internal clock. Never read by oracles.
+create table if not exists internal_events (
+    trace_id  integer not null,
+    seq       integer not null,
+    t         double not null,
+    kind      varchar not null check (kind in ('request', 'intermediate', 'final')),
+    rqst_id   integer not null,
+    module    varchar not null,
+    service   varchar not null,
+    args      json,
+    reply     varchar
+);
+
+create table if not exists reply_codes (
+    module   varchar not null,
+    service  varchar not null,
+    reply    varchar not null,
+    class    varchar not null check (class in ('T', 'Z', 'R')),
+    primary key (module, service, reply)
+);
+
+-- Simulator ground truth: collisions, driving with the antenna deployed, broken links.
+create table if not exists world_events (
+    trace_id  integer not null,
+    t         double not null,
+    kind      varchar not null,
+    detail    json
+);
