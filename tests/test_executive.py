@@ -1,0 +1,106 @@
+"""The executive against a small fake layer: sends, waits, delays, hang, crash, determinism."""
+import pytest
+
+from harness.executive import DRAIN_S, run_script
+from harness.mutator.script import parse, validate
+
+
+class FakeLayer:
+    """Ends each request `ok` after `duration` s; `deadlock_at` stops it answering anything."""
+
+    duration, deadlock_at, crash_on, bad_code = 1.0, None, None, None
+
+    def __init__(self, env, variant, interface, world_file):
+        self.env, self.world_events = env, [(0.5, "collision", '{"with": "rock"}')]
+
+    def alive(self):
+        return self.deadlock_at is None or self.env.now < self.deadlock_at
+
+    def receive(self, rqst_id, service, args, reply):
+        if service == self.crash_on:
+            raise ZeroDivisionError("codel divided by zero")
+
+        def finish():
+            if self.alive():
+                reply(rqst_id, "final", self.bad_code or "ok")
+        if service.endswith("TrackSpeedStart"):
+            return  # runs until stopped: never answers here
+        self.env.call_at(self.env.now + self.duration, finish)
+
+    def ping(self, answer):
+        if self.alive():
+            self.env.call_at(self.env.now + 0.01, answer)
+
+
+def play(interface, text, seed=1, layer=FakeLayer, **kw):
+    script = parse(text, "t.mission")
+    validate(script, interface)
+    return run_script(script, "fake", seed, interface, None, layer_factory=layer, **kw)
+
+
+SCRIPT = "send rflex.Init as ri\nsend sick.Init as si\nwait ri\nsleep 2\nsend ndd.Init\nwait all\n"
+
+
+def test_send_is_non_blocking_and_wait_blocks_on_final_replies(interface):
+    trace = play(interface, SCRIPT)
+    assert trace.outcome == "completed"
+    kinds = [(e[2], e[3]) for e in trace.events]
+    assert kinds[:2] == [("request", 1), ("request", 2)]  # both sent before any reply
+    t = {(e[2], e[3]): e[1] for e in trace.events}
+    assert t[("request", 3)] >= t[("final", 1)] + 2  # sleep 2 after the awaited reply
+    assert len(trace.events) == len(trace.internal_events) == 6
+    assert trace.sim_s == pytest.approx(t[("final", 3)])
+
+
+def test_observation_delays_are_seeded_and_bounded(interface):
+    a, b, c = play(interface, SCRIPT, seed=7), play(interface, SCRIPT, seed=7), play(interface, SCRIPT, seed=8)
+    assert a.events == b.events and a.internal_events == b.internal_events
+    assert [e[1] for e in a.events] != [e[1] for e in c.events]
+    internal = {(e[2], e[3]): e[1] for e in a.internal_events}
+    for seq, t, kind, rqst_id, *_ in a.events:
+        lag = internal[(kind, rqst_id)] - t if kind == "request" else t - internal[(kind, rqst_id)]
+        assert 0 <= lag <= 0.003
+    assert [e[0] for e in a.events] == list(range(1, 7))
+
+
+def test_args_are_stored_as_typed_json(interface):
+    trace = play(interface, "send ndd.GotoPosition x=8 y=2.5\nsend rflex.SetMode mode=velocity\nwait all\n")
+    args = [e[6] for e in trace.events if e[2] == "request"]
+    assert args == ['{"x": 8.0, "y": 2.5}', '{"mode": "velocity"}']
+
+
+def test_a_layer_that_stops_answering_ends_the_trace_hung(interface):
+    class Deadlocked(FakeLayer):
+        deadlock_at = 3.0
+    trace = play(interface, "send rflex.Init\nwait all\nsleep 5\nsend sick.Init as s\nwait s\n", layer=Deadlocked)
+    assert trace.outcome == "hung"
+    assert trace.sim_s < 5  # detected by the liveness probe, long before any wait times out
+    assert ("request", 2) not in [(e[2], e[3]) for e in trace.events]
+    assert any(kind == "probe_unanswered" for _, kind, _ in trace.world_events)
+
+
+def test_wait_watchdog_abandons_a_wait_on_a_live_layer(interface):
+    trace = play(interface, "send rflex.TrackSpeedStart as t\nwait t timeout=4\nsend rflex.Init as i\nwait i\n")
+    assert trace.outcome == "completed"
+    notes = [(t, kind) for t, kind, _ in trace.world_events if kind == "wait_timeout"]
+    assert notes[0] == (pytest.approx(4.0), "wait_timeout")
+    # the never-ending activity stays without a final reply after the bounded drain
+    assert not any(e[2] == "final" and e[3] == 1 for e in trace.events)
+    assert trace.sim_s == pytest.approx(4.0 + 1.0 + DRAIN_S, abs=0.01)
+
+
+def test_an_exception_inside_the_layer_ends_the_trace_crashed(interface):
+    class Crashing(FakeLayer):
+        crash_on = "sick.Init"
+    trace = play(interface, SCRIPT, layer=Crashing)
+    assert trace.outcome == "crashed"
+    assert trace.error == "ZeroDivisionError: codel divided by zero"
+    assert [e[2] for e in trace.events] == ["request", "request"]  # what happened before is kept
+
+
+def test_a_reply_outside_the_catalogue_is_a_crash_naming_the_code(interface):
+    class Garbling(FakeLayer):
+        bad_code = "maybe"
+    trace = play(interface, SCRIPT, layer=Garbling)
+    assert trace.outcome == "crashed"
+    assert "replied 'maybe' to request 1 (rflex.Init)" in trace.error

@@ -1,0 +1,69 @@
+import pytest
+
+from harness import DEFAULT_MISSION_DIR
+from harness.errors import ScriptError
+from harness.mutator.script import load_script, parse, validate
+
+
+def check(text, interface):
+    validate(parse(text, "m.mission"), interface)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("send rflex.Init as ri\nfly away\n", "m.mission:2: unknown step 'fly'"),
+    ("sleep soon\n", "m.mission:1: sleep duration 'soon' is not a positive number"),
+    ("sleep -1\n", "sleep duration '-1' is not a positive number"),
+    ("send rflex.Init\nwait all timeout=0\n", "m.mission:2: timeout '0' is not a positive number"),
+    ("wait all later\n", "unexpected 'later' after the handle"),
+    ("send Init\n", "'send' needs MODULE.SERVICE first, got 'Init'"),
+    ("send rflex.Init as\n", "'as' must end the line with one handle name"),
+    ("send rflex.Init as all\n", "'as' must end the line"),
+    ("send ndd.GotoPosition x=1 y\n", "argument 'y' is not of the form name=value"),
+    ("# only a comment\n", "the script has no steps"),
+])
+def test_parse_errors_name_line_and_value(text, message):
+    with pytest.raises(ScriptError) as e:
+        parse(text, "m.mission")
+    assert message in str(e.value)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("send wheels.Init\n", "m.mission:1: unknown service 'wheels.Init'; known modules: rflex, sick"),
+    ("send rflex.Go\n", "unknown service 'rflex.Go'; module 'rflex' offers Init, SetMode, TrackSpeedStart, Stop"),
+    ("send ndd.GotoPosition x=1 y=2 z=3\n", "ndd.GotoPosition has no argument 'z'; it takes x, y"),
+    ("send ndd.GotoPosition x=1\n", "ndd.GotoPosition needs argument(s) y"),
+    ("send ndd.GotoPosition x=far y=2\n", "argument x='far' is not a number"),
+    ("send ndd.GotoPosition x=1 x=2 y=2\n", "argument 'x' is given twice"),
+    ("send rflex.Init as a\nwait b\n", "m.mission:2: wait on handle 'b', which no earlier line sends"),
+    ("wait a\nsend rflex.Init as a\n", "m.mission:1: wait on handle 'a'"),
+    ("send rflex.Init as a\nsend sick.Init as a\n", "m.mission:2: handle 'a' already names the request on line 1"),
+])
+def test_validation_errors_name_line_and_value(interface, text, message):
+    with pytest.raises(ScriptError) as e:
+        check(text, interface)
+    assert message in str(e.value)
+
+
+def test_out_of_domain_values_are_left_to_the_layer(interface):
+    check("send ndd.GotoPosition x=-50 y=2\nsend rflex.SetMode mode=turbo\n", interface)
+
+
+def test_render_round_trips_and_keeps_comments(interface):
+    script = load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
+    again = parse(script.render(), "again")
+    assert again.render() == script.render()
+    assert [s.render() for s in again.steps] == [s.render() for s in script.steps]
+    assert "sleep 3  # science photos" in script.render()
+
+
+def test_golden_mission_uses_every_module_and_service_kind(interface):
+    script = load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
+    sent = [interface.services[s.service] for s in script.steps if s.op == "send"]
+    assert {s.module for s in sent} == set(interface.modules)
+    assert {s.kind for s in sent} == {"init", "control", "exec"}
+    assert sum(s.service == "ndd.GotoPosition" for s in script.steps) == 3
+
+
+def test_missing_script_file_is_named(interface, tmp_path):
+    with pytest.raises(ScriptError, match="nope.mission:0: cannot read the script"):
+        load_script(tmp_path / "nope.mission", interface)
