@@ -1,0 +1,40 @@
+"""Speed of the simulated layer: the golden mission on every variant, simulated s / wall s.
+
+Target (issue 2): at least 2,000x faster than real time on one core.
+"""
+import statistics
+import time
+
+from harness import DEFAULT_MISSION_DIR
+from harness.executive import run_script
+from harness.interface import load_interface
+from harness.mutator.script import load_script
+
+REPEATS = 5
+TARGET = 2000
+
+
+def main() -> int:
+    interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
+    script = load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
+    world = DEFAULT_MISSION_DIR / "world.toml"
+    worst = float("inf")
+    print(f"{'variant':<10} {'outcome':<10} {'sim s':>8} {'wall ms':>9} {'speed-up':>10} {'events/s':>10}")
+    for sut in ("reference", "genom", "bip-a", "bip-b", "bare"):
+        walls = []
+        for seed in range(REPEATS):
+            start = time.perf_counter()
+            trace = run_script(script, sut, seed, interface, world)
+            walls.append(time.perf_counter() - start)
+        wall = statistics.median(walls)
+        speed = trace.sim_s / wall
+        worst = min(worst, speed)
+        print(f"{sut:<10} {trace.outcome:<10} {trace.sim_s:8.1f} {wall * 1000:9.1f} "
+              f"{speed:9,.0f}x {len(trace.events) / wall:10,.0f}")
+    verdict = "meets" if worst >= TARGET else "MISSES"
+    print(f"slowest variant: {worst:,.0f}x real time ({verdict} the {TARGET:,}x target; median of {REPEATS} seeds)")
+    return 0 if worst >= TARGET else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
