@@ -157,20 +157,17 @@ def run_script(script: Script, sut: str, seed: int, interface: Interface, world_
     wall = time.perf_counter()
     env = Environment()
     trace = Trace(sut=sut, seed=seed)
-    executive = None
+    layer = layer_factory(env, sut, interface, world_file)  # a bad variant or world is the user's error
+    executive = Executive(env, layer, interface, random.Random(seed), max_delay)
     try:
-        layer = layer_factory(env, sut, interface, world_file)
-        executive = Executive(env, layer, interface, random.Random(seed), max_delay)
         env.process(executive.play(script), "executive")
         env.process(executive.probe(), "liveness probe")
         env.run(until=executive.done)
         trace.outcome = executive.done.value
-        trace.world_events = list(layer.world_events)
     except Exception as e:  # noqa: BLE001 - any failure inside the layer is a crashed trace
         trace.outcome = "crashed"
         trace.error = "".join(traceback.format_exception_only(e)).strip()
-    if executive is not None:
-        trace.events, trace.internal_events = executive.observed.rows, executive.internal.rows
-        trace.world_events = sorted(trace.world_events + executive.notes)
+    trace.events, trace.internal_events = executive.observed.rows, executive.internal.rows
+    trace.world_events = sorted(list(layer.world_events) + executive.notes)
     trace.sim_s, trace.wall_s = env.now, time.perf_counter() - wall
     return trace
