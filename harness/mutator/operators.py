@@ -1,0 +1,161 @@
+"""Mutation operators over mission scripts (paper §V.C, DESIGN §4).
+
+The paper's three operators act on module requests (`send` steps): delete one, insert
+an additional one, swap a pair. Two time-domain operators are opt-in: drop a `wait`,
+change a `sleep`. An operator may produce a script the validator rejects (a `wait` on a
+deleted handle, a `wait` moved before its `send`): such a mutant is kept, marked invalid.
+
+Each operation is recorded as a JSON-able dict: `op`, the involved step(s) as text, and
+`line`/`lines`, the line numbers of those steps in the golden body (null for a step that
+an earlier operation of the same mutant inserted). Every choice draws from the `rng` the
+caller passes, so one seed gives byte-identical mutants.
+"""
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass, replace
+
+from harness.errors import ScriptError
+from harness.interface import Interface, Service
+from harness.mutator.script import Script, Step, validate
+
+INSERTED_HANDLE_PREFIX = "extra"
+# A changed sleep lasts between a tenth and ten times the original (log-uniform).
+SLEEP_SCALE_DECADES = 1.0
+
+
+@dataclass(frozen=True)
+class Mutant:
+    script: Script
+    operations: tuple[dict, ...]
+    invalid_reason: str | None = None
+
+    @property
+    def valid(self) -> bool:
+        return self.invalid_reason is None
+
+    @property
+    def body(self) -> str:
+        return self.script.render()
+
+
+def _text(step: Step) -> str:
+    return replace(step, comment="").render()
+
+
+def _line(step: Step) -> int | None:
+    return step.line or None
+
+
+def _indices(steps: list[Step], op: str) -> list[int]:
+    return [i for i, s in enumerate(steps) if s.op == op]
+
+
+def _plausible(value: float) -> float:
+    """Three significant digits: a value a mission author would write."""
+    return float(f"{value:.3g}")
+
+
+def delete_request(steps, rng, interface):
+    sends = _indices(steps, "send")
+    if not sends:
+        return None
+    i = rng.choice(sends)
+    return {"op": "delete_request", "line": _line(steps[i]), "step": _text(steps.pop(i))}
+
+
+def _random_request(service: Service, rng: random.Random, handle: str | None) -> Step:
+    args = []
+    for arg in service.args.values():
+        if arg.type == "float":
+            args.append((arg.name, f"{_plausible(rng.uniform(arg.min, arg.max)):g}"))
+        else:
+            args.append((arg.name, rng.choice(arg.choices)))
+    return Step(0, "send", service=service.qualified, args=tuple(args), handle=handle)
+
+
+def _fresh_handle(steps: list[Step]) -> str:
+    taken = {s.handle for s in steps}
+    n = 1
+    while f"{INSERTED_HANDLE_PREFIX}{n}" in taken:
+        n += 1
+    return f"{INSERTED_HANDLE_PREFIX}{n}"
+
+
+def insert_request(steps, rng, interface):
+    service = interface.services[rng.choice(sorted(interface.services))]
+    handle = _fresh_handle(steps) if rng.random() < 0.5 else None
+    step = _random_request(service, rng, handle)
+    at = rng.randint(0, len(steps))
+    steps.insert(at, step)
+    return {"op": "insert_request", "position": at + 1, "step": _text(step)}
+
+
+def swap_requests(steps, rng, interface):
+    sends = _indices(steps, "send")
+    if len(sends) < 2:
+        return None
+    i, j = sorted(rng.sample(sends, 2))
+    steps[i], steps[j] = steps[j], steps[i]
+    return {"op": "swap_requests", "lines": [_line(steps[j]), _line(steps[i])],
+            "steps": [_text(steps[j]), _text(steps[i])]}
+
+
+def drop_wait(steps, rng, interface):
+    waits = _indices(steps, "wait")
+    if not waits:
+        return None
+    i = rng.choice(waits)
+    return {"op": "drop_wait", "line": _line(steps[i]), "step": _text(steps.pop(i))}
+
+
+def change_sleep(steps, rng, interface):
+    sleeps = _indices(steps, "sleep")
+    if not sleeps:
+        return None
+    i = rng.choice(sleeps)
+    old = steps[i]
+    seconds = _plausible(old.seconds * 10 ** rng.uniform(-SLEEP_SCALE_DECADES, SLEEP_SCALE_DECADES))
+    steps[i] = replace(old, seconds=seconds)
+    return {"op": "change_sleep", "line": _line(old), "step": _text(old), "seconds": seconds}
+
+
+REQUEST_OPERATORS = (delete_request, insert_request, swap_requests)
+TIME_OPERATORS = (drop_wait, change_sleep)
+
+
+def mutate(golden: Script, interface: Interface, rng: random.Random, operations: int = 1,
+           time_mutations: bool = False, label: str = "mutant") -> Mutant:
+    """Apply `operations` operators drawn uniformly among those that apply, then validate."""
+    steps, records = list(golden.steps), []
+    for _ in range(operations):
+        candidates = list(REQUEST_OPERATORS + (TIME_OPERATORS if time_mutations else ()))
+        record = None
+        while record is None:  # insert_request always applies, so this ends
+            operator = rng.choice(candidates)
+            candidates.remove(operator)
+            record = operator(steps, rng, interface)
+        records.append(record)
+    script = Script(tuple(steps), label).renumbered()
+    try:
+        validate(script, interface)
+    except ScriptError as e:
+        return Mutant(script, tuple(records), str(e))
+    return Mutant(script, tuple(records))
+
+
+def generate(golden: Script, interface: Interface, count: int, seed: int, operations: int = 1,
+             time_mutations: bool = False, redraws: int = 50) -> list[Mutant]:
+    """`count` seeded mutants. A mutant whose body equals the golden or an earlier mutant's is
+    redrawn (up to `redraws` times), so duplicates only remain when the operators run out of
+    distinct mutants; count(distinct body) in the store shows how many."""
+    rng = random.Random(f"untimely-mutants:{seed}")
+    seen, mutants = {golden.renumbered().render()}, []
+    for n in range(1, count + 1):
+        for _ in range(redraws + 1):
+            mutant = mutate(golden, interface, rng, operations, time_mutations, f"mutant {n}")
+            if mutant.body not in seen:
+                break
+        seen.add(mutant.body)
+        mutants.append(mutant)
+    return mutants

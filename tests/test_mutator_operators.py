@@ -1,0 +1,150 @@
+"""Mutation operators: each does what it says, seeded reproducibility, invalid mutants."""
+import json
+import random
+
+import pytest
+
+from harness import DEFAULT_MISSION_DIR
+from harness.interface import load_interface
+from harness.mutator import operators
+from harness.mutator.operators import generate, mutate
+from harness.mutator.script import load_script, parse, validate
+
+SMALL = """\
+send rflex.Init as ri
+wait ri
+send rflex.SetMode mode=velocity as mode
+sleep 2
+send ndd.Init
+wait all
+"""
+
+
+@pytest.fixture(scope="module")
+def interface():
+    return load_interface(DEFAULT_MISSION_DIR / "interface.toml")
+
+
+@pytest.fixture(scope="module")
+def golden(interface):
+    return load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
+
+
+def small():
+    return list(parse(SMALL, "small").steps)
+
+
+def rendered(steps):
+    return [s.render() for s in steps]
+
+
+def test_delete_request_removes_one_send_and_records_it(interface):
+    for seed in range(10):
+        steps, before = small(), rendered(small())
+        record = operators.delete_request(steps, random.Random(seed), interface)
+        removed = before[record["line"] - 1]
+        assert record == {"op": "delete_request", "line": record["line"], "step": removed}
+        assert removed.startswith("send ")
+        assert rendered(steps) == [t for t in before if t != removed]
+
+
+def test_insert_request_adds_a_plausible_request_at_the_recorded_position(interface):
+    handles = set()
+    for seed in range(200):
+        steps = small()
+        record = operators.insert_request(steps, random.Random(seed), interface)
+        new = steps[record["position"] - 1]
+        assert len(steps) == len(small()) + 1 and new.render() == record["step"]
+        service = interface.services[new.service]
+        assert [name for name, _ in new.args] == list(service.args)
+        for name, value in new.args:
+            arg = service.args[name]
+            assert (arg.min <= float(value) <= arg.max) if arg.type == "float" else value in arg.choices
+        handles.add(new.handle)
+        validate(parse("".join(s.render() + "\n" for s in steps)), interface)
+    assert None in handles and "extra1" in handles and not handles & {"ri", "mode"}
+
+
+def test_inserted_handle_is_fresh(interface):
+    steps = list(parse("send rflex.Init as extra1\n").steps)
+    assert operators._fresh_handle(steps) == "extra2"
+
+
+def test_swap_requests_exchanges_two_sends_only(interface):
+    for seed in range(10):
+        steps, before = small(), rendered(small())
+        record = operators.swap_requests(steps, random.Random(seed), interface)
+        a, b = (line - 1 for line in record["lines"])
+        assert record["steps"] == [before[a], before[b]]
+        expected = list(before)
+        expected[a], expected[b] = before[b], before[a]
+        assert rendered(steps) == expected
+
+
+def test_drop_wait_removes_one_wait(interface):
+    steps, before = small(), rendered(small())
+    record = operators.drop_wait(steps, random.Random(1), interface)
+    assert record["step"] in ("wait ri", "wait all")
+    assert rendered(steps) == [t for t in before if t != record["step"]]
+
+
+def test_change_sleep_rescales_within_a_decade(interface):
+    for seed in range(20):
+        steps = small()
+        record = operators.change_sleep(steps, random.Random(seed), interface)
+        assert record["line"] == 4 and record["step"] == "sleep 2"
+        assert steps[3].seconds == record["seconds"] and 0.2 <= record["seconds"] <= 20
+        assert [s.op for s in steps] == [s.op for s in small()]
+
+
+def test_operators_without_a_target_do_not_apply(interface):
+    steps = list(parse("send rflex.Init as ri\n").steps)
+    rng = random.Random(0)
+    assert operators.swap_requests(steps, rng, interface) is None
+    assert operators.drop_wait(steps, rng, interface) is None
+    assert operators.change_sleep(steps, rng, interface) is None
+    mutant = mutate(parse("send rflex.Init as ri\n"), interface, rng, operations=3, time_mutations=True)
+    assert len(mutant.operations) == 3
+
+
+def test_time_operators_only_behind_the_flag(golden, interface):
+    plain = {op["op"] for m in generate(golden, interface, 60, seed=3) for op in m.operations}
+    timed = {op["op"] for m in generate(golden, interface, 60, seed=3, time_mutations=True)
+             for op in m.operations}
+    assert plain == {"delete_request", "insert_request", "swap_requests"}
+    assert timed == plain | {"drop_wait", "change_sleep"}
+
+
+def test_same_seed_gives_byte_identical_mutants(golden, interface):
+    first = generate(golden, interface, 40, seed=2012, operations=2, time_mutations=True)
+    again = generate(golden, interface, 40, seed=2012, operations=2, time_mutations=True)
+    other = generate(golden, interface, 40, seed=2013, operations=2, time_mutations=True)
+    assert [m.body for m in first] == [m.body for m in again]
+    assert [json.dumps(m.operations) for m in first] == [json.dumps(m.operations) for m in again]
+    assert [m.body for m in first] != [m.body for m in other]
+    assert all(len(m.operations) == 2 for m in first)
+
+
+def test_mutants_are_distinct_and_differ_from_golden(golden, interface):
+    mutants = generate(golden, interface, 100, seed=7)
+    bodies = [m.body for m in mutants]
+    assert len(set(bodies)) == 100 and golden.renumbered().render() not in bodies
+
+
+def test_deleting_a_waited_request_gives_an_invalid_mutant(interface):
+    script = parse("send rflex.Init as ri\nwait ri\n", "tiny")
+    mutants = generate(script, interface, 12, seed=5)
+    deleted = [m for m in mutants if m.operations[0]["op"] == "delete_request"]
+    assert deleted, "seed 5 should draw a deletion among 12 mutants"
+    for m in deleted:
+        n = mutants.index(m) + 1
+        assert not m.valid and m.body == "wait ri\n"
+        assert m.invalid_reason == f"mutant {n}:1: wait on handle 'ri', which no earlier line sends"
+    assert all(m.valid for m in mutants if m.operations[0]["op"] == "insert_request")
+
+
+def test_swapping_a_wait_before_its_send_is_invalid(interface):
+    script = parse("send rflex.Init as ri\nwait ri\nsend sick.Init as si\n", "tiny")
+    mutants = generate(script, interface, 30, seed=1)
+    swapped = [m for m in mutants if m.operations[0]["op"] == "swap_requests"]
+    assert swapped and all("wait on handle 'ri'" in m.invalid_reason for m in swapped)
