@@ -1,0 +1,75 @@
+"""Inline SVG charts of the index page: grouped rate bars and a stacked verdict mix."""
+from __future__ import annotations
+
+from markupsafe import Markup
+
+from harness.report.svg import add, markup, nice_step, svg
+
+PLOT_H, LEFT, BOTTOM, TOP = 160, 46, 40, 24
+BAR_W, GAP = 16, 14
+
+
+def grouped_bars(title: str, categories: list[str], series: list[str],
+                 values: dict[tuple[str, str], float | None], full_scale: bool = True) -> Markup:
+    """Rates in [0, 1]: one group of bars per category, one bar per series.
+
+    full_scale draws 0-100 %; otherwise the axis stops just above the largest rate, so that
+    rare events (false positives) stay visible.
+    """
+    top = max([v for v in values.values() if v is not None] + [0.0])
+    y_max = 1.0 if full_scale or top == 0 else min(1.0, nice_step(top, 4) * 4)
+    group_w = len(series) * BAR_W + GAP
+    width = LEFT + len(categories) * group_w + 20
+    legend_w = sum(12 + 7 * len(s) + 14 for s in series)
+    root = svg(max(width, LEFT + legend_w), TOP + PLOT_H + BOTTOM, "chart", title)
+    y = lambda v: TOP + PLOT_H * (1 - v / y_max)  # noqa: E731
+    step = nice_step(y_max, 4)
+    for i in range(int(round(y_max / step)) + 1):
+        add(root, "line", css_class="grid", x1=LEFT, x2=width - 10, y1=y(i * step), y2=y(i * step))
+        add(root, "text", f"{100 * i * step:g}%", css_class="tick", x=LEFT - 4, y=y(i * step) + 4,
+            text_anchor="end")
+    for c, category in enumerate(categories):
+        x0 = LEFT + GAP / 2 + c * group_w
+        add(root, "text", category, css_class="tick", x=x0 + len(series) * BAR_W / 2,
+            y=TOP + PLOT_H + 14, text_anchor="middle")
+        for s, name in enumerate(series):
+            v = values.get((category, name))
+            tip = f"{name}, {category}: " + ("no case" if v is None else f"{100 * v:.1f}%")
+            if v is None:
+                add(root, "text", "-", css_class="tick", x=x0 + (s + 0.5) * BAR_W, y=y(0) - 2,
+                    text_anchor="middle", title=tip)
+                continue
+            add(root, "rect", css_class=f"series-{s}", x=x0 + s * BAR_W, y=y(v), width=BAR_W - 2,
+                height=max(y(0) - y(v), 0.5), title=tip)
+    _legend(root, series, [f"series-{s}" for s in range(len(series))], TOP + PLOT_H + 24)
+    return markup(root)
+
+
+def stacked_bars(title: str, rows: list[str], parts: list[str],
+                 counts: dict[tuple[str, str], int]) -> Markup:
+    """One horizontal 100 % bar per row, split by part (e.g. verdict kind) with counts on hover."""
+    label_w, plot_w, row_h = 80, 560, 22
+    root = svg(label_w + plot_w + 20, TOP + len(rows) * row_h + BOTTOM, "chart", title)
+    for r, row in enumerate(rows):
+        total = sum(counts.get((row, p), 0) for p in parts)
+        y0 = TOP + r * row_h
+        add(root, "text", row, css_class="tick", x=label_w - 6, y=y0 + 14, text_anchor="end")
+        x = float(label_w)
+        for part in parts:
+            n = counts.get((row, part), 0)
+            if not n:
+                continue
+            w = plot_w * n / total
+            add(root, "rect", css_class=f"v-{part}", x=x, y=y0 + 2, width=w, height=row_h - 6,
+                title=f"{row}: {n} {part} ({100 * n / total:.1f}% of {total})")
+            x += w
+    _legend(root, parts, [f"v-{p}" for p in parts], TOP + len(rows) * row_h + 16)
+    return markup(root)
+
+
+def _legend(root, names: list[str], classes: list[str], y: float) -> None:
+    x = float(LEFT)
+    for name, css in zip(names, classes):
+        add(root, "rect", css_class=css, x=x, y=y - 9, width=10, height=10)
+        add(root, "text", name, css_class="tick", x=x + 13, y=y)
+        x += 12 + 7 * len(name) + 14

@@ -1,0 +1,96 @@
+"""Writes the report's files: index.html, a list page per (variant, family), trace pages, CSV."""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from jinja2 import Environment, FileSystemLoader, StrictUndefined
+from markupsafe import Markup
+
+from harness.report import charts, queries
+from harness.report.tables import Table, percent
+from harness.report.timeline import requests_of, timeline
+
+TEMPLATES = Path(__file__).parent / "templates"
+SHOWN_ROWS = 200  # longer tables are cut on the page; their CSV has every row
+_env = Environment(loader=FileSystemLoader(TEMPLATES), undefined=StrictUndefined, autoescape=True,
+                   trim_blocks=True, lstrip_blocks=True)
+_env.filters["percent"] = percent
+
+
+def slug(name: str) -> str:
+    return re.sub(r"[^A-Za-z0-9_.-]", "_", name)
+
+
+def trace_href(trace_id: int) -> str:
+    return f"traces/trace-{trace_id}.html"
+
+
+def list_href(sut: str, family: str) -> str:
+    return f"traces/{slug(sut)}-{slug(family)}.html"
+
+
+def bad_href(sut: str) -> str:
+    return f"traces/bad-{slug(sut)}.html"
+
+
+_env.globals.update(trace_href=trace_href, list_href=list_href, bad_href=bad_href)
+
+
+def pivot(view: Table, rate: str, name: str, title: str, suts: list[str], families: list[str]) -> Table:
+    """Paper layout of Tables III/IV: a row per family, a column per variant, each cell a link."""
+    cell = {(r[view.columns.index("family")], r[view.columns.index("sut")]): r[view.columns.index(rate)]
+            for r in view.rows}
+    families = [f for f in families if any((f, s) in cell for s in suts)]
+    table = Table(name, title, ["family", *suts], [(f, *(cell.get((f, s)) for s in suts)) for f in families],
+                  percent=frozenset(suts))
+    for r, family in enumerate(families):
+        for c, sut in enumerate(suts, start=1):
+            table.links[(r, c)] = list_href(sut, family)
+    return table
+
+
+def render(template: str, path: Path, **context) -> None:
+    path.write_text(_env.get_template(template).render(**context))
+
+
+def write_index(out: Path, context: dict) -> None:
+    render("index.html.j2", out / "index.html", shown_rows=SHOWN_ROWS, **context)
+
+
+def write_lists(out: Path, family_traces: dict, bad: Table, suts: list[str], families: list[str]) -> int:
+    """The pages a Table II-IV cell links to: per (variant, family), and bad traces per variant."""
+    for sut in suts:
+        for family in families:
+            render("list.html.j2", out / list_href(sut, family), sut=sut, family=family,
+                   traces=family_traces.get((sut, family), []))
+        mine = [dict(zip(bad.columns, row)) for row in bad.rows if row[bad.columns.index("sut")] == sut]
+        render("bad.html.j2", out / bad_href(sut), sut=sut, traces=mine)
+    return len(suts) * (len(families) + 1)
+
+
+def write_traces(out: Path, details: list[dict], modules: list[str]) -> None:
+    for t in details:
+        end_t = t["sim_s"] if t["sim_s"] is not None else 0.0
+        svg = timeline(modules, t["events"], t["verdicts"], t["world"], end_t, t["outcome"])
+        shown = [v for v in t["verdicts"] if v["verdict"] != "TN" or v["suspicious"]]
+        counts = {v: sum(1 for x in t["verdicts"] if x["verdict"] == v) for v in queries.VERDICTS}
+        render("trace.html.j2", out / trace_href(t["trace_id"]), t=t, timeline=svg, verdicts=shown,
+               counts=counts, requests=len(requests_of(t["events"])))
+
+
+def index_charts(suts: list[str], families: list[str], tp: Table, fp: Table, table2: Table,
+                 rob: str, mix: dict) -> list[tuple[str, Markup]]:
+    def values(view: Table, rate: str) -> dict:
+        i, j, k = (view.columns.index(c) for c in ("family", "sut", rate))
+        return {(r[i], r[j]): r[k] for r in view.rows}
+
+    t_rob = {("T_ROB", r[table2.columns.index("sut")]): r[table2.columns.index(rob)] for r in table2.rows}
+    def chart(title, draw, *data, **options):
+        return title, draw(title, *data, **options)
+
+    return [chart("Trace robustness per variant", charts.grouped_bars, ["T_ROB"], suts, t_rob),
+            chart("True positive rate per family", charts.grouped_bars, families, suts, values(tp, "tp_rate")),
+            chart("False positive rate per family", charts.grouped_bars, families, suts, values(fp, "fp_rate"),
+                  full_scale=False),
+            chart("Verdict mix per variant", charts.stacked_bars, suts, list(queries.VERDICTS), mix)]

@@ -1,0 +1,193 @@
+"""Everything the report reads from the store: read-only queries over the contract tables and views."""
+from __future__ import annotations
+
+import difflib
+import json
+from collections import defaultdict
+
+from harness.errors import StoreError
+from harness.report.tables import Table, query_table
+
+VERDICTS = ("TP", "FN", "FP", "TN", "op", "na", "omega")
+
+
+def rows(con, sql: str, params=()) -> list[dict]:
+    cursor = con.execute(sql, list(params))
+    names = [d[0] for d in cursor.description]
+    return [dict(zip(names, row)) for row in cursor.fetchall()]
+
+
+def check_analysed(con, db: str) -> None:
+    """Refuse a store whose verdicts were never materialised: the report would be empty."""
+    have = {r["table_name"] for r in rows(con, "select table_name from information_schema.tables")}
+    missing = [name for name in ("traces", "verdicts", "trace_robustness", "tp_rates", "fp_rates")
+               if name not in have]
+    if "traces" in missing:
+        raise StoreError(f"{db!r} is not an Untimely store (no traces table); pass the campaign's --db")
+    if missing or not con.execute("select count(*) from verdicts").fetchone()[0]:
+        lacking = ", ".join(missing) or "any verdict row"
+        raise StoreError(f"{db!r} has no verdicts yet (lacks {lacking}); "
+                         f"run python -m harness analyze --db {db} first")
+
+
+def sut_order(con) -> list[str]:
+    """Variants in the order the campaign ran them."""
+    return [r[0] for r in con.execute("select sut from traces group by sut order by min(trace_id)").fetchall()]
+
+
+def module_order(con) -> list[str]:
+    """Modules in the order the interface description declares them (reply_codes insertion order)."""
+    return [r[0] for r in con.execute("select module from reply_codes group by module "
+                                      "order by min(rowid)").fetchall()]
+
+
+def family_order(con) -> list[str]:
+    """Families in the order the properties file lists them (verdict insertion order), then All."""
+    found = [r[0] for r in con.execute("select family from verdicts group by family "
+                                       "order by min(rowid)").fetchall()]
+    return found + ["All"]
+
+
+def campaigns(con) -> list[dict]:
+    found = rows(con, """
+        select c.campaign_id, c.created_at, c.mission, c.seed, c.config,
+               count(*) filter (where s.kind = 'golden') as golden,
+               count(*) filter (where s.kind = 'mutant') as mutants,
+               count(*) filter (where s.kind = 'mutant' and not s.valid) as invalid
+        from campaigns c left join scripts s using (campaign_id)
+        group by all order by c.campaign_id""")
+    for c in found:
+        c["config"] = json.loads(c["config"]) if c["config"] else {}
+    return found
+
+
+def trace_counts(con) -> Table:
+    return query_table(con, "trace_outcomes", "Traces per variant and outcome", """
+        select campaign_id, sut, count(*) as traces,
+               count(*) filter (where outcome = 'completed') as completed,
+               count(*) filter (where outcome = 'hung') as hung,
+               count(*) filter (where outcome = 'crashed') as crashed,
+               count(*) filter (where trace_id not in (select trace_id from verdicts)) as without_verdicts
+        from traces group by all order by campaign_id, min(trace_id)""")
+
+
+def invalid_mutants(con) -> Table:
+    return query_table(con, "invalid_mutants", "Mutants the executive rejected as manifestly faulty", """
+        select script_id, campaign_id, mutations, invalid_reason
+        from scripts where not valid order by script_id""")
+
+
+def view(con, name: str, title: str, order: str, **options) -> Table:
+    """A whole analyzer view, as the analyzer defines its columns."""
+    return query_table(con, name, title, f"select * from {name} order by {order}", **options)
+
+
+def property_breakdown(con) -> Table:
+    counts = ", ".join(f"count(*) filter (where v.verdict = '{v}') as {v}" for v in VERDICTS)
+    return query_table(con, "properties", "Verdicts per property and variant", f"""
+        select t.sut, v.family, v.property_id, {counts},
+               count(*) filter (where v.suspicious) as suspicious
+        from verdicts v join traces t using (trace_id)
+        group by all order by min(t.trace_id), min(v.rowid)""")
+
+
+def verdict_mix(con) -> dict[tuple[str, str], int]:
+    return {(sut, verdict): n for sut, verdict, n in con.execute(
+        "select t.sut, v.verdict, count(*) from verdicts v join traces t using (trace_id) group by all"
+    ).fetchall()}
+
+
+def suspicious(con) -> Table:
+    return query_table(con, "suspicious", "Suspicious verdicts (margin below epsilon)", """
+        select v.trace_id, t.sut, v.property_id, v.rqst_id, v.module, v.service, v.c_holds,
+               v.verdict, v.margin_s
+        from verdicts v join traces t using (trace_id)
+        where v.suspicious order by v.trace_id, v.rqst_id, v.property_id""")
+
+
+def bad_traces(con) -> Table:
+    """Table II's bad traces (hung, with FN, with FP) and crashed runs, with their world events."""
+    return query_table(con, "bad_traces", "Bad traces", """
+        with judged as (
+            select t.trace_id, t.sut, t.outcome, t.script_id,
+                   count(*) filter (where v.verdict = 'FN') as fn,
+                   count(*) filter (where v.verdict = 'FP') as fp,
+                   count(*) filter (where v.verdict = 'TP') as tp,
+                   count(*) filter (where v.suspicious and v.verdict in ('FN', 'FP')) as suspicious
+            from traces t left join verdicts v using (trace_id) group by all)
+        select j.*, (select count(*) from world_events w where w.trace_id = j.trace_id) as world_events
+        from judged j where outcome <> 'completed' or fn > 0 or fp > 0 order by trace_id""")
+
+
+def bad_verdicts(con) -> Table:
+    return query_table(con, "bad_trace_verdicts", "FN and FP verdicts of the bad traces", """
+        select v.trace_id, t.sut, t.outcome, v.property_id, v.family, v.rqst_id, v.module, v.service,
+               v.c_holds, v.verdict, v.margin_s, v.suspicious
+        from verdicts v join traces t using (trace_id)
+        where v.verdict in ('FN', 'FP') order by v.trace_id, v.rqst_id, v.property_id""")
+
+
+def family_traces(con) -> dict[tuple[str, str], list[dict]]:
+    """Per (variant, family or All): the traces with a TP, FN or FP in that family, worst first."""
+    found = rows(con, """
+        select t.sut, coalesce(v.family, 'All') as family, v.trace_id, any_value(t.outcome) as outcome,
+               count(*) filter (where v.verdict = 'FN') as fn, count(*) filter (where v.verdict = 'TP') as tp,
+               count(*) filter (where v.verdict = 'FP') as fp, count(*) filter (where v.verdict = 'TN') as tn
+        from verdicts v join traces t using (trace_id)
+        group by grouping sets ((t.sut, v.family, v.trace_id), (t.sut, v.trace_id))
+        having fn + tp + fp > 0
+        order by fn desc, fp desc, tp desc, v.trace_id""")
+    grouped = defaultdict(list)
+    for r in found:
+        grouped[(r["sut"], r["family"])].append(r)
+    return grouped
+
+
+def trace_details(con, ids: list[int]) -> list[dict]:
+    """Everything a trace page shows, fetched for all pages at once."""
+    wanted = "trace_id in (select unnest(?::integer[]))"
+    traces = rows(con, f"""
+        select t.*, s.kind as script_kind, s.body, s.mutations, s.parent, g.body as golden
+        from traces t left join scripts s using (script_id)
+        left join scripts g on g.campaign_id = t.campaign_id and g.kind = 'golden'
+        where t.{wanted} order by t.trace_id""", [ids])
+    events = _by_trace(rows(con, f"""
+        select e.trace_id, e.seq, e.t, e.kind, e.rqst_id, e.module, e.service, e.args, e.reply, c.class
+        from events e left join reply_codes c using (module, service, reply)
+        where e.{wanted} order by e.trace_id, e.seq""", [ids]))
+    verdicts = _by_trace(rows(con, f"""
+        select * from verdicts where {wanted} order by trace_id, rqst_id, property_id""", [ids]))
+    world = _by_trace(rows(con, f"select * from world_events where {wanted} order by trace_id, t",
+                           [ids]))
+    for t in traces:
+        i = t["trace_id"]
+        t.update(events=events.get(i, []), verdicts=verdicts.get(i, []), world=world.get(i, []),
+                 diff=_diff(t))
+    return traces
+
+
+def _by_trace(found: list[dict]) -> dict[int, list[dict]]:
+    grouped = defaultdict(list)
+    for r in found:
+        grouped[r["trace_id"]].append(r)
+    return grouped
+
+
+def _diff(trace: dict) -> list[tuple[str, str]]:
+    """The mutant's unified diff against the golden script, each line with its CSS class."""
+    if trace["body"] is None or trace["golden"] is None or trace["script_kind"] == "golden":
+        return []
+    lines = difflib.unified_diff(trace["golden"].splitlines(), trace["body"].splitlines(),
+                                 "golden.mission", f"script-{trace['script_id']}.mission", lineterm="")
+    css = {"@": "hunk", "+": "add", "-": "del"}
+    return [(css.get(line[:1], "same"), line) for line in lines]
+
+
+def trace_ids(con, ids: list[int]) -> list[int]:
+    return [r[0] for r in con.execute("select trace_id from traces where trace_id in "
+                                      "(select unnest(?::integer[]))", [ids]).fetchall()]
+
+
+def inversions(con) -> Table:
+    return query_table(con, "inversions", "Verdicts the observation delay inverted",
+                       "select * from inversions order by all")
