@@ -1,0 +1,225 @@
+"""`python -m harness campaign`: golden + seeded mutants on every variant, in parallel, resumable.
+
+Everything a campaign produces is a function of its arguments and mission files, never of
+scheduling: the mutants come from the campaign seed; run (script, variant) gets the trace id
+(script_id - 1) * len(variants) + variant index + 1 and a seed hashed from the campaign seed,
+the script's number in the campaign (golden 0, mutant n) and the variant's name.
+
+Nothing lost, nothing doubled: the golden runs first on every variant (so a variant or world
+that cannot be built is reported before anything is stored); the campaign, its scripts and
+those golden traces are then committed together, and every later trace in a transaction of
+its own. A campaign killed at any moment restarts from what its store holds: the runs whose
+trace ids are missing. Only this process writes to the store; workers return traces to it.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from harness import store
+from harness.errors import InputFileError, StoreError, UntimelyError
+from harness.executive import run_script
+from harness.interface import Interface, load_interface
+from harness.mutator.operators import Mutant, generate
+from harness.mutator.script import load_script
+from harness.progress import Progress
+from harness.trace import Trace
+from harness.workers import Setup, Task, run_all
+
+# The files a trace depends on; a store made from other contents is another campaign.
+# properties.toml is not among them: editing a property re-judges traces, it does not re-run them.
+TRACE_FILES = ("golden.mission", "interface.toml", "world.toml")
+# Arguments that decide what is run; --jobs and --db do not.
+COMPARED = ("mutants", "sut", "seed", "ops_per_mutant", "time_mutations", "max_delay", "files")
+RUN_WALL_LIMIT_S = 600.0
+
+
+def _sha256(path: Path) -> str:
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except FileNotFoundError:
+        raise InputFileError(path, "", "file not found; a mission folder holds "
+                             + ", ".join(TRACE_FILES) + " and properties.toml") from None
+
+
+def campaign_config(args) -> dict:
+    """The campaign's identity (stored in campaigns.config); refuses arguments that make no sense."""
+    if args.mutants < 0:
+        raise UntimelyError(f"--mutants {args.mutants}: give a number of mutants >= 0")
+    if args.ops_per_mutant < 1:
+        raise UntimelyError(f"--ops-per-mutant {args.ops_per_mutant}: give at least 1 operation per mutant")
+    if args.jobs < 0:
+        raise UntimelyError(f"--jobs {args.jobs}: give a number of worker processes, or 0 for all cores")
+    if not args.max_delay >= 0:
+        raise UntimelyError(f"--max-delay {args.max_delay}: give a delay in seconds >= 0")
+    suts = [s.strip() for s in args.sut.split(",")]
+    if not all(suts) or len(set(suts)) != len(suts):
+        raise UntimelyError(f"--sut {args.sut!r}: give distinct comma-separated variants, e.g. genom,bip-a,bip-b")
+    mission = Path(args.mission)
+    return {"kind": "campaign", "mission": str(mission.resolve()), "mutants": args.mutants, "sut": suts,
+            "seed": args.seed, "ops_per_mutant": args.ops_per_mutant, "time_mutations": args.time_mutations,
+            "max_delay": args.max_delay, "jobs": args.jobs,
+            "files": {name: _sha256(mission / name) for name in TRACE_FILES}}
+
+
+def _difference(stored: dict, wanted: dict) -> str | None:
+    for key in COMPARED:
+        if stored.get(key) == wanted[key]:
+            continue
+        if key == "files":
+            changed = [n for n in TRACE_FILES if stored["files"].get(n) != wanted["files"][n]]
+            return (f"--mission {stored['mission']} had other contents: {', '.join(changed)} "
+                    f"differ from {wanted['mission']}")
+        show = (lambda v: ",".join(v)) if key == "sut" else str
+        flag = "--" + key.replace("_", "-")
+        return f"{flag} {show(stored.get(key))}, not {show(wanted[key])}"
+    return None
+
+
+def find_campaign(con, config: dict, db) -> int | None:
+    """The store's campaign if it is this one; a campaign with other arguments is refused."""
+    for campaign_id, text in con.execute("select campaign_id, config from campaigns order by campaign_id").fetchall():
+        stored = json.loads(text)
+        if stored.get("kind") != "campaign":
+            continue  # an ad-hoc `run` sharing the store
+        difference = _difference(stored, config)
+        if difference:
+            raise StoreError(f"{db} holds campaign {campaign_id}, made with {difference}; rerun with its "
+                             "arguments to resume it, or pass another --db for a new campaign")
+        return campaign_id
+    return None
+
+
+def run_seed(campaign_seed: int, script_number: int, sut: str) -> int:
+    digest = hashlib.sha256(f"{campaign_seed}:{script_number}:{sut}".encode()).digest()
+    return int.from_bytes(digest[:8], "big") >> 1  # fits a signed BIGINT
+
+
+def _tasks(scripts: list[tuple[int, str]], golden_id: int, config: dict) -> list[Task]:
+    n = len(config["sut"])
+    return [Task((script_id - 1) * n + v + 1, script_id, sut,
+                 run_seed(config["seed"], script_id - golden_id, sut), body)
+            for script_id, body in scripts for v, sut in enumerate(config["sut"])]
+
+
+@dataclass
+class Session:
+    """What this invocation ran (a resumed campaign's earlier runs are not counted)."""
+    progress: Progress
+    start: float
+    runs: int = 0
+    sim_s: float = 0.0
+
+    def count(self, trace: Trace) -> None:
+        self.runs += 1
+        self.sim_s += trace.sim_s
+        self.progress.advance()
+
+
+def _create(con, config: dict, golden_text: str, mutants: list[Mutant], interface: Interface,
+            setup: Setup, jobs: int, session: Session) -> int:
+    golden_id = store.next_id(con, "scripts", "script_id")
+    golden_runs = []
+
+    def keep(task, trace):
+        golden_runs.append((task, trace))
+        session.count(trace)
+    run_all(_tasks([(golden_id, golden_text)], golden_id, config), setup, jobs, keep, RUN_WALL_LIMIT_S)
+    con.begin()
+    campaign_id = store.next_id(con, "campaigns", "campaign_id")
+    store.add_campaign(con, campaign_id, config["mission"], config["seed"], config)
+    store.add_reply_codes(con, interface)
+    rows = [(golden_id, campaign_id, "golden", None, "[]", golden_text, True, None)]
+    rows += [(golden_id + n, campaign_id, "mutant", golden_id, json.dumps(m.operations), m.body,
+              m.valid, m.invalid_reason) for n, m in enumerate(mutants, 1)]
+    con.executemany("insert into scripts values (?, ?, ?, ?, ?, ?, ?, ?)", rows)
+    for task, trace in golden_runs:
+        store.insert_trace(con, task.trace_id, campaign_id, task.script_id, trace)
+    con.commit()
+    return campaign_id
+
+
+def pending_tasks(con, campaign_id: int, config: dict) -> list[Task]:
+    scripts = con.execute("select script_id, body from scripts where campaign_id = ? and valid "
+                          "order by script_id", [campaign_id]).fetchall()
+    golden_id = scripts[0][0]
+    tasks = _tasks(scripts, golden_id, config)
+    owners = dict(con.execute("select trace_id, campaign_id from traces where trace_id >= ?",
+                              [tasks[0].trace_id]).fetchall())
+    for task in tasks:
+        if owners.get(task.trace_id, campaign_id) != campaign_id:
+            raise StoreError(f"trace id {task.trace_id}, which campaign {campaign_id} needs for script "
+                             f"{task.script_id} on {task.sut}, is taken by campaign {owners[task.trace_id]}; "
+                             "add ad-hoc runs to another --db while a campaign is unfinished")
+    return [t for t in tasks if t.trace_id not in owners]
+
+
+def _store_each(con, campaign_id: int, session: Session):
+    def on_trace(task: Task, trace: Trace) -> None:
+        con.begin()
+        store.insert_trace(con, task.trace_id, campaign_id, task.script_id, trace)
+        con.commit()
+        session.count(trace)
+    return on_trace
+
+
+def summary(con, campaign_id: int, session: Session) -> str:
+    scripts, valid, distinct = con.execute(
+        "select count(*), count(*) filter (where valid), count(distinct body) from scripts "
+        "where campaign_id = ?", [campaign_id]).fetchone()
+    lines = [f"scripts   {scripts}: golden + {scripts - 1} mutants, {valid - 1} valid, "
+             f"{scripts - valid} invalid (stored, not run), {distinct} distinct bodies"]
+    for sut, runs, completed, hung, crashed, sim in con.execute(
+            "select sut, count(*), count(*) filter (where outcome = 'completed'), "
+            "count(*) filter (where outcome = 'hung'), count(*) filter (where outcome = 'crashed'), "
+            "sum(sim_s) from traces where campaign_id = ? group by sut order by min(trace_id)",
+            [campaign_id]).fetchall():
+        lines.append(f"{sut:<9} {runs} runs: {completed} completed, {hung} hung, {crashed} crashed; "
+                     f"{sim:,.0f} simulated s")
+    wall = time.monotonic() - session.start
+    if session.runs:
+        lines.append(f"this run  {session.runs} runs in {wall:.1f} s wall ({session.runs / wall:.1f} runs/s), "
+                     f"{session.sim_s:,.0f} simulated s: {session.sim_s / wall:,.0f}x real time")
+    return "\n".join(lines)
+
+
+def main(args, runner=None) -> int:
+    """`runner` replaces harness.executive.run_script (tests inject failing ones)."""
+    config = campaign_config(args)
+    mission = Path(args.mission)
+    interface = load_interface(mission / "interface.toml")
+    golden = load_script(mission / "golden.mission", interface)
+    con = store.connect(args.db)
+    campaign_id = find_campaign(con, config, args.db)
+    setup = Setup(runner or run_script, mission / "interface.toml", mission / "world.toml", args.max_delay)
+    jobs = args.jobs or len(os.sched_getaffinity(0))
+    variants = len(config["sut"])
+    start = time.monotonic()
+    if campaign_id is None:
+        mutants = generate(golden, interface, config["mutants"], config["seed"],
+                           config["ops_per_mutant"], config["time_mutations"])
+        session = Session(Progress(variants * (1 + sum(m.valid for m in mutants))), start)
+        campaign_id = _create(con, config, (mission / "golden.mission").read_text(), mutants,
+                              interface, setup, jobs, session)
+        pending = pending_tasks(con, campaign_id, config)
+    else:
+        pending = pending_tasks(con, campaign_id, config)
+        total = variants * con.execute("select count(*) from scripts where campaign_id = ? and valid",
+                                       [campaign_id]).fetchone()[0]
+        session = Session(Progress(total, total - len(pending)), start)
+        if pending:
+            print(f"resuming campaign {campaign_id} in {args.db}: {total - len(pending)} of {total} runs "
+                  f"stored, {len(pending)} to go", file=sys.stderr)
+        else:
+            print(f"campaign {campaign_id} in {args.db} is complete ({total} runs stored); nothing to run")
+    if pending:
+        run_all(pending, setup, jobs, _store_each(con, campaign_id, session), RUN_WALL_LIMIT_S)
+    if session.runs:
+        session.progress.close()
+    print(summary(con, campaign_id, session))
+    return 0

@@ -1,0 +1,251 @@
+"""Campaigns: what is stored, resume after SIGKILL, refusal of changed arguments, worker failures.
+
+Runs use the real executive against a small fake layer (every request ends `ok` after half a
+second), so a campaign of a few mutants takes a fraction of a second once its workers are up.
+"""
+import argparse
+import io
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from functools import partial
+from pathlib import Path
+
+import pytest
+
+from harness import DEFAULT_MISSION_DIR, ROOT, campaign, store, workers
+from harness.errors import StoreError, UntimelyError
+from harness.executive import run_script
+from harness.progress import Progress
+
+HERE = Path(__file__).resolve().parent
+MARKER = "UNTIMELY_TEST_MARKER"
+
+
+class FakeLayer:
+    def __init__(self, env, variant, interface, world_file):
+        self.env, self.world_events = env, [(0.25, "bump", json.dumps({"variant": variant}))]
+
+    def receive(self, rqst_id, service, args, reply):
+        if not service.endswith(("TrackSpeedStart", "ContinuousShot", "Fuse")):  # until stopped
+            self.env.call_at(self.env.now + 0.5, lambda: reply(rqst_id, "final", "ok"))
+
+    def ping(self, answer):
+        self.env.call_at(self.env.now + 0.01, answer)
+
+
+fake_runner = partial(run_script, layer_factory=FakeLayer)
+
+
+def failing_runner(script, sut, seed, interface, world_file, max_delay):
+    """Script 2 raises on genom, script 3 kills its worker on genom; the rest run normally."""
+    if sut == "genom" and script.source == "script 2":
+        raise ZeroDivisionError("codel divided by zero")
+    if sut == "genom" and script.source == "script 3":
+        os._exit(3)
+    return fake_runner(script, sut, seed, interface, world_file, max_delay)
+
+
+def stalling_runner(script, sut, seed, interface, world_file, max_delay):
+    """Script 4 signals that it started, then never finishes (the test kills the campaign)."""
+    if script.source == "script 4":
+        Path(os.environ[MARKER]).touch()
+        time.sleep(600)
+    return fake_runner(script, sut, seed, interface, world_file, max_delay)
+
+
+def user_error_runner(script, sut, seed, interface, world_file, max_delay):
+    if sut == "nosuch":
+        raise UntimelyError("unknown variant 'nosuch'; use genom, bip-a, bip-b, bare or reference")
+    return fake_runner(script, sut, seed, interface, world_file, max_delay)
+
+
+@pytest.fixture
+def mission(tmp_path):
+    folder = tmp_path / "mission"
+    shutil.copytree(DEFAULT_MISSION_DIR, folder)
+    (folder / "world.toml").write_text("# the fake layer reads no world\n")
+    return folder
+
+
+def arguments(mission, db, **changes):
+    values = dict(mission=str(mission), mutants=6, sut="genom,bip-a", seed=11, jobs=2, ops_per_mutant=1,
+                  time_mutations=False, max_delay=0.003, db=str(db))
+    values.update(changes)
+    return argparse.Namespace(**values)
+
+
+def dump(db) -> dict:
+    """Every table of a store, in a canonical order, without wall times and creation dates."""
+    con = store.connect(db, read_only=True)
+    tables = {
+        "campaigns": "select campaign_id, mission, seed, config from campaigns",
+        "scripts": "select * from scripts",
+        "traces": "select * exclude (wall_s) from traces",
+        "events": "select * from events order by trace_id, seq",
+        "internal_events": "select * from internal_events order by trace_id, seq",
+        "world_events": "select * from world_events order by trace_id, t, kind",
+        "reply_codes": "select * from reply_codes order by all",
+    }
+    result = {name: con.execute(query + (" order by 1" if "order" not in query else "")).fetchall()
+              for name, query in tables.items()}
+    con.close()
+    return result
+
+
+def test_campaign_stores_scripts_and_every_run_with_deterministic_ids(mission, tmp_path, capsys):
+    db = tmp_path / "c.duckdb"
+    assert campaign.main(arguments(mission, db, mutants=8), runner=fake_runner) == 0
+    out = capsys.readouterr().out
+    con = store.connect(db, read_only=True)
+    scripts = con.execute("select script_id, kind, parent, mutations, body, valid, invalid_reason "
+                          "from scripts order by script_id").fetchall()
+    assert scripts[0][:4] == (1, "golden", None, "[]")
+    assert scripts[0][4] == (mission / "golden.mission").read_text()
+    assert len(scripts) == 9 and all(s[1] == "mutant" and s[2] == 1 for s in scripts[1:])
+    for _, _, _, mutations, _, valid, reason in scripts[1:]:
+        assert len(json.loads(mutations)) == 1
+        assert valid == (reason is None)
+    valid_ids = [s[0] for s in scripts if s[5]]
+    traces = con.execute("select trace_id, script_id, sut, seed, outcome from traces order by trace_id").fetchall()
+    expected = [((sid - 1) * 2 + v + 1, sid, sut, campaign.run_seed(11, sid - 1, sut), "completed")
+                for sid in valid_ids for v, sut in enumerate(["genom", "bip-a"])]
+    assert traces == expected
+    per_trace = con.execute("select count(distinct trace_id) from events").fetchone()[0]
+    assert per_trace == len(traces)
+    config = json.loads(con.execute("select config from campaigns").fetchone()[0])
+    assert config["mutants"] == 8 and config["sut"] == ["genom", "bip-a"]
+    assert set(config["files"]) == {"golden.mission", "interface.toml", "world.toml"}
+    invalid = len(scripts) - len(valid_ids)
+    assert f"{len(valid_ids) - 1} valid, {invalid} invalid" in out
+    assert f"genom     {len(valid_ids)} runs: {len(valid_ids)} completed, 0 hung, 0 crashed" in out
+
+
+def test_results_do_not_depend_on_jobs_and_a_finished_campaign_does_nothing(mission, tmp_path, capsys):
+    one, two = tmp_path / "one.duckdb", tmp_path / "two.duckdb"
+    campaign.main(arguments(mission, one, jobs=1), runner=fake_runner)
+    campaign.main(arguments(mission, two, jobs=2), runner=fake_runner)
+    first = dump(two)
+    capsys.readouterr()
+    campaign.main(arguments(mission, two, jobs=2), runner=fake_runner)
+    out = capsys.readouterr().out
+    assert f"campaign 1 in {two} is complete ({len(first['traces'])} runs stored); nothing to run" in out
+    assert "this run" not in out
+    assert dump(two) == first
+    for name in ("scripts", "traces", "events", "world_events"):
+        assert dump(one)[name] == first[name]
+
+
+def test_resume_after_sigkill_equals_an_uninterrupted_campaign(mission, tmp_path, capsys):
+    killed, whole = tmp_path / "killed.duckdb", tmp_path / "whole.duckdb"
+    marker = tmp_path / "script4-started"
+    program = (f"import argparse, test_campaign as t; from harness import campaign; "
+               f"campaign.main(argparse.Namespace(**{vars(arguments(mission, killed))!r}), "
+               f"runner=t.stalling_runner)")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(HERE), str(ROOT)]), **{MARKER: str(marker)})
+    child = subprocess.Popen([sys.executable, "-c", program], env=env, cwd=tmp_path, start_new_session=True,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 60
+    while not marker.exists() and child.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)
+    os.killpg(child.pid, signal.SIGKILL)
+    stderr = child.communicate()[1].decode()
+    assert marker.exists(), stderr
+
+    capsys.readouterr()
+    campaign.main(arguments(mission, killed), runner=fake_runner)
+    resumed = capsys.readouterr().err
+    assert "resuming campaign 1" in resumed
+    stored, total = (int(n) for n in resumed.split(": ")[1].split(" runs")[0].split(" of "))
+    assert 0 < stored < total
+    campaign.main(arguments(mission, whole), runner=fake_runner)
+    assert dump(killed) == dump(whole)
+
+
+def test_changed_arguments_are_refused_naming_the_argument(mission, tmp_path):
+    db = tmp_path / "c.duckdb"
+    campaign.main(arguments(mission, db, mutants=2), runner=fake_runner)
+    with pytest.raises(StoreError, match=r"holds campaign 1, made with --mutants 2, not 3; rerun with its "
+                                         r"arguments to resume it, or pass another --db"):
+        campaign.main(arguments(mission, db, mutants=3), runner=fake_runner)
+    with pytest.raises(StoreError, match="made with --sut genom,bip-a, not bip-a,genom"):
+        campaign.main(arguments(mission, db, mutants=2, sut="bip-a,genom"), runner=fake_runner)
+    with pytest.raises(StoreError, match="made with --time-mutations False, not True"):
+        campaign.main(arguments(mission, db, mutants=2, time_mutations=True), runner=fake_runner)
+    (mission / "world.toml").write_text("# another world\n")
+    with pytest.raises(StoreError, match=r"had other contents: world.toml differ"):
+        campaign.main(arguments(mission, db, mutants=2), runner=fake_runner)
+
+
+def test_bad_arguments_are_refused_before_anything_runs(mission, tmp_path):
+    db = tmp_path / "c.duckdb"
+    with pytest.raises(UntimelyError, match=r"--sut 'genom,,bip-a': give distinct comma-separated variants"):
+        campaign.main(arguments(mission, db, sut="genom,,bip-a"), runner=fake_runner)
+    with pytest.raises(UntimelyError, match=r"--ops-per-mutant 0: give at least 1"):
+        campaign.main(arguments(mission, db, ops_per_mutant=0), runner=fake_runner)
+    (mission / "world.toml").unlink()
+    with pytest.raises(UntimelyError, match=r"world.toml:: file not found; a mission folder holds"):
+        campaign.main(arguments(mission, db), runner=fake_runner)
+    assert not db.exists()
+
+
+def test_a_failing_run_or_dead_worker_is_a_crashed_trace_and_the_rest_completes(mission, tmp_path):
+    db = tmp_path / "c.duckdb"
+    campaign.main(arguments(mission, db, mutants=4, seed=3), runner=failing_runner)
+    con = store.connect(db, read_only=True)
+    rows = con.execute("select script_id, sut, outcome, error from traces order by trace_id").fetchall()
+    valid = con.execute("select count(*) from scripts where valid").fetchone()[0]
+    assert len(rows) == 2 * valid
+    crashed = {(sid, sut): error for sid, sut, outcome, error in rows if outcome == "crashed"}
+    assert set(crashed) == {(2, "genom"), (3, "genom")}
+    assert "ZeroDivisionError: codel divided by zero" in crashed[(2, "genom")]
+    assert crashed[(3, "genom")] == "the worker process died (exit code 3) during this run"
+    assert all(outcome == "completed" for sid, sut, outcome, _ in rows if (sid, sut) not in crashed)
+
+
+def test_a_variant_that_cannot_be_built_stores_nothing(mission, tmp_path):
+    db = tmp_path / "c.duckdb"
+    with pytest.raises(UntimelyError, match="unknown variant 'nosuch'"):
+        campaign.main(arguments(mission, db, sut="genom,nosuch"), runner=user_error_runner)
+    campaign.main(arguments(mission, db, mutants=1, sut="genom"), runner=user_error_runner)
+    con = store.connect(db, read_only=True)
+    assert con.execute("select count(*), min(config->>'sut') from campaigns").fetchone() == (1, '["genom"]')
+
+
+def sleepy_runner(script, sut, seed, interface, world_file, max_delay):
+    if sut == "slow":
+        time.sleep(600)
+    return fake_runner(script, sut, seed, interface, world_file, max_delay)
+
+
+def test_a_run_past_the_wall_clock_watchdog_is_killed_and_recorded(mission):
+    tasks = [workers.Task(n, 1, sut, 0, (mission / "golden.mission").read_text())
+             for n, sut in enumerate(["slow", "genom", "bip-a"], 1)]
+    setup = workers.Setup(sleepy_runner, mission / "interface.toml", mission / "world.toml", 0.003)
+    results = {}
+    workers.run_all(tasks, setup, 2, lambda task, trace: results.update({task.sut: trace}), watchdog_s=1.0)
+    assert results["slow"].outcome == "crashed"
+    assert results["slow"].error == "no result after 1 s of wall time; the worker was killed"
+    assert results["genom"].outcome == results["bip-a"].outcome == "completed"
+
+
+def test_progress_logs_a_line_every_tenth_when_not_on_a_terminal():
+    stream = io.StringIO()
+    bar = Progress(20, stream=stream)
+    for _ in range(20):
+        bar.advance()
+    lines = stream.getvalue().splitlines()
+    assert [line.split()[0] for line in lines] == [f"{n}/20" for n in range(2, 21, 2)]
+    assert "[##############################] 100%" in lines[-1] and "runs/s  ETA 0:00" in lines[-1]
+
+
+def test_progress_of_a_resumed_campaign_counts_only_this_session():
+    stream = io.StringIO()
+    bar = Progress(100, done=90, stream=stream)
+    bar.advance()
+    assert bar.session == 1 and bar.line().startswith(" 91/100 runs [###########################   ]  91%")
+    assert stream.getvalue() == ""  # still within the tenth reached before the resume
