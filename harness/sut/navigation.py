@@ -1,0 +1,101 @@
+"""The map (poster CartA, built by aspect) and the steering law of ndd.
+
+The map is a sparse occupancy grid: a laser hit marks its cell occupied, and every cell within
+CLEARANCE_M of an occupied cell keeps its distance to the nearest one. Steering needs only
+those distances, so each new obstacle cell costs a fixed disc of updates once, and choosing a
+heading costs a few dictionary look-ups per candidate.
+"""
+from __future__ import annotations
+
+import math
+
+CELL_M = 0.2
+CLEARANCE_M = 0.7  # rover radius plus a margin: how far ndd keeps the rover centre from obstacles
+LOOKAHEAD_M = 1.6
+CANDIDATE_STEP = math.radians(10)
+MAX_DEVIATION = math.radians(150)
+TURN_GAIN, MAX_TURN = 2.0, 1.0  # rad/s per rad of heading error, rad/s
+TURN_IN_PLACE = math.radians(60)  # beyond this heading error the rover turns without advancing
+
+_REACH = math.ceil(CLEARANCE_M / CELL_M)
+_DISC = tuple((di, dj, math.hypot(di, dj) * CELL_M)
+              for di in range(-_REACH, _REACH + 1) for dj in range(-_REACH, _REACH + 1)
+              if math.hypot(di, dj) * CELL_M <= CLEARANCE_M)
+
+
+def _cell(x: float, y: float) -> tuple[int, int]:
+    return math.floor(x / CELL_M), math.floor(y / CELL_M)
+
+
+def wrap(angle: float) -> float:
+    return (angle + math.pi) % (2 * math.pi) - math.pi
+
+
+class OccupancyMap:
+    """Poster CartA."""
+
+    def __init__(self) -> None:
+        self.occupied: set[tuple[int, int]] = set()
+        self._nearness: dict[tuple[int, int], float] = {}  # cell -> distance to nearest occupied cell
+
+    def clear(self) -> None:
+        self.occupied.clear()
+        self._nearness.clear()
+
+    def fuse(self, pose: tuple[float, float, float], hits) -> None:
+        """Mark the cells of laser hits (bearing, distance) seen from `pose`."""
+        x, y, heading = pose
+        nearness, occupied, cos, sin = self._nearness, self.occupied, math.cos, math.sin
+        for bearing, distance in hits:
+            angle = heading + bearing
+            i, j = _cell(x + distance * cos(angle), y + distance * sin(angle))
+            if (i, j) in occupied:
+                continue
+            occupied.add((i, j))
+            for di, dj, d in _DISC:
+                key = (i + di, j + dj)
+                if d < nearness.get(key, CLEARANCE_M + 1):
+                    nearness[key] = d
+
+    def clearance(self, x: float, y: float) -> float:
+        """Distance from (x, y) to the nearest mapped obstacle, capped just above CLEARANCE_M."""
+        return self._nearness.get(_cell(x, y), CLEARANCE_M + 1)
+
+    def path_is_clear(self, x: float, y: float, heading: float, reach: float, floor: float) -> bool:
+        """Whether every cell-spaced point up to `reach` along `heading` keeps `floor` clearance."""
+        nearness, far = self._nearness, CLEARANCE_M + 1
+        dx, dy = CELL_M * math.cos(heading), CELL_M * math.sin(heading)
+        for n in range(1, int(reach / CELL_M) + 1):
+            if nearness.get(_cell(x + n * dx, y + n * dy), far) < floor:
+                return False
+        return True
+
+    def __repr__(self) -> str:
+        return f"<OccupancyMap {len(self.occupied)} occupied cells>"
+
+
+def steer(pose, goal, cart: OccupancyMap, speed: float, side: int) -> tuple[float, float, int]:
+    """(linear speed, turn rate, side) toward `goal` around mapped obstacles.
+
+    Candidate headings fan out from the goal bearing; the first whose look-ahead segment keeps
+    CLEARANCE_M (or, for a rover already closer than that, does not get any closer) wins. `side`
+    (+1 left, -1 right, 0 none) is the side of the last detour: trying it first stops the rover
+    from dithering in front of an obstacle. With no clear heading the rover stops.
+    """
+    x, y, heading = pose
+    distance = math.hypot(goal[0] - x, goal[1] - y)
+    bearing = math.atan2(goal[1] - y, goal[0] - x)
+    reach = min(LOOKAHEAD_M, distance)
+    floor = min(CLEARANCE_M, cart.clearance(x, y))
+    first = side or 1
+    k = 0
+    while k * CANDIDATE_STEP <= MAX_DEVIATION:
+        for sign in ((0,) if k == 0 else (first, -first)):
+            candidate = bearing + sign * k * CANDIDATE_STEP
+            if cart.path_is_clear(x, y, candidate, reach, floor):
+                error = wrap(candidate - heading)
+                turn = max(-MAX_TURN, min(MAX_TURN, TURN_GAIN * error))
+                linear = 0.0 if abs(error) > TURN_IN_PLACE else speed * math.cos(error)
+                return linear, turn, sign
+        k += 1
+    return 0.0, 0.0, side
