@@ -90,6 +90,7 @@ def dump(db) -> dict:
         "internal_events": "select * from internal_events order by trace_id, seq",
         "world_events": "select * from world_events order by trace_id, t, kind",
         "reply_codes": "select * from reply_codes order by all",
+        "verdicts": "select * from verdicts order by all",
     }
     result = {name: con.execute(query + (" order by 1" if "order" not in query else "")).fetchall()
               for name, query in tables.items()}
@@ -123,6 +124,8 @@ def test_campaign_stores_scripts_and_every_run_with_deterministic_ids(mission, t
     invalid = len(scripts) - len(valid_ids)
     assert f"{len(valid_ids) - 1} valid, {invalid} invalid" in out
     assert f"genom     {len(valid_ids)} runs: {len(valid_ids)} completed, 0 hung, 0 crashed" in out
+    judged = con.execute("select count(distinct trace_id) from verdicts").fetchone()[0]
+    assert judged == len(traces) and "Table II - per trace results" in out
 
 
 def test_results_do_not_depend_on_jobs_and_a_finished_campaign_does_nothing(mission, tmp_path, capsys):
@@ -249,3 +252,17 @@ def test_progress_of_a_resumed_campaign_counts_only_this_session():
     bar.advance()
     assert bar.session == 1 and bar.line().startswith(" 91/100 runs [###########################   ]  91%")
     assert stream.getvalue() == ""  # still within the tenth reached before the resume
+
+
+def test_a_finished_campaign_without_verdicts_gets_them_without_running_anything(mission, tmp_path, capsys):
+    db = tmp_path / "c.duckdb"
+    campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)
+    before = dump(db)
+    con = store.connect(db)
+    con.execute("drop table verdicts")  # as if the campaign was killed while judging
+    con.close()
+    capsys.readouterr()
+    campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)
+    out = capsys.readouterr().out
+    assert "nothing to run" in out and "verdicts  materialised" in out
+    assert dump(db) == before
