@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 from harness.sut.kernel import Environment
 from harness.sut.module import Activity, Module
-from harness.sut.navigation import OccupancyMap, steer
+from harness.sut.navigation import CLEARANCE_M, OccupancyMap, steer
 from harness.sut.world import World
 
 MOVED_M = 0.001  # odometer change that counts as the rover moving
@@ -146,7 +146,7 @@ class Ndd(DalaModule):
                 return "ok"
             if distance < best - self.PROGRESS_M:
                 best, progressed_at = distance, self.env.now
-            if cart.clearance(*goal) < self.world.spec.rover_radius or self.env.now - progressed_at > self.STALL_S:
+            if cart.clearance(*goal) < CLEARANCE_M or self.env.now - progressed_at > self.STALL_S:
                 return "goal_unreachable"
             speed, turn, side = steer(pose, goal, cart, self.settings["speed"], side)
             self.posters.ref = (speed, turn)
