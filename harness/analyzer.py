@@ -1,0 +1,109 @@
+"""`python -m harness analyze`: judge the stored traces with the property oracles (DESIGN §6).
+
+Every property is rendered through its type's template; `verdicts` (from the observed
+`events`), `verdicts_internal` (the same oracles on the simulator's `internal_events`) and the
+views of sql/views/ are rebuilt in one transaction. Then the paper's Tables II-IV are printed
+from the views. Nothing is re-run: the store is the only input.
+"""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import duckdb
+
+from harness.errors import PropertyError, StoreError
+from harness.interface import Property, load_interface, load_properties
+from harness.oracles import render_property, render_view
+from harness.store import connect
+from harness.textable import format_table
+
+# (events source, verdicts table): the observed timeline and the ground truth.
+SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
+# Creation order: each view reads only tables or views created before it.
+VIEWS = ("requests", "activities", "property_verdicts", "family_verdicts", "trace_robustness",
+         "tp_rates", "fp_rates", "inversions")
+
+
+def statements(properties: list[Property], epsilon: float) -> list[str]:
+    if not properties:
+        raise PropertyError("no properties to judge; give a properties file with [[property]] entries")
+    tables = [render_view("verdicts", target=target,
+                          oracles=[render_property(p, events, epsilon) for p in properties])
+              for events, target in SOURCES]
+    return tables + [render_view(name) for name in VIEWS]
+
+
+def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsilon: float) -> None:
+    """(Re)build the verdict tables and the views in one transaction; a failure keeps the old ones."""
+    sql = statements(properties, epsilon)  # a property that cannot be rendered stops us here
+    con.execute("begin transaction")
+    try:
+        for statement in sql:
+            con.execute(statement)
+        con.execute("create or replace table analysis as select now() as analysed_at, "
+                    "?::double as epsilon, ?::integer as properties", [epsilon, len(properties)])
+    except duckdb.Error as e:
+        con.execute("rollback")
+        raise StoreError(f"the oracle queries failed on this store: {e}") from None
+    con.execute("commit")
+
+
+def _ordered(con, sql: str) -> list[tuple]:
+    """Rows of `sql` (which has a sut column) in the order the variants were run."""
+    return con.execute(f"""select r.* from ({sql}) r
+                           join (select sut, min(trace_id) as first from traces group by sut) using (sut)
+                           order by first""").fetchall()
+
+
+def _percent(rate) -> str:
+    return "-" if rate is None else f"{100 * rate:.1f}"
+
+
+def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
+    """Paper layout: one row per family (properties-file order, then All), one column per variant."""
+    families = [r[0] for r in con.execute("select family from verdicts group by family order by min(rowid)")
+                .fetchall()] + ["All"]
+    rate = {(sut, family): value for sut, family, value
+            in con.execute(f"select sut, family, {column} from {view}").fetchall()}
+    return format_table(["family"] + suts,
+                        [[f] + [_percent(rate.get((s, f))) for s in suts] for f in families])
+
+
+def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
+    robustness = _ordered(con, "select * from trace_robustness")
+    columns = [d[0] for d in con.execute("select * from trace_robustness limit 0").description]
+    suts = [r[0] for r in robustness]
+    table2 = format_table(columns, [r[:-1] + (_percent(r[-1]) + "%",) for r in robustness])
+    parts = ["Table II - per trace results", table2,
+             "Table III - true positive rates TP/(TP+FN), %", _rates_by_family(con, "tp_rates", "tp_rate", suts),
+             "Table IV - false positive rates FP/(FP+TN), %", _rates_by_family(con, "fp_rates", "fp_rate", suts)]
+    judged, flagged = con.execute("""select count(*), count(*) filter (where suspicious) from verdicts
+                                     semi join (select distinct trace_id from internal_events) using (trace_id)
+                                  """).fetchone()
+    if judged:
+        inverted, caught = con.execute("select count(*), count(*) filter (where suspicious) "
+                                       "from inversions").fetchone()
+        parts.append(f"Ground truth: {inverted} of {judged} observed verdicts differ from the verdicts on "
+                     f"the internal timeline (view inversions); the suspicious flag (margin < {epsilon:g} s) "
+                     f"caught {caught} of them and is raised on {flagged} verdicts in all.")
+    return "\n\n".join(parts)
+
+
+def main(args) -> int:
+    db = Path(args.db)
+    if not db.exists():
+        raise StoreError(f"no store at {str(db)!r}; run a campaign or import traces first, or pass --db")
+    properties_path = Path(args.properties)
+    interface = load_interface(properties_path.parent / "interface.toml")
+    properties = load_properties(properties_path, interface)
+    con = connect(db)
+    started = time.perf_counter()
+    materialise(con, properties, args.epsilon)
+    elapsed = time.perf_counter() - started
+    traces, events = con.execute("select (select count(*) from traces), (select count(*) from events)").fetchone()
+    verdicts = con.execute("select count(*) from verdicts").fetchone()[0]
+    print(f"Judged {events} events of {traces} traces against {len(properties)} properties "
+          f"in {elapsed:.2f} s: {verdicts} verdicts in table verdicts.\n")
+    print(summary(con, args.epsilon))
+    return 0

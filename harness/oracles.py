@@ -1,0 +1,78 @@
+"""Properties rendered into SQL through the Jinja templates of sql/ (DESIGN §6).
+
+A property is judged by its type's template, sql/oracles/<type>.sql, which defines the CTE
+chain of that type; sql/oracles/_oracle.sql wraps it into one query returning verdict rows.
+The templates say which parameters each type takes: a missing one (StrictUndefined) or one
+the type does not take (an unknown macro argument) is refused here, naming the property.
+"""
+from __future__ import annotations
+
+import math
+import re
+
+import jinja2
+
+from harness import SQL_DIR
+from harness.errors import PropertyError
+from harness.interface import Property
+
+VERDICTS = ("TN", "TP", "FN", "FP", "op", "na", "omega")
+PARAMETERS = ("x", "y", "q", "r_p", "z_p")
+_TABLE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_SERVICE = re.compile(r"[^.\s']+\.[^.\s']+")
+
+
+def sql_literal(value) -> str:
+    return "'" + str(value).replace("'", "''") + "'"
+
+
+ENV = jinja2.Environment(loader=jinja2.FileSystemLoader(SQL_DIR), undefined=jinja2.StrictUndefined,
+                         trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
+ENV.filters["lit"] = sql_literal
+
+
+def _parameters(prop: Property) -> dict:
+    """The parameters the property sets; an unset one stays undefined, so a template needing it fails."""
+    given = {}
+    for name in PARAMETERS:
+        value = getattr(prop, name)
+        if isinstance(value, (tuple, list)):
+            bad = [s for s in value if not isinstance(s, str) or not _SERVICE.fullmatch(s)]
+            if bad:
+                raise PropertyError(f"property {prop.id!r}: {name} names {bad[0]!r}; "
+                                    "write request types as \"module.Service\"")
+            value = list(value)
+        if value:
+            given[name] = value
+    return given
+
+
+def render_property(prop: Property, events: str = "events", epsilon: float = 0.01) -> str:
+    """The oracle query of one property over the events table `events`: the verdicts columns."""
+    if not _TABLE_NAME.fullmatch(events):
+        raise PropertyError(f"events source {events!r} is not a table name; use events or internal_events")
+    if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
+        raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
+    parameters = _parameters(prop)
+    services = sorted({s for v in parameters.values() if isinstance(v, list) for s in v})
+    template = f"oracles/{str(prop.type).lower()}.sql"
+    try:
+        return ENV.get_template("oracles/_oracle.sql").render(
+            template=template, id=prop.id, family=prop.family, events=events, epsilon=float(epsilon),
+            services=services, parameters=parameters)
+    except jinja2.TemplateNotFound as e:
+        if e.name != template:
+            raise
+        raise PropertyError(f"property {prop.id!r}: type {prop.type!r} has no oracle template "
+                            f"{template}; use one of PC, ES, EE, EX, MX_R, MX_I") from None
+    except jinja2.UndefinedError as e:
+        raise PropertyError(f"property {prop.id!r} of type {prop.type}: {e}; "
+                            "add it to the property's entry") from None
+    except TypeError as e:
+        raise PropertyError(f"property {prop.id!r} of type {prop.type}: {e} "
+                            "(the type does not use it); remove it from the property's entry") from None
+
+
+def render_view(name: str, **parameters) -> str:
+    """The statement creating sql/views/<name>.sql (a view, or the verdicts table)."""
+    return ENV.get_template(f"views/{name}.sql").render(verdict_names=list(VERDICTS), **parameters)

@@ -1,0 +1,27 @@
+"""Aligned plain-text tables for the terminal: numbers right-aligned, text left-aligned."""
+from __future__ import annotations
+
+from numbers import Number
+
+
+def cell(value, null: str = "NULL") -> str:
+    if value is None:
+        return null
+    if isinstance(value, bool):
+        return str(value).lower()
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    return str(value)
+
+
+def format_table(columns: list[str], rows: list[tuple], null: str = "NULL") -> str:
+    """One header line, a rule, one line per row; trailing blanks stripped."""
+    texts = [[cell(v, null) for v in row] for row in rows]
+    widths = [max([len(c)] + [len(r[i]) for r in texts]) for i, c in enumerate(columns)]
+    numeric = [bool(rows) and all(isinstance(r[i], Number) and not isinstance(r[i], bool)
+                                  for r in rows if r[i] is not None) for i in range(len(columns))]
+
+    def line(values):
+        return "  ".join(v.rjust(w) if num else v.ljust(w)
+                         for v, w, num in zip(values, widths, numeric)).rstrip()
+    return "\n".join([line(columns), "  ".join("-" * w for w in widths)] + [line(r) for r in texts])

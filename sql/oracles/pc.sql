@@ -1,0 +1,32 @@
+{#- PC[x, Q], precondition: C true iff every q in Q has an ok final reply before x(i).
+    Paper Table I: C true: accepted TN, r_P FP; C false: accepted FN, r_P TP;
+    any other rejection op; no final reply omega. -#}
+{% import 'oracles/_base.sql' as base %}
+
+{% macro ctes(name, x, q, r_p) -%}
+{{ name }}_x as (
+    select * from requests where {{ base.among(x) }}
+),
+{{ name }}_needed as (
+    select * from (values {% for s in q %}{% set module, service = s.split('.', 1) %}({{ module | lit }}, {{ service | lit }}){{ ', ' if not loop.last }}{% endfor %}) as needed(module, service)
+),
+{{ name }}_oks as (
+    select trace_id, module, service, final_t as t, final_seq as seq
+    from requests where {{ base.among(q) }} and reply = 'ok'
+),
+-- one pair per x(i) and q in Q: q conflicts while none of its ok replies precedes x(i).
+-- Its shift: back to the earliest ok before x(i), or on to the first ok after it (none: never)
+{{ name }}_pairs as (
+    select x.trace_id, x.rqst_id, x.module, x.service, x.reply, x.class,
+           not coalesce(bool_or({{ base.before('o.', 'x.') }}), false) as conflicts,
+           coalesce(max(x.t - o.t) filter (where {{ base.before('o.', 'x.') }}),
+                    min(o.t - x.t), 'infinity') as shift,
+           false as conflict_rejected
+    from {{ name }}_x x
+    cross join {{ name }}_needed n
+    left join {{ name }}_oks o on o.trace_id = x.trace_id and o.module = n.module and o.service = n.service
+    group by x.trace_id, x.rqst_id, x.module, x.service, x.reply, x.class, n.module, n.service
+),
+{{ base.condition(name) }},
+{{ base.judged(name, r_p, ['T', 'Z']) }}
+{%- endmacro %}

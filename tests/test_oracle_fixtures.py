@@ -1,0 +1,61 @@
+"""Every hand-made trace of tests/traces/*.trace gets exactly the verdict rows written beside it."""
+import pytest
+
+from harness.analyzer import materialise
+from harness.store import add_campaign, add_reply_codes, connect, insert_trace
+from traces.fixtures import INTERFACE, all_fixtures
+
+EPSILON = 0.01
+FIXTURES = all_fixtures()
+CASES = [(f, case) for f in FIXTURES for case in f.cases]
+# The cells of each type's verdict table (c_holds, verdict) the fixtures must exercise.
+PC_CELLS = {(c, v) for c in (True, False) for v in ("op", "omega")} | {
+    (True, "TN"), (True, "FP"), (False, "FN"), (False, "TP")}
+EE_CELLS = PC_CELLS | {(False, "na"), (None, "op")}
+CELLS = {"PC": PC_CELLS, "ES": PC_CELLS | {(False, "na")}, "EE": EE_CELLS, "EX": EE_CELLS,
+         "MX_R": {(True, "TN"), (True, "FP"), (False, "FN"), (False, "TP"), (False, "na")},
+         "MX_I": {(True, "TN"), (True, "FP"), (False, "FN"), (False, "TP"), (False, "na")}}
+
+
+def judge(fixture):
+    """An in-memory store holding the fixture's traces, judged with the fixture's properties."""
+    con = connect(":memory:")
+    add_campaign(con, 1, str(fixture.path), 0, {})
+    add_reply_codes(con, INTERFACE)
+    for trace_id, case in enumerate(fixture.cases, 1):
+        insert_trace(con, trace_id, 1, None, case.trace, label=case.label)
+    materialise(con, fixture.properties, EPSILON)
+    return con
+
+
+@pytest.fixture(scope="module")
+def stores():
+    cache = {}
+    return lambda fixture: cache.setdefault(fixture.path, judge(fixture))
+
+
+@pytest.mark.parametrize("fixture,case", CASES, ids=[f"{f.path.stem}:{c.label}" for f, c in CASES])
+def test_trace_gets_the_expected_verdicts(stores, fixture, case):
+    con = stores(fixture)
+    rows = con.execute("""select property_id, rqst_id, verdict, c_holds, margin_s, suspicious
+                          from verdicts join traces using (trace_id) where label = ?""", [case.label]).fetchall()
+    got = {(p, r): (v, c, None if m is None else round(m, 9)) for p, r, v, c, m, _ in rows}
+    assert got == case.expected
+    assert len(rows) == len(got), "one row per property and request"
+    for p, r, *_, suspicious in rows:
+        margin = case.expected[(p, r)][2]
+        assert suspicious == (margin is not None and margin < EPSILON), (p, r)
+
+
+def test_fixtures_cover_every_cell_of_every_verdict_table():
+    seen = {t: set() for t in CELLS}
+    roles = set()
+    for fixture in FIXTURES:
+        types = {p.id: p for p in fixture.properties}
+        for case in fixture.cases:
+            for (property_id, rqst_id), (verdict, c_holds, _) in case.expected.items():
+                prop = types[property_id]
+                seen[prop.type].add((c_holds, verdict))
+                roles.add((prop.type, "x" if case.services[rqst_id] in prop.x else "y"))
+    assert {t: CELLS[t] - seen[t] for t in CELLS} == {t: set() for t in CELLS}
+    assert {("MX_R", "y"), ("MX_I", "y")} <= roles, "mutual properties judge y requests too"

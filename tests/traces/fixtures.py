@@ -1,0 +1,86 @@
+"""Hand-made traces with the verdicts they must get, in a small line format (*.trace here).
+
+    use PEX(rflex) AIB(ndd.GotoPosition)        # the properties judged in this file
+    trace pc_true_accepted sut=genom outcome=hung   # a trace: label, optional sut and outcome
+    0.0 request 1 rflex.Init                    # t kind rqst_id module.Service
+    0.5 final   1 ok                            # t final rqst_id reply (service from the request)
+    1.5 request 2 rflex.TrackSpeedStart  => PEX(rflex) TN true 1.0
+    2.0 final   2 ok
+
+Events get seq in line order. After `=>` on a request line come the expected verdict rows
+of that request, separated by `;`: property id, verdict, c_holds (true, false, null) and
+margin_s (seconds, or - for NULL). Every verdict row of the trace must be listed.
+Properties come from missions/dala/properties.toml and tests/traces/properties.toml.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from harness import DEFAULT_MISSION_DIR
+from harness.interface import load_interface, load_properties
+from harness.trace import Trace
+
+HERE = Path(__file__).parent
+INTERFACE = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
+PROPERTIES = {p.id: p for path in (DEFAULT_MISSION_DIR / "properties.toml", HERE / "properties.toml")
+              for p in load_properties(path, INTERFACE)}
+BOOLEANS = {"true": True, "false": False, "null": None}
+
+
+@dataclass
+class Case:
+    label: str
+    trace: Trace
+    # (property_id, rqst_id) -> (verdict, c_holds, margin_s)
+    expected: dict[tuple[str, int], tuple[str, bool | None, float | None]] = field(default_factory=dict)
+    services: dict[int, str] = field(default_factory=dict)  # rqst_id -> "module.Service"
+
+
+@dataclass
+class Fixture:
+    path: Path
+    properties: list
+    cases: list[Case]
+
+
+def _expectations(text: str, rqst_id: int, where: str) -> dict:
+    found = {}
+    for item in text.split(";"):
+        property_id, verdict, c_holds, margin = item.split()
+        if property_id not in PROPERTIES or c_holds not in BOOLEANS:
+            raise ValueError(f"{where}: bad expectation {item.strip()!r}")
+        found[(property_id, rqst_id)] = (verdict, BOOLEANS[c_holds], None if margin == "-" else float(margin))
+    return found
+
+
+def load(path: Path) -> Fixture:
+    properties, cases = [], []
+    for n, raw in enumerate(path.read_text().splitlines(), 1):
+        line, _, expect = raw.split("#")[0].partition("=>")
+        words, where = line.split(), f"{path.name}:{n}"
+        if not words:
+            continue
+        if words[0] == "use":
+            properties = [PROPERTIES[w] for w in words[1:]]
+        elif words[0] == "trace":
+            options = dict(w.split("=") for w in words[2:])
+            cases.append(Case(words[1], Trace(sut=options.get("sut", "fixture"), seed=0,
+                                              outcome=options.get("outcome", "completed"))))
+        else:
+            case, (t, kind, rqst_id, what) = cases[-1], words
+            rqst_id = int(rqst_id)
+            if kind == "request":
+                case.services[rqst_id] = what
+                module, service, reply = *what.split("."), None
+            else:
+                module, service, reply = *case.services[rqst_id].split("."), None if what == "-" else what
+            case.trace.events.append((len(case.trace.events) + 1, float(t), kind, rqst_id,
+                                      module, service, None, reply))
+            if expect.strip():
+                case.expected.update(_expectations(expect, rqst_id, where))
+    return Fixture(path, properties, cases)
+
+
+def all_fixtures() -> list[Fixture]:
+    return [load(p) for p in sorted(HERE.glob("*.trace"))]
