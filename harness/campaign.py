@@ -29,7 +29,7 @@ from harness.mutator.operators import Mutant, generate
 from harness.mutator.script import load_script
 from harness.progress import Progress
 from harness.trace import Trace
-from harness.workers import Setup, Task, run_all
+from harness.workers import Setup, Task, run_all, script_label
 
 # The files a trace depends on; a store made from other contents is another campaign.
 # properties.toml is not among them: editing a property re-judges traces, it does not re-run them.
@@ -122,9 +122,8 @@ class Session:
         self.progress.advance()
 
 
-def _create(con, config: dict, golden_text: str, mutants: list[Mutant], interface: Interface,
-            setup: Setup, jobs: int, session: Session) -> int:
-    golden_id = store.next_id(con, "scripts", "script_id")
+def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[Mutant],
+            interface: Interface, setup: Setup, jobs: int, session: Session) -> int:
     golden_runs = []
 
     def keep(task, trace):
@@ -203,10 +202,11 @@ def main(args, runner=None) -> int:
     variants = len(config["sut"])
     start = time.monotonic()
     if campaign_id is None:
-        mutants = generate(golden, interface, config["mutants"], config["seed"],
-                           config["ops_per_mutant"], config["time_mutations"])
+        golden_id = store.next_id(con, "scripts", "script_id")
+        mutants = generate(golden, interface, config["mutants"], config["seed"], config["ops_per_mutant"],
+                           config["time_mutations"], name=lambda n: script_label(golden_id + n))
         session = Session(Progress(variants * (1 + sum(m.valid for m in mutants))), start)
-        campaign_id = _create(con, config, (mission / "golden.mission").read_text(), mutants,
+        campaign_id = _create(con, config, golden_id, (mission / "golden.mission").read_text(), mutants,
                               interface, setup, jobs, session)
         pending = pending_tasks(con, campaign_id, config)
     else:

@@ -49,6 +49,11 @@ class Setup:
     max_delay: float
 
 
+def script_label(script_id: int) -> str:
+    """How messages about a stored script name it (its scripts.script_id)."""
+    return f"script {script_id}"
+
+
 def crashed(task: Task, error: str, wall_s: float = 0.0) -> Trace:
     return Trace(sut=task.sut, seed=task.seed, outcome="crashed", error=error, wall_s=wall_s)
 
@@ -66,7 +71,7 @@ def _serve(conn, setup: Setup) -> None:
             return
         start = time.perf_counter()
         try:
-            script = parse(task.body, f"script {task.script_id}")
+            script = parse(task.body, script_label(task.script_id))
             result = setup.runner(script, task.sut, task.seed, interface, setup.world_file, setup.max_delay)
         except UntimelyError as e:  # the user's input (a variant or world that cannot be built)
             result = e

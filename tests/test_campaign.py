@@ -108,9 +108,11 @@ def test_campaign_stores_scripts_and_every_run_with_deterministic_ids(mission, t
     assert scripts[0][:4] == (1, "golden", None, "[]")
     assert scripts[0][4] == (mission / "golden.mission").read_text()
     assert len(scripts) == 9 and all(s[1] == "mutant" and s[2] == 1 for s in scripts[1:])
-    for _, _, _, mutations, _, valid, reason in scripts[1:]:
+    for script_id, _, _, mutations, _, valid, reason in scripts[1:]:
         assert len(json.loads(mutations)) == 1
         assert valid == (reason is None)
+        assert valid or reason.startswith(f"script {script_id}:")
+    assert not all(s[5] for s in scripts), "seed 11 draws an invalid mutant among 8"
     valid_ids = [s[0] for s in scripts if s[5]]
     traces = con.execute("select trace_id, script_id, sut, seed, outcome from traces order by trace_id").fetchall()
     expected = [((sid - 1) * 2 + v + 1, sid, sut, campaign.run_seed(11, sid - 1, sut), "completed")

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import random
 from dataclasses import dataclass, replace
+from typing import Callable
 
 from harness.errors import ScriptError
 from harness.interface import Interface, Service
@@ -145,15 +146,16 @@ def mutate(golden: Script, interface: Interface, rng: random.Random, operations:
 
 
 def generate(golden: Script, interface: Interface, count: int, seed: int, operations: int = 1,
-             time_mutations: bool = False, redraws: int = 50) -> list[Mutant]:
-    """`count` seeded mutants. A mutant whose body equals the golden or an earlier mutant's is
-    redrawn (up to `redraws` times), so duplicates only remain when the operators run out of
-    distinct mutants; count(distinct body) in the store shows how many."""
+             time_mutations: bool = False, redraws: int = 50,
+             name: Callable[[int], str] = "mutant {}".format) -> list[Mutant]:
+    """`count` seeded mutants; `name(n)` labels the n-th (from 1) in its validator message.
+    A mutant whose body equals the golden or an earlier mutant's is redrawn (up to `redraws`
+    times), so duplicates only remain when the operators run out of distinct mutants."""
     rng = random.Random(f"untimely-mutants:{seed}")
     seen, mutants = {golden.renumbered().render()}, []
     for n in range(1, count + 1):
         for _ in range(redraws + 1):
-            mutant = mutate(golden, interface, rng, operations, time_mutations, f"mutant {n}")
+            mutant = mutate(golden, interface, rng, operations, time_mutations, name(n))
             if mutant.body not in seen:
                 break
         seen.add(mutant.body)
