@@ -81,26 +81,20 @@ class FunctionalLayer:
 
     def _handle(self, module: Module, rqst_id: int, service: Service, raw: dict, answer) -> None:
         values = parse_args(service, raw)
-        if values is None:
-            return answer("final", "bad_params")
-        if service.kind == "control":
+        rejection = "bad_params" if values is None else self._rejection(module, service)
+        if rejection:
+            answer("final", rejection)
+        elif service.kind == "control":
             module.configure(values)
-            return answer("final", "ok")
-        if service.kind == "init":
-            if INIT_INTERRUPTS in self.variant.defects:
-                for activity in module.running():
-                    activity.interrupt("interrupted")
+            answer("final", "ok")
         else:
-            rejection = self._rejection(module, service)
-            if rejection:
-                return answer("final", rejection)
-            self._interrupt_for(service.qualified)
-            if module.deadlocked:
-                return None
-        module.start(rqst_id, service.name, service.kind, values, answer)
-        return None
+            self._interrupt_for(module, service)
+            if not module.deadlocked:
+                module.start(rqst_id, service.name, service.kind, values, answer)
 
     def _rejection(self, module: Module, service: Service) -> str | None:
+        if service.kind != "exec":
+            return None
         leak = PEX_LEAK_DURING_INIT in self.variant.defects and module.initialising
         if self.has("PEX") and not module.initialised and not leak:
             return "wait_init"
@@ -110,21 +104,26 @@ class FunctionalLayer:
             return "too_many_activities"
         return None
 
-    def _interrupt_for(self, request: str) -> None:
-        """Interrupt what an accepted request ends; a defective variant may deadlock instead."""
-        module = self.modules[request.split(".")[0]]
-        victims: list[tuple[Activity, str]] = []
+    def _victims(self, module: Module, service: Service) -> list[tuple[Activity, str]]:
+        """The running activities an accepted request ends, each with its final reply."""
+        if service.kind == "init":
+            return [(a, "interrupted") for a in module.running()] if INIT_INTERRUPTS in self.variant.defects else []
+        request = service.qualified
         dominated = [a for a in module.running() if rules.dominates(request, a.qualified)]
         if self.has("AIB"):
-            victims += [(a, "interrupted") for a in dominated]
-        elif rules.is_stop(request):
-            victims += [(a, "ok") for a in dominated]  # stopped, but nothing says it was interrupted
+            victims = [(a, "interrupted") for a in dominated]
+        else:  # a Stop still stops, but nothing says it interrupted anything
+            victims = [(a, "ok") for a in dominated if rules.is_stop(request)]
         if self.has("EXC"):
             excluded = rules.excluded_by(request)
             victims += [(a, "interrupted_excl") for m in self.modules.values() for a in m.running()
                         if a.qualified in excluded]
+        return victims
+
+    def _interrupt_for(self, module: Module, service: Service) -> None:
+        """Interrupt what an accepted request ends; a defective variant may deadlock instead."""
         deadlocking = {"interrupted": DEADLOCK_ON_DOMINATED_START, "interrupted_excl": DEADLOCK_ON_EXCLUDED_START}
-        for activity, code in victims:
+        for activity, code in self._victims(module, service):
             if activity.phase == "starting" and deadlocking.get(code) in self.variant.defects:
                 activity.module.freeze()
             else:

@@ -26,6 +26,7 @@ class Scan:
 
 @dataclass
 class Posters:
+    """The shared data. Odometry is perfect: Robot is the rover's true pose at rflex's last period."""
     robot: tuple[float, float, float]
     scart: Scan = Scan(0, (0.0, 0.0, 0.0), ())
     cart_a: OccupancyMap = field(default_factory=OccupancyMap)
@@ -39,7 +40,8 @@ class DalaModule(Module):
 
 
 class Rflex(DalaModule):
-    """Odometry and wheels: TrackSpeedStart drives the rover from Ref (in mode velocity)."""
+    """Odometry and wheels: TrackSpeedStart drives the rover from Ref; in mode idle (the default,
+    until SetMode velocity) the wheels ignore Ref."""
     name = "rflex"
     start_s = {**Module.start_s, "TrackSpeedStart": 0.5}  # motor enable
     PERIOD_S = 0.1
@@ -73,16 +75,16 @@ class Sick(DalaModule):
     def __init__(self, env, world, posters):
         super().__init__(env, world, posters)
         self.settings = {"fov": 90.0, "range": 4.0}  # until SetParams says otherwise
-        self._scanned_with = None  # (fov, range) of the last scan
+        self._last_scan = None  # (pose, fov, range)
         self.bodies.update(ContinuousShot=self._continuous, OneShot=self._one_shot)
 
     def _scan(self) -> None:
-        pose, old = self.posters.robot, self.posters.scart
-        fov, reach = self.settings["fov"], self.settings["range"]
-        if old.seq and old.pose == pose and self._scanned_with == (fov, reach):
+        pose, fov, reach = self.posters.robot, self.settings["fov"], self.settings["range"]
+        if (pose, fov, reach) == self._last_scan:
             return  # a still rover in a static world: the last scan stands
-        self._scanned_with = (fov, reach)
-        self.posters.scart = Scan(old.seq + 1, pose, self.world.scan(fov, reach, self.RAY_STEP_DEG))
+        self._last_scan = (pose, fov, reach)
+        hits = self.world.scan(fov, reach, self.RAY_STEP_DEG)
+        self.posters.scart = Scan(self.posters.scart.seq + 1, pose, hits)
 
     def _continuous(self, _activity: Activity):
         while True:

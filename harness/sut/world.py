@@ -195,9 +195,9 @@ class World:
     def scan(self, fov_deg: float, range_m: float, step_deg: float) -> tuple[tuple[float, float], ...]:
         """Laser ray casts from the rover: (bearing relative to the heading, distance) of each hit."""
         x, y, heading = self.pose
-        rays = max(1, int(fov_deg / step_deg)) + 1
+        rays = max(1, int(fov_deg / step_deg)) + 1  # both edges of the field of view
         first = -math.radians(fov_deg) / 2
-        step = math.radians(fov_deg) / (rays - 1) if rays > 1 else 0.0
+        step = math.radians(fov_deg) / (rays - 1)
         hits = []
         query = self.space.segment_query_first
         for n in range(rays):
