@@ -49,6 +49,12 @@ class Setup:
     max_delay: float
 
 
+@dataclass(frozen=True)
+class UserError:
+    """An UntimelyError raised in a worker, as text: its subclasses do not all survive pickling."""
+    message: str
+
+
 def script_label(script_id: int) -> str:
     """How messages about a stored script name it (its scripts.script_id)."""
     return f"script {script_id}"
@@ -74,7 +80,7 @@ def _serve(conn, setup: Setup) -> None:
             script = parse(task.body, script_label(task.script_id))
             result = setup.runner(script, task.sut, task.seed, interface, setup.world_file, setup.max_delay)
         except UntimelyError as e:  # the user's input (a variant or world that cannot be built)
-            result = e
+            result = UserError(str(e))
         except Exception:  # noqa: BLE001 - any other failure is this run's crash
             result = crashed(task, traceback.format_exc().strip(), time.perf_counter() - start)
         conn.send(result)
@@ -147,8 +153,8 @@ def run_all(tasks: list[Task], setup: Setup, jobs: int, on_trace: Callable[[Task
                                                   "the worker was killed", watchdog_s)
                 elif result is None:
                     result = crashed(worker.task, worker.death())
-                if isinstance(result, UntimelyError):
-                    raise result
+                if isinstance(result, UserError):
+                    raise UntimelyError(result.message)
                 task, worker.task = worker.task, None
                 if not worker.process.is_alive():
                     workers.remove(worker)

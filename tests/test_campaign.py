@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT, campaign, store, workers
-from harness.errors import StoreError, UntimelyError
+from harness.errors import InputFileError, StoreError, UntimelyError
 from harness.executive import run_script
 from harness.progress import Progress
 
@@ -60,7 +60,7 @@ def stalling_runner(script, sut, seed, interface, world_file, max_delay):
 
 def user_error_runner(script, sut, seed, interface, world_file, max_delay):
     if sut == "nosuch":
-        raise UntimelyError("unknown variant 'nosuch'; use genom, bip-a, bip-b, bare or reference")
+        raise InputFileError(world_file, "[rover]", "unknown variant 'nosuch'; use genom or bip-a")
     return fake_runner(script, sut, seed, interface, world_file, max_delay)
 
 
@@ -214,7 +214,7 @@ def test_a_failing_run_or_dead_worker_is_a_crashed_trace_and_the_rest_completes(
 
 def test_a_variant_that_cannot_be_built_stores_nothing(mission, tmp_path):
     db = tmp_path / "c.duckdb"
-    with pytest.raises(UntimelyError, match="unknown variant 'nosuch'"):
+    with pytest.raises(UntimelyError, match=r"world.toml:\[rover\]: unknown variant 'nosuch'; use genom"):
         campaign.main(arguments(mission, db, sut="genom,nosuch"), runner=user_error_runner)
     campaign.main(arguments(mission, db, mutants=1, sut="genom"), runner=user_error_runner)
     con = store.connect(db, read_only=True)
