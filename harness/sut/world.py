@@ -127,6 +127,7 @@ class World:
         mass = 100.0
         self.rover = pymunk.Body(mass, pymunk.moment_for_circle(mass, 0.0, spec.rover_radius))
         self.rover.position, self.rover.angle = (x, y), heading
+        self.pose = spec.start  # the rover moves only in `advance`, which keeps this up to date
         shape = pymunk.Circle(self.rover, spec.rover_radius)
         shape.collision_type, shape.friction = ROVER, 0.9
         shape.filter = pymunk.ShapeFilter(categories=ROVER_CATEGORY)
@@ -165,11 +166,6 @@ class World:
         self.events.append((self.env.now, kind, json.dumps(detail)))
 
     @property
-    def pose(self) -> tuple[float, float, float]:
-        x, y = self.rover.position
-        return x, y, self.rover.angle
-
-    @property
     def still(self) -> bool:
         return self.wheels == (0.0, 0.0)
 
@@ -179,12 +175,13 @@ class World:
         speed, turn = self.wheels
         while not self.still and remaining > 1e-12:
             dt = min(remaining, MAX_STEP_S)
-            heading = self.rover.angle
+            x, y, heading = self.pose
             self.wheelbase.velocity = (speed * math.cos(heading), speed * math.sin(heading))
             self.wheelbase.angular_velocity = turn
-            before = self.rover.position
             self.space.step(dt)
-            self.odometer += before.get_distance(self.rover.position)
+            (x1, y1), heading = self.rover.position, self.rover.angle
+            self.odometer += math.hypot(x1 - x, y1 - y)
+            self.pose = (x1, y1, heading)
             remaining -= dt
 
     def set_wheels(self, speed: float, turn: float) -> None:
