@@ -17,6 +17,7 @@ MAX_DEVIATION = math.radians(150)
 TURN_GAIN, MAX_TURN = 2.0, 1.0  # rad/s per rad of heading error, rad/s
 TURN_IN_PLACE = math.radians(60)  # beyond this heading error the rover turns without advancing
 
+_FAR = CLEARANCE_M + 1  # the clearance of a cell no mapped obstacle is near
 _REACH = math.ceil(CLEARANCE_M / CELL_M)
 _DISC = tuple((di, dj, math.hypot(di, dj) * CELL_M)
               for di in range(-_REACH, _REACH + 1) for dj in range(-_REACH, _REACH + 1)
@@ -54,19 +55,19 @@ class OccupancyMap:
             occupied.add((i, j))
             for di, dj, d in _DISC:
                 key = (i + di, j + dj)
-                if d < nearness.get(key, CLEARANCE_M + 1):
+                if d < nearness.get(key, _FAR):
                     nearness[key] = d
 
     def clearance(self, x: float, y: float) -> float:
         """Distance from (x, y) to the nearest mapped obstacle, capped just above CLEARANCE_M."""
-        return self._nearness.get(_cell(x, y), CLEARANCE_M + 1)
+        return self._nearness.get(_cell(x, y), _FAR)
 
     def path_is_clear(self, x: float, y: float, heading: float, reach: float, floor: float) -> bool:
         """Whether every cell-spaced point up to `reach` along `heading` keeps `floor` clearance."""
-        nearness, far = self._nearness, CLEARANCE_M + 1
+        nearness = self._nearness
         dx, dy = CELL_M * math.cos(heading), CELL_M * math.sin(heading)
         for n in range(1, int(reach / CELL_M) + 1):
-            if nearness.get(_cell(x + n * dx, y + n * dy), far) < floor:
+            if nearness.get(_cell(x + n * dx, y + n * dy), _FAR) < floor:
                 return False
         return True
 

@@ -13,6 +13,17 @@ They mirror the paper's systems under test (DESIGN §3 table). Protections:
 
 Requests are checked in the order bad_params, PEX, PRE, free activity slot; only an accepted
 request interrupts anything.
+
+Defects:
+
+- init_interrupts: every Init interrupts all running activities of its module (`interrupted`).
+- deadlock_on_dominated_start: a dominating request that reaches an activity still in its start
+  phase deadlocks the module: its control task stops answering, its activities fall silent, the
+  liveness probe goes unanswered.
+- pex_leak_during_init: exec requests arriving while the module's first Init is still running
+  are accepted.
+- deadlock_on_excluded_start: an exclusion (EXC) interrupting an activity still in its start
+  phase deadlocks that activity's module (the rare interleaving of bip-b).
 """
 from __future__ import annotations
 
@@ -22,20 +33,11 @@ from harness.errors import UntimelyError
 
 PROTECTIONS = ("PEX", "AIB", "PRE", "EXC")
 
-# Injected defects, by name.
+# Injected defects (see the module docstring).
 INIT_INTERRUPTS = "init_interrupts"
 DEADLOCK_ON_DOMINATED_START = "deadlock_on_dominated_start"
 PEX_LEAK_DURING_INIT = "pex_leak_during_init"
 DEADLOCK_ON_EXCLUDED_START = "deadlock_on_excluded_start"
-DEFECTS = {
-    INIT_INTERRUPTS: "every Init interrupts all running activities of its module (`interrupted`)",
-    DEADLOCK_ON_DOMINATED_START: "a dominating request that reaches an activity still in its start "
-                                 "phase deadlocks the module: its control task stops answering",
-    PEX_LEAK_DURING_INIT: "exec requests arriving while the module's first Init is still running "
-                          "are accepted",
-    DEADLOCK_ON_EXCLUDED_START: "an exclusion (EXC) interrupting an activity still in its start "
-                                "phase deadlocks that activity's module",
-}
 
 
 @dataclass(frozen=True)
