@@ -1,16 +1,20 @@
 """The report: numbers equal the store's views, timelines show every request, output is self-contained."""
 from __future__ import annotations
 
+import csv
 import json
+import re
+from collections import Counter
+from html.parser import HTMLParser
+from pathlib import Path
 from types import SimpleNamespace
-from xml.etree import ElementTree as ET
 
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, report
+from harness.analyzer import materialise
 from harness.errors import StoreError
-from harness.interface import load_interface
-from harness.report.timeline import LEFT, PLOT_W, timeline
+from harness.interface import load_interface, load_properties
 from harness.store import add_campaign, add_reply_codes, connect, insert_trace
 from harness.trace import Trace
 
@@ -42,13 +46,15 @@ TRACES = {  # trace_id: (sut, outcome, script_id, requests, world events)
     1: ("genom", "completed", 1, BASE + DRIVE, []),
     2: ("genom", "completed", 2, BASE[:3] + DRIVE + [("ndd", "SetParams", {"speed": 0.6}, 11.2, 11.2, "ok")],
         [(6.5, "collision", {"with": "rock"})]),
-    3: ("genom", "completed", 3, BASE + DRIVE[:2] + [("rflex", "Init", None, 5.0, 5.5, "ok")] + DRIVE[2:],
-        []),
+    3: ("genom", "completed", 3,  # genom's quirk: Init interrupts the running TrackSpeedStart
+        BASE + [("rflex", "TrackSpeedStart", None, 1.0, 5.01, "interrupted")] + DRIVE[1:3]
+        + [("rflex", "Init", None, 5.0, 5.5, "ok"), ("rflex", "Stop", None, 11.999, 12.05, "ok")], []),
     4: ("bip-a", "completed", 1, BASE + DRIVE, []),
     5: ("bip-a", "hung", 2, BASE[:3] + [("rflex", "TrackSpeedStart", None, 1.0, None, None),
                                           ("ndd", "GotoPosition", {"x": 9, "y": 4}, 1.0, 1.0, "disallowed"),
                                           ("antenna", "Communication", {"duration": 10}, 2.0, None, None)],
         [(3.0, "link_lost", {})]),
+    6: ("reference", "completed", None, BASE, []),  # imported, only Init and control: no verdict
 }
 
 
@@ -65,7 +71,8 @@ def _events(requests) -> list[tuple]:
 
 
 def make_store(path) -> None:
-    """A small campaign: a golden script, two mutants and an invalid one, five traces on two variants."""
+    """A small campaign: a golden script, two mutants and an invalid one, five traces on two variants
+    (an FN, an FP, a hang, suspicious TPs, world events) and an imported trace without verdicts."""
     con = connect(path)
     add_campaign(con, 1, "missions/dala", 7, {"sut": ["genom", "bip-a"], "mutants": 3})
     add_reply_codes(con, load_interface(DEFAULT_MISSION_DIR / "interface.toml"))
@@ -81,105 +88,246 @@ def make_store(path) -> None:
         trace = Trace(sut, seed=trace_id, outcome=outcome, sim_s=12.1 if outcome == "completed" else 30.0,
                       wall_s=0.01, events=_events(requests),
                       world_events=[(t, kind, json.dumps(d)) for t, kind, d in world])
-        insert_trace(con, trace_id, 1, script_id, trace)
+        insert_trace(con, trace_id, 1, script_id, trace, label=None if script_id else "robot-log")
     con.close()
 
 
-def _rows(con, sql):
-    cursor = con.execute(sql)
-    names = [d[0] for d in cursor.description]
-    return [dict(zip(names, r)) for r in cursor.fetchall()]
-
-
-def _svg(markup) -> ET.Element:
-    root = ET.fromstring(str(markup))
-    for element in root.iter():  # drop the SVG namespace so that find("title") reads naturally
-        element.tag = element.tag.split("}")[-1]
-    return root
-
-
-def _classes(element) -> set[str]:
-    return set(element.get("class", "").split())
-
-
-def _find(root, css_class: str) -> list:
-    return [e for e in root.iter() if css_class in _classes(e)]
-
-
-@pytest.fixture(scope="module")
-def raw_store(tmp_path_factory):
-    path = tmp_path_factory.mktemp("store") / "raw.duckdb"
+def analysed_store(path, epsilon: float = 0.01):
+    """make_store, judged by the analyzer with the Dala properties."""
     make_store(path)
+    interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
+    con = connect(path)
+    materialise(con, load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface), epsilon)
+    con.close()
     return path
 
 
-def _trace_timeline(path, trace_id, verdicts=()):
-    con = connect(path, read_only=True)
-    events = _rows(con, f"""select e.*, c.class from events e left join reply_codes c using (module, service, reply)
-                            where trace_id = {trace_id} order by seq""")
-    world = _rows(con, f"select * from world_events where trace_id = {trace_id} order by t")
+def write_report(db, out, traces=()) -> Path:
+    report.main(SimpleNamespace(db=str(db), out=str(out), trace=list(traces)))
+    return Path(out)
+
+
+class Page(HTMLParser):
+    """An HTML page as the tests read it: its elements, and each table's rows of (text, href) cells."""
+
+    def __init__(self, text: str):
+        super().__init__()
+        self.elements: list[tuple[str, dict]] = []
+        self.tables: dict[str, list[list[tuple[str, str | None]]]] = {}
+        self._rows = self._cell = None
+        self.feed(text)
+
+    def handle_starttag(self, tag, attrs):
+        attrs = dict(attrs)
+        self.elements.append((tag, attrs))
+        if tag == "table":
+            self._rows = self.tables.setdefault(attrs.get("id"), [])
+        elif tag == "tr" and self._rows is not None:
+            self._rows.append([])
+        elif tag in ("td", "th") and self._rows is not None:
+            self._cell = ["", None]
+        elif tag == "a" and self._cell is not None:
+            self._cell[1] = attrs.get("href")
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell[0] += data
+
+    def handle_endtag(self, tag):
+        if tag in ("td", "th") and self._cell is not None:
+            self._rows[-1].append((self._cell[0].strip(), self._cell[1]))
+            self._cell = None
+        elif tag == "table":
+            self._rows = None
+
+    def with_class(self, css: str) -> list[dict]:
+        return [attrs for _, attrs in self.elements if css in (attrs.get("class") or "").split()]
+
+    def texts(self, table: str) -> list[list[str]]:
+        return [[text for text, _ in row] for row in self.tables[table]]
+
+
+def shown(value, rate: bool = False) -> str:
+    """How the report writes a store value, restated independently of harness.report.tables."""
+    if rate:
+        return "-" if value is None else f"{100 * value:.1f}"
+    return "" if value is None else ("yes" if value is True else "no" if value is False else str(value))
+
+
+def _query(db, sql):
+    con = connect(db, read_only=True)
+    cursor = con.execute(sql)
+    names = [d[0] for d in cursor.description]
+    found = [dict(zip(names, row)) for row in cursor.fetchall()]
     con.close()
-    sut, outcome, *_ = TRACES[trace_id]
-    return _svg(timeline(["rflex", "sick", "aspect", "ndd", "antenna"], events, list(verdicts), world,
-                         30.0, outcome))
+    return names, found
 
 
-def test_timeline_has_a_lane_per_module_and_a_bar_per_request(raw_store):
-    root = _trace_timeline(raw_store, 5)
-    lanes = _find(root, "lane")
-    assert [lane.get("data-module") for lane in lanes] == ["rflex", "ndd", "antenna"]
-    requests = TRACES[5][3]
-    for lane in lanes:
-        bars = _find(lane, "bar")
-        assert len(bars) == sum(1 for r in requests if r[0] == lane.get("data-module"))
-    assert len(_find(root, "open")) == 2  # TrackSpeedStart and Communication never replied
-    assert len(_find(root, "reply-R")) == 1  # the disallowed GotoPosition
-    assert len(_find(root, "world-event")) == 1
+@pytest.fixture(scope="module")
+def site(tmp_path_factory):
+    root = tmp_path_factory.mktemp("report")
+    db = analysed_store(root / "campaign.duckdb")
+    return db, write_report(db, root / "out", [6])
 
 
-def test_timeline_bars_span_request_to_final_reply(raw_store):
-    root = _trace_timeline(raw_store, 1)
-    goto = next(g for g in _find(root, "request") if g.get("data-rqst") == "6")
-    bar = _find(goto, "bar")[0]
-    scale = PLOT_W / 30.0
-    assert float(bar.get("x")) == pytest.approx(LEFT + 1.0 * scale, abs=0.01)
-    assert float(bar.get("width")) == pytest.approx(10.0 * scale, abs=0.01)
-    assert "GotoPosition" in bar.find("title").text and "'ok'" in bar.find("title").text
+def _page(path: Path) -> Page:
+    return Page(path.read_text())
 
 
-def test_overlapping_requests_of_a_module_stack_in_rows(raw_store):
-    # trace 1: rflex.Stop is sent while TrackSpeedStart still runs, so they share no row
-    root = _trace_timeline(raw_store, 1)
-    rflex = _find(root, "lane")[0]
-    tops = {g.get("data-rqst"): float(_find(g, "bar")[0].get("y")) for g in _find(rflex, "request")}
-    assert tops["5"] != tops["8"]
-    assert tops["1"] == tops["5"]  # Init ended long before TrackSpeedStart: same row
+def test_table2_equals_the_trace_robustness_view(site):
+    db, out = site
+    names, found = _query(db, "select * from trace_robustness")
+    rows = _page(out / "index.html").texts("trace_robustness")
+    assert rows[0] == names
+    assert sorted(rows[1:]) == sorted([shown(r[c], c == "t_rob") for c in names] for r in found)
+    assert [r[0] for r in rows[1:]] == ["genom", "bip-a", "reference"]  # the order they were run
 
 
-def test_timeline_marks_fn_fp_tp_and_keeps_tn_in_tooltips(raw_store):
-    verdicts = [dict(trace_id=2, property_id=p, family=p[:3], rqst_id=r, module="ndd", service="GotoPosition",
-                     c_holds=c, verdict=v, margin_s=0.002, suspicious=s)
-                for p, r, c, v, s in [("PRE(ndd.GotoPosition)", 5, False, "FN", True),
-                                      ("PEX(ndd)", 5, True, "TN", False),
-                                      ("AIB(rflex.TrackSpeedStart)", 4, False, "TP", False)]]
-    root = _trace_timeline(raw_store, 2, verdicts)
-    marks = _find(root, "verdict")
-    assert sorted(m.get("data-property") for m in marks) == ["AIB(rflex.TrackSpeedStart)",
-                                                             "PRE(ndd.GotoPosition)"]
-    fn = _find(root, "verdict-FN")[0]
-    assert "suspicious" in _classes(fn) and "SUSPICIOUS" in fn.find("rect/title").text
-    goto = next(g for g in _find(root, "request") if g.get("data-rqst") == "5")
-    assert "TN PEX(ndd)" in _find(goto, "bar")[0].find("title").text
+@pytest.mark.parametrize("table, view, rate", [("table3", "tp_rates", "tp_rate"), ("table4", "fp_rates", "fp_rate")])
+def test_tables_3_and_4_equal_the_rate_views(site, table, view, rate):
+    db, out = site
+    _, found = _query(db, f"select * from {view}")
+    rows = _page(out / "index.html").texts(table)
+    suts = rows[0][1:]
+    cells = {(row[0], sut): text for row in rows[1:] for sut, text in zip(suts, row[1:])}
+    assert cells == {(r["family"], r["sut"]): shown(r[rate], rate=True) for r in found}
+    assert [row[0] for row in rows[1:]] == ["PEX", "AIB", "PRE", "EXC", "All"]
 
 
-def test_report_of_an_unanalysed_store_says_to_run_analyze(raw_store, tmp_path):
-    args = SimpleNamespace(db=str(raw_store), out=str(tmp_path / "out"), trace=[])
+def test_the_property_table_equals_the_property_verdicts_view(site):
+    db, out = site
+    names, found = _query(db, "select * from property_verdicts")
+    rows = _page(out / "index.html").texts("property_verdicts")
+    assert rows[0] == names
+    assert Counter(map(tuple, rows[1:])) == Counter(tuple(shown(r[c]) for c in names) for r in found)
+
+
+def test_csv_files_equal_the_views(site):
+    db, out = site
+    for view in ("trace_robustness", "tp_rates", "fp_rates", "property_verdicts", "inversions"):
+        names, found = _query(db, f"select * from {view}")
+        with open(out / f"{view}.csv", newline="") as f:
+            written = list(csv.reader(f))
+        extra = [c for c in written[0] if c not in names]  # e.g. the variant beside a trace id
+        assert [c for c in written[0] if c not in extra] == names
+        keep = [written[0].index(c) for c in names]
+        assert Counter(tuple(row[i] for i in keep) for row in written[1:]) == \
+            Counter(tuple("" if r[c] is None else str(r[c]) for c in names) for r in found), view
+
+
+def test_the_bad_trace_verdicts_csv_holds_every_fn_and_fp(site):
+    db, out = site
+    _, found = _query(db, "select trace_id, property_id, rqst_id, verdict from verdicts "
+                          "where verdict in ('FN', 'FP')")
+    with open(out / "bad_trace_verdicts.csv", newline="") as f:
+        written = list(csv.DictReader(f))
+    assert sorted((int(r["trace_id"]), r["property_id"], int(r["rqst_id"]), r["verdict"]) for r in written) == \
+        sorted(tuple(r.values()) for r in found) == [(2, "PRE(ndd.GotoPosition)", 5, "FN"),
+                                                     (3, "AIB(rflex.TrackSpeedStart)", 5, "FP")]
+
+
+def test_every_trace_page_has_a_lane_per_module_and_a_bar_per_request(site):
+    db, out = site
+    _, found = _query(db, "select trace_id, module, count(*) as n from requests group by all")
+    pages = sorted(out.glob("traces/trace-*.html"))
+    assert [p.name for p in pages] == [f"trace-{i}.html" for i in (1, 2, 3, 4, 5, 6)]
+    for path in pages:
+        trace_id = int(re.search(r"\d+", path.name).group())
+        page = _page(path)
+        expected = {r["module"]: r["n"] for r in found if r["trace_id"] == trace_id}
+        lanes = [lane["data-module"] for lane in page.with_class("lane")]
+        assert sorted(lanes) == sorted(expected)
+        assert len(page.with_class("bar")) == sum(expected.values())
+
+
+def test_a_hung_trace_page_shows_open_bars_world_events_and_the_mutation(site):
+    _, out = site
+    text = (out / "traces" / "trace-5.html").read_text()
+    page = Page(text)
+    assert [lane["data-module"] for lane in page.with_class("lane")] == ["rflex", "ndd", "antenna"]
+    assert len(page.with_class("open")) == 2 and len(page.with_class("reply-R")) == 1
+    assert len(page.with_class("world-event")) == 1 and "link_lost" in text
+    assert "hung at 30 s" in text
+    assert "<span class=\"del\">-send ndd.SetParams speed=0.6 as nav</span>" in text
+    assert "<span class=\"add\">+send ndd.SetParams speed=0.6 as nav</span>" in text
+
+
+def test_verdict_marks_on_the_fn_fp_and_suspicious_tp(site):
+    _, out = site
+    fn = _page(out / "traces" / "trace-2.html")
+    assert [m["data-property"] for m in fn.with_class("verdict-FN")] == ["PRE(ndd.GotoPosition)"]
+    assert [m["data-property"] for m in fn.with_class("suspicious")] == ["AIB(rflex.TrackSpeedStart)"]
+    fp = _page(out / "traces" / "trace-3.html")
+    assert [m["data-property"] for m in fp.with_class("verdict-FP")] == ["AIB(rflex.TrackSpeedStart)"]
+
+
+def test_table3_cells_reach_trace_pages_in_two_clicks(site):
+    db, out = site
+    _, found = _query(db, """select t.sut, coalesce(v.family, 'All') as family, count(distinct trace_id) as n
+                             from verdicts v join traces t using (trace_id) where v.verdict in ('TP', 'FN', 'FP')
+                             group by grouping sets ((t.sut, v.family), (t.sut))""")
+    listed = {(r["sut"], r["family"]): r["n"] for r in found}
+    rows = _page(out / "index.html").tables["table3"]
+    suts = [text for text, _ in rows[0][1:]]
+    for row in rows[1:]:
+        for sut, (_, href) in zip(suts, row[1:]):
+            cell_page = _page(out / href)
+            links = [a["href"] for tag, a in cell_page.elements if tag == "a" and "trace-" in a.get("href", "")]
+            assert len(links) == listed.get((sut, row[0][0]), 0), (sut, row[0][0])
+            assert all((out / link).exists() for link in links)
+
+
+def test_every_bad_trace_is_listed_under_its_variant(site):
+    db, out = site
+    _, found = _query(db, """select t.trace_id, t.sut from traces t where t.outcome <> 'completed'
+                             or exists (select 1 from verdicts v where v.trace_id = t.trace_id
+                                        and v.verdict in ('FN', 'FP'))""")
+    assert sorted(r["trace_id"] for r in found) == [2, 3, 5]
+    for r in found:
+        page = _page(out / "traces" / f"bad-{r['sut']}.html")
+        assert f"traces/trace-{r['trace_id']}.html" in [row[0][1] for row in page.tables["traces"][1:]]
+
+
+def test_the_index_names_the_campaign_and_the_invalid_mutant(site):
+    _, out = site
+    index = _page(out / "index.html")
+    text = (out / "index.html").read_text()
+    assert "mission <code>missions/dala</code>, seed 7" in text and "3 mutants of which 1 invalid" in text
+    assert index.texts("invalid_mutants")[1][3] == "line 2: unknown handle 'ri'; send it before waiting on it"
+    assert "epsilon = 0.01 s" in text
+    assert len(index.with_class("chart")) == 4
+
+
+def test_output_is_self_contained(site):
+    _, out = site
+    for path in out.rglob("*.html"):
+        text = path.read_text()
+        assert not re.search(r"""(src|href)\s*=\s*["']?\s*(https?:)?//""", text, re.I), path
+        assert "<script" not in text and "<link" not in text and "@import" not in text, path
+
+
+def test_a_trace_asked_for_gets_a_page_and_stale_pages_go(site, tmp_path):
+    db, _ = site
+    out = write_report(db, tmp_path / "out", [6])
+    page = (out / "traces" / "trace-6.html").read_text()
+    assert "Imported trace <code>robot-log</code>" in page
+    write_report(db, out)
+    assert not (out / "traces" / "trace-6.html").exists()
+
+
+def test_an_unknown_trace_id_is_refused(site, tmp_path):
+    db, _ = site
+    with pytest.raises(StoreError, match=r"no trace \[99\] in the store"):
+        write_report(db, tmp_path / "out", [99])
+
+
+def test_report_of_an_unanalysed_store_says_to_run_analyze(tmp_path):
+    make_store(tmp_path / "raw.duckdb")
     with pytest.raises(StoreError, match=r"has no verdicts yet .*run python -m harness analyze"):
-        report.main(args)
+        write_report(tmp_path / "raw.duckdb", tmp_path / "out")
     assert not (tmp_path / "out" / "index.html").exists()
 
 
 def test_report_of_a_missing_store_names_it(tmp_path):
-    args = SimpleNamespace(db=str(tmp_path / "nowhere.duckdb"), out=str(tmp_path / "out"), trace=[])
     with pytest.raises(StoreError, match="nowhere.duckdb"):
-        report.main(args)
+        write_report(tmp_path / "nowhere.duckdb", tmp_path / "out")

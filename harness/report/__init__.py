@@ -31,10 +31,9 @@ def main(args) -> int:
 def write_report(con, out: Path, extra_traces: list[int] = ()) -> dict[str, int]:
     """Write the whole report under `out`; returns how many files of each sort it wrote."""
     suts, families = queries.sut_order(con), queries.family_order(con)
-    table2 = queries.view(con, "trace_robustness", "Table II: per-trace results", "sut",
-                          percent=frozenset({"t_rob"}))
-    tp = queries.view(con, "tp_rates", "True positive rates", "sut, family", percent=frozenset({"tp_rate"}))
-    fp = queries.view(con, "fp_rates", "False positive rates", "sut, family", percent=frozenset({"fp_rate"}))
+    table2 = queries.view(con, "trace_robustness", "Table II: per-trace results", percent=frozenset({"t_rob"}))
+    tp = queries.view(con, "tp_rates", "True positive rates", percent=frozenset({"tp_rate"}))
+    fp = queries.view(con, "fp_rates", "False positive rates", percent=frozenset({"fp_rate"}))
     bad = queries.bad_traces(con)
     family_traces = queries.family_traces(con)
     page_ids = set(bad.column("trace_id")) | {r["trace_id"] for found in family_traces.values()
@@ -51,7 +50,7 @@ def write_report(con, out: Path, extra_traces: list[int] = ()) -> dict[str, int]
         "table2": table2.link_column("sut", pages.bad_href),
         "table3": pages.pivot(tp, "tp_rate", "table3", "Table III: true positive rates (%)", suts, families),
         "table4": pages.pivot(fp, "fp_rate", "table4", "Table IV: false positive rates (%)", suts, families),
-        "properties": queries.property_breakdown(con),
+        "properties": queries.view(con, "property_verdicts", "Verdicts per property and variant"),
         "suspicious": queries.suspicious(con),
         "inversions": queries.inversions(con),
     }
@@ -67,7 +66,7 @@ def write_report(con, out: Path, extra_traces: list[int] = ()) -> dict[str, int]
     lists = pages.write_lists(out, family_traces, bad, suts, families)
     pages.write_traces(out, queries.trace_details(con, sorted(page_ids)), queries.module_order(con))
     pages.write_index(out, dict(
-        campaigns=queries.campaigns(con), tables=tables, bad=bad, suts=suts,
+        campaigns=queries.campaigns(con), analysis=queries.analysis(con), tables=tables, bad=bad, suts=suts,
         charts=pages.index_charts(suts, families, tp, fp, table2, "t_rob", queries.verdict_mix(con)),
         csv=[t.name for t in csv_tables]))
     return {"traces": len(page_ids), "lists": lists, "csv": len(csv_tables)}

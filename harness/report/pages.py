@@ -9,7 +9,7 @@ from markupsafe import Markup
 
 from harness.report import charts, queries
 from harness.report.tables import Table, percent
-from harness.report.timeline import requests_of, timeline
+from harness.report.timeline import timeline
 
 TEMPLATES = Path(__file__).parent / "templates"
 SHOWN_ROWS = 200  # longer tables are cut on the page; their CSV has every row
@@ -42,6 +42,7 @@ def pivot(view: Table, rate: str, name: str, title: str, suts: list[str], famili
     cell = {(r[view.columns.index("family")], r[view.columns.index("sut")]): r[view.columns.index(rate)]
             for r in view.rows}
     families = [f for f in families if any((f, s) in cell for s in suts)]
+    suts = [s for s in suts if any((f, s) in cell for f in families)]
     table = Table(name, title, ["family", *suts], [(f, *(cell.get((f, s)) for s in suts)) for f in families],
                   percent=frozenset(suts))
     for r, family in enumerate(families):
@@ -72,11 +73,11 @@ def write_lists(out: Path, family_traces: dict, bad: Table, suts: list[str], fam
 def write_traces(out: Path, details: list[dict], modules: list[str]) -> None:
     for t in details:
         end_t = t["sim_s"] if t["sim_s"] is not None else 0.0
-        svg = timeline(modules, t["events"], t["verdicts"], t["world"], end_t, t["outcome"])
+        svg = timeline(modules, t["requests"], t["verdicts"], t["world"], end_t, t["outcome"])
         shown = [v for v in t["verdicts"] if v["verdict"] != "TN" or v["suspicious"]]
         counts = {v: sum(1 for x in t["verdicts"] if x["verdict"] == v) for v in queries.VERDICTS}
         render("trace.html.j2", out / trace_href(t["trace_id"]), t=t, timeline=svg, verdicts=shown,
-               counts=counts, requests=len(requests_of(t["events"])))
+               counts=counts)
 
 
 def index_charts(suts: list[str], families: list[str], tp: Table, fp: Table, table2: Table,

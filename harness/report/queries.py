@@ -7,8 +7,17 @@ from collections import defaultdict
 
 from harness.errors import StoreError
 from harness.report.tables import Table, query_table
+from harness.report.timeline import Request
 
 VERDICTS = ("TP", "FN", "FP", "TN", "op", "na", "omega")
+# What `python -m harness analyze` materialises and the report reads.
+ANALYSED = ("verdicts", "requests", "property_verdicts", "family_verdicts", "trace_robustness",
+            "tp_rates", "fp_rates", "inversions")
+# Rank columns to order a view's rows: variants as they were run, properties and families in the
+# order of the properties file (the verdicts table is materialised in that order); All comes last.
+RANKS = {"sut": "select sut, min(trace_id) as sut_rank from traces group by sut",
+         "family": "select family, min(rowid) as family_rank from verdicts group by family",
+         "property_id": "select property_id, min(rowid) as property_id_rank from verdicts group by property_id"}
 
 
 def rows(con, sql: str, params=()) -> list[dict]:
@@ -20,8 +29,7 @@ def rows(con, sql: str, params=()) -> list[dict]:
 def check_analysed(con, db: str) -> None:
     """Refuse a store whose verdicts were never materialised: the report would be empty."""
     have = {r["table_name"] for r in rows(con, "select table_name from information_schema.tables")}
-    missing = [name for name in ("traces", "verdicts", "trace_robustness", "tp_rates", "fp_rates")
-               if name not in have]
+    missing = [name for name in ("traces", *ANALYSED) if name not in have]
     if "traces" in missing:
         raise StoreError(f"{db!r} is not an Untimely store (no traces table); pass the campaign's --db")
     if missing or not con.execute("select count(*) from verdicts").fetchone()[0]:
@@ -77,24 +85,27 @@ def invalid_mutants(con) -> Table:
         from scripts where not valid order by script_id""")
 
 
-def view(con, name: str, title: str, order: str, **options) -> Table:
-    """A whole analyzer view, as the analyzer defines its columns."""
-    return query_table(con, name, title, f"select * from {name} order by {order}", **options)
-
-
-def property_breakdown(con) -> Table:
-    counts = ", ".join(f"count(*) filter (where v.verdict = '{v}') as {v}" for v in VERDICTS)
-    return query_table(con, "properties", "Verdicts per property and variant", f"""
-        select t.sut, v.family, v.property_id, {counts},
-               count(*) filter (where v.suspicious) as suspicious
-        from verdicts v join traces t using (trace_id)
-        group by all order by min(t.trace_id), min(v.rowid)""")
+def view(con, name: str, title: str, **options) -> Table:
+    """A whole analyzer view, with its own columns, in the order the campaign and properties give."""
+    columns = [d[0] for d in con.execute(f"select * from {name} limit 0").description]
+    ranked = [c for c in RANKS if c in columns]
+    joins = " ".join(f"left join ({RANKS[c]}) using ({c})" for c in ranked)
+    order = ", ".join(f"{c}_rank nulls last" for c in ranked) or "all"
+    return query_table(con, name, title, f"select v.* from {name} v {joins} order by {order}", **options)
 
 
 def verdict_mix(con) -> dict[tuple[str, str], int]:
-    return {(sut, verdict): n for sut, verdict, n in con.execute(
-        "select t.sut, v.verdict, count(*) from verdicts v join traces t using (trace_id) group by all"
-    ).fetchall()}
+    """(variant, verdict) -> how many verdicts, over all families."""
+    found = rows(con, "select * from family_verdicts where family = 'All'")
+    return {(r["sut"], v): r[v.lower()] for r in found for v in VERDICTS}
+
+
+def analysis(con) -> dict:
+    """When the verdicts were made and with which epsilon (the analyzer's record), if it left one."""
+    known = con.execute("select count(*) from information_schema.tables where table_name = 'analysis'")
+    if not known.fetchone()[0]:
+        return {}
+    return rows(con, "select analysed_at::timestamp as analysed_at, epsilon, properties from analysis")[0]
 
 
 def suspicious(con) -> Table:
@@ -155,6 +166,12 @@ def trace_details(con, ids: list[int]) -> list[dict]:
         select e.trace_id, e.seq, e.t, e.kind, e.rqst_id, e.module, e.service, e.args, e.reply, c.class
         from events e left join reply_codes c using (module, service, reply)
         where e.{wanted} order by e.trace_id, e.seq""", [ids]))
+    # the analyzer's requests view pairs each request with its final reply as the oracles do
+    requests = _by_trace(rows(con, f"""
+        select r.trace_id, r.rqst_id, r.module, r.service, e.args, r.t as start, r.final_t as "end",
+               r.reply, r.class as reply_class
+        from requests r left join events e on e.trace_id = r.trace_id and e.seq = r.seq
+        where r.{wanted} order by r.trace_id, r.t, r.seq""", [ids]))
     verdicts = _by_trace(rows(con, f"""
         select * from verdicts where {wanted} order by trace_id, rqst_id, property_id""", [ids]))
     world = _by_trace(rows(con, f"select * from world_events where {wanted} order by trace_id, t",
@@ -162,6 +179,8 @@ def trace_details(con, ids: list[int]) -> list[dict]:
     for t in traces:
         i = t["trace_id"]
         t.update(events=events.get(i, []), verdicts=verdicts.get(i, []), world=world.get(i, []),
+                 requests=[Request(**{k: v for k, v in r.items() if k != "trace_id"})
+                           for r in requests.get(i, [])],
                  diff=_diff(t))
     return traces
 
@@ -189,5 +208,6 @@ def trace_ids(con, ids: list[int]) -> list[int]:
 
 
 def inversions(con) -> Table:
-    return query_table(con, "inversions", "Verdicts the observation delay inverted",
-                       "select * from inversions order by all")
+    return query_table(con, "inversions", "Verdicts the observation delay inverted", """
+        select t.sut, i.* from inversions i join traces t using (trace_id)
+        order by i.trace_id, i.rqst_id, i.property_id""")

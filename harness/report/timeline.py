@@ -32,19 +32,6 @@ class Request:
         return f"{self.module}.{self.service} {words}".strip()
 
 
-def requests_of(events: list[dict]) -> list[Request]:
-    """One Request per rqst_id from a trace's events (ordered by seq)."""
-    by_id: dict[int, Request] = {}
-    for e in events:
-        r = by_id.setdefault(e["rqst_id"], Request(e["rqst_id"], e["module"], e["service"],
-                                                   e["args"], e["t"]))
-        if e["kind"] == "request":
-            r.start, r.args = e["t"], e["args"]
-        elif e["kind"] == "final":
-            r.end, r.reply, r.reply_class = e["t"], e["reply"], e["class"]
-    return sorted(by_id.values(), key=lambda r: (r.start, r.rqst_id))
-
-
 @dataclass
 class Bar:
     """Where a request is drawn: its bar, and its verdict marks inside it or, if it is too short, after it."""
@@ -98,11 +85,10 @@ def _world_title(w: dict) -> str:
     return f"{w['kind']} at {w['t']:.3f} s" + (f": {words}" if words else "")
 
 
-def timeline(modules: list[str], events: list[dict], verdicts: list[dict], world: list[dict],
+def timeline(modules: list[str], requests: list[Request], verdicts: list[dict], world: list[dict],
              end_t: float, outcome: str) -> Markup:
     """The trace's timeline; `modules` gives the lane order, `end_t` the end of the trace."""
-    requests = requests_of(events)
-    end_t = max([end_t, *(r.end or r.start for r in requests), *(w["t"] for w in world)]) or 1.0
+    end_t = max([end_t, *(r.start if r.end is None else r.end for r in requests), *(w["t"] for w in world)]) or 1.0
     x = lambda t: LEFT + PLOT_W * t / end_t  # noqa: E731
     by_rqst: dict[int, list[dict]] = {}
     for v in verdicts:

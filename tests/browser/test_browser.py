@@ -1,0 +1,42 @@
+"""The report as a browser shows it: headless chromium renders index.html and a trace page."""
+from __future__ import annotations
+
+import shutil
+import subprocess
+
+import pytest
+
+from test_report import Page, analysed_store, write_report
+
+CHROMIUM = shutil.which("chromium")
+pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="no chromium binary on PATH; .ci/run installs "
+                                                         "Debian's chromium (apt-get install -y chromium)")
+
+
+def _render(page, tmp_path, name: str) -> tuple[Page, bytes]:
+    """The DOM chromium built from the page, and a screenshot of it."""
+    shot = tmp_path / f"{name}.png"
+    done = subprocess.run(
+        [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+         "--disable-component-update", "--disable-sync", "--no-first-run",
+         f"--user-data-dir={tmp_path / ('profile-' + name)}", "--window-size=1300,1000",
+         "--dump-dom", f"--screenshot={shot}", page.as_uri()],
+        capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    return Page(done.stdout), shot.read_bytes()
+
+
+def test_chromium_renders_the_tables_and_a_timeline(tmp_path):
+    out = tmp_path / "report"
+    write_report(analysed_store(tmp_path / "store.duckdb"), out, [])
+    index, shot = _render(out / "index.html", tmp_path, "index")
+    assert shot.startswith(b"\x89PNG") and len(shot) > 10_000
+    for table in ("trace_robustness", "table3", "table4", "property_verdicts"):
+        assert len(index.tables[table]) > 1, f"table {table} has no rows in the rendered DOM"
+    assert len(index.with_class("chart")) == 4
+
+    trace, shot = _render(out / "traces" / "trace-5.html", tmp_path, "trace")
+    assert shot.startswith(b"\x89PNG") and len(shot) > 10_000
+    assert [lane["data-module"] for lane in trace.with_class("lane")] == ["rflex", "ndd", "antenna"]
+    assert len(trace.with_class("bar")) == 6
+    assert trace.with_class("world-event")
