@@ -1,7 +1,8 @@
 """The mission executive: plays a validated script against a functional layer in virtual time.
 
 `send` is non-blocking; `wait` blocks until the awaited final replies are observed (or its
-watchdog expires: the wait is abandoned and noted, the script goes on). An out-of-band liveness
+watchdog expires: the wait is abandoned and noted, the script goes on), then the executive
+takes REACTION_S to react. An out-of-band liveness
 probe pings the layer every PROBE_PERIOD; a layer that does not answer within PROBE_TIMEOUT has
 stopped answering and the trace ends `hung`. An exception inside the layer ends it `crashed`.
 
@@ -25,6 +26,9 @@ from harness.trace import Trace
 
 WAIT_TIMEOUT_S = 120.0  # watchdog of a `wait` without timeout=
 DRAIN_S = 10.0  # how long outstanding replies are awaited after the last step
+# An executive takes time to react to the replies it awaited (OpenPRS runs in cycles of tens of
+# ms); without it, a request sent after a `wait` would be observed at the reply's very instant.
+REACTION_S = 0.02
 PROBE_PERIOD_S = 1.0
 PROBE_TIMEOUT_S = 0.5
 
@@ -128,6 +132,7 @@ class Executive:
                            else [self.handles[step.handle]])
                 label = f"line {step.line}: wait {step.handle}"
                 yield from self._await(awaited, step.seconds or WAIT_TIMEOUT_S, label)
+                yield self.env.timeout(REACTION_S)
         yield from self._await(list(self.requests.values()), DRAIN_S, "drain at end of script")
         if not self.done.triggered:
             self.done.succeed("completed")

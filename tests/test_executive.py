@@ -1,7 +1,7 @@
 """The executive against a small fake layer: sends, waits, delays, hang, crash, determinism."""
 import pytest
 
-from harness.executive import DRAIN_S, run_script
+from harness.executive import DRAIN_S, REACTION_S, run_script
 from harness.mutator.script import parse, validate
 
 
@@ -47,9 +47,9 @@ def test_send_is_non_blocking_and_wait_blocks_on_final_replies(interface):
     kinds = [(e[2], e[3]) for e in trace.events]
     assert kinds[:2] == [("request", 1), ("request", 2)]  # both sent before any reply
     t = {(e[2], e[3]): e[1] for e in trace.events}
-    assert t[("request", 3)] >= t[("final", 1)] + 2  # sleep 2 after the awaited reply
+    assert t[("request", 3)] == pytest.approx(t[("final", 1)] + REACTION_S + 2)  # reaction, sleep 2
     assert len(trace.events) == len(trace.internal_events) == 6
-    assert trace.sim_s == pytest.approx(t[("final", 3)])
+    assert trace.sim_s == pytest.approx(t[("final", 3)] + REACTION_S)
 
 
 def test_observation_delays_are_seeded_and_bounded(interface):
@@ -86,7 +86,7 @@ def test_wait_watchdog_abandons_a_wait_on_a_live_layer(interface):
     assert notes[0] == (pytest.approx(4.0), "wait_timeout")
     # the never-ending activity stays without a final reply after the bounded drain
     assert not any(e[2] == "final" and e[3] == 1 for e in trace.events)
-    assert trace.sim_s == pytest.approx(4.0 + 1.0 + DRAIN_S, abs=0.01)
+    assert trace.sim_s == pytest.approx(4.0 + 1.0 + 2 * REACTION_S + DRAIN_S, abs=0.01)
 
 
 def test_an_exception_inside_the_layer_ends_the_trace_crashed(interface):
