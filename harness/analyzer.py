@@ -75,9 +75,9 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
     columns = [d[0] for d in con.execute("select * from trace_robustness limit 0").description]
     suts = [r[0] for r in robustness]
     table2 = format_table(columns, [r[:-1] + (_percent(r[-1]) + "%",) for r in robustness])
-    parts = ["Table II - per trace results", table2,
-             "Table III - true positive rates TP/(TP+FN), %", _rates_by_family(con, "tp_rates", "tp_rate", suts),
-             "Table IV - false positive rates FP/(FP+TN), %", _rates_by_family(con, "fp_rates", "fp_rate", suts)]
+    parts = ["Table II - per trace results\n" + table2,
+             "Table III - true positive rates TP/(TP+FN), %\n" + _rates_by_family(con, "tp_rates", "tp_rate", suts),
+             "Table IV - false positive rates FP/(FP+TN), %\n" + _rates_by_family(con, "fp_rates", "fp_rate", suts)]
     judged, flagged = con.execute("""select count(*), count(*) filter (where suspicious) from verdicts
                                      semi join (select distinct trace_id from internal_events) using (trace_id)
                                   """).fetchone()

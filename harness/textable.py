@@ -18,8 +18,8 @@ def format_table(columns: list[str], rows: list[tuple], null: str = "NULL") -> s
     """One header line, a rule, one line per row; trailing blanks stripped."""
     texts = [[cell(v, null) for v in row] for row in rows]
     widths = [max([len(c)] + [len(r[i]) for r in texts]) for i, c in enumerate(columns)]
-    numeric = [bool(rows) and all(isinstance(r[i], Number) and not isinstance(r[i], bool)
-                                  for r in rows if r[i] is not None) for i in range(len(columns))]
+    values = [[r[i] for r in rows if r[i] is not None] for i in range(len(columns))]
+    numeric = [bool(v) and all(isinstance(x, Number) and not isinstance(x, bool) for x in v) for v in values]
 
     def line(values):
         return "  ".join(v.rjust(w) if num else v.ljust(w)

@@ -1,13 +1,13 @@
 """Every hand-made trace of tests/traces/*.trace gets exactly the verdict rows written beside it."""
+import functools
+
 import pytest
 
-from harness.analyzer import materialise
-from harness.store import add_campaign, add_reply_codes, connect, insert_trace
-from traces.fixtures import INTERFACE, all_fixtures
+from traces.fixtures import all_fixtures, judged_store
 
 EPSILON = 0.01
 FIXTURES = all_fixtures()
-CASES = [(f, case) for f in FIXTURES for case in f.cases]
+CASES = [(i, case) for i, f in enumerate(FIXTURES) for case in f.cases]
 # The cells of each type's verdict table (c_holds, verdict) the fixtures must exercise.
 PC_CELLS = {(c, v) for c in (True, False) for v in ("op", "omega")} | {
     (True, "TN"), (True, "FP"), (False, "FN"), (False, "TP")}
@@ -17,26 +17,15 @@ CELLS = {"PC": PC_CELLS, "ES": PC_CELLS | {(False, "na")}, "EE": EE_CELLS, "EX":
          "MX_I": {(True, "TN"), (True, "FP"), (False, "FN"), (False, "TP"), (False, "na")}}
 
 
-def judge(fixture):
-    """An in-memory store holding the fixture's traces, judged with the fixture's properties."""
-    con = connect(":memory:")
-    add_campaign(con, 1, str(fixture.path), 0, {})
-    add_reply_codes(con, INTERFACE)
-    for trace_id, case in enumerate(fixture.cases, 1):
-        insert_trace(con, trace_id, 1, None, case.trace, label=case.label)
-    materialise(con, fixture.properties, EPSILON)
-    return con
+@functools.cache
+def store(index: int):
+    """Fixture file `index` judged once, then shared by the tests of its traces."""
+    return judged_store(FIXTURES[index], EPSILON)
 
 
-@pytest.fixture(scope="module")
-def stores():
-    cache = {}
-    return lambda fixture: cache.setdefault(fixture.path, judge(fixture))
-
-
-@pytest.mark.parametrize("fixture,case", CASES, ids=[f"{f.path.stem}:{c.label}" for f, c in CASES])
-def test_trace_gets_the_expected_verdicts(stores, fixture, case):
-    con = stores(fixture)
+@pytest.mark.parametrize("index,case", CASES, ids=[f"{FIXTURES[i].path.stem}:{c.label}" for i, c in CASES])
+def test_trace_gets_the_expected_verdicts(index, case):
+    con = store(index)
     rows = con.execute("""select property_id, rqst_id, verdict, c_holds, margin_s, suspicious
                           from verdicts join traces using (trace_id) where label = ?""", [case.label]).fetchall()
     got = {(p, r): (v, c, None if m is None else round(m, 9)) for p, r, v, c, m, _ in rows}

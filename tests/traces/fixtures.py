@@ -18,7 +18,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR
+from harness.analyzer import materialise
 from harness.interface import load_interface, load_properties
+from harness.store import add_campaign, add_reply_codes, connect, insert_trace
 from harness.trace import Trace
 
 HERE = Path(__file__).parent
@@ -84,3 +86,14 @@ def load(path: Path) -> Fixture:
 
 def all_fixtures() -> list[Fixture]:
     return [load(p) for p in sorted(HERE.glob("*.trace"))]
+
+
+def judged_store(fixture: Fixture, epsilon: float, path=":memory:"):
+    """A store holding the fixture's traces (ids 1, 2, ... in file order), judged with its properties."""
+    con = connect(path)
+    add_campaign(con, 1, str(fixture.path), 0, {})
+    add_reply_codes(con, INTERFACE)
+    for trace_id, case in enumerate(fixture.cases, 1):
+        insert_trace(con, trace_id, 1, None, case.trace, label=case.label)
+    materialise(con, fixture.properties, epsilon)
+    return con

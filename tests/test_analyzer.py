@@ -1,0 +1,140 @@
+"""The analyze command: materialisation in one transaction, ground-truth inversions, printed tables."""
+import json
+import shutil
+import tomllib
+
+import pytest
+
+from harness import DEFAULT_MISSION_DIR
+
+from harness.analyzer import materialise, summary
+from harness.cli import main
+from harness.errors import PropertyError, StoreError
+from harness.interface import Property
+from harness.store import add_campaign, add_reply_codes, connect, insert_trace
+from harness.trace import Trace
+from traces.fixtures import HERE, INTERFACE, PROPERTIES, judged_store, load
+
+EPSILON = 0.01
+PEX = PROPERTIES["PEX(rflex)"]
+
+
+def _row(seq, t, kind, rqst_id, service, reply=None):
+    module, name = service.split(".")
+    return (seq, t, kind, rqst_id, module, name, None, reply)
+
+
+def _store_with_truth():
+    """Two traces whose internal timeline inverts the observed order of Init's ok and the request.
+
+    Trace 1: observed ok 2 ms before the request (TN, suspicious); internally the ok came after (FN).
+    Trace 2: observed ok 0.5 s before (TN, not suspicious); internally after (FN) - missed by the flag.
+    """
+    con = connect(":memory:")
+    add_campaign(con, 1, "test", 0, {})
+    add_reply_codes(con, INTERFACE)
+    for trace_id, gap in ((1, 0.002), (2, 0.5)):
+        trace = Trace(sut="genom", seed=0)
+        trace.events = [_row(1, 0.0, "request", 1, "rflex.Init"), _row(2, 1.0, "final", 1, "rflex.Init", "ok"),
+                        _row(3, 1.0 + gap, "request", 2, "rflex.TrackSpeedStart"),
+                        _row(4, 2.0, "final", 2, "rflex.TrackSpeedStart", "ok")]
+        trace.internal_events = [_row(1, 0.0, "request", 1, "rflex.Init"),
+                                 _row(2, 1.0, "request", 2, "rflex.TrackSpeedStart"),
+                                 _row(3, 1.001, "final", 1, "rflex.Init", "ok"),
+                                 _row(4, 2.0, "final", 2, "rflex.TrackSpeedStart", "ok")]
+        insert_trace(con, trace_id, 1, None, trace)
+    materialise(con, [PEX], EPSILON)
+    return con
+
+
+def test_the_same_oracles_judge_the_internal_timeline():
+    con = _store_with_truth()
+    assert con.execute("select trace_id, verdict, suspicious from verdicts order by 1").fetchall() == [
+        (1, "TN", True), (2, "TN", False)]
+    assert con.execute("select trace_id, verdict, c_holds from verdicts_internal order by 1").fetchall() == [
+        (1, "FN", False), (2, "FN", False)]
+
+
+def test_inversions_count_differing_verdicts_and_what_the_flag_caught():
+    con = _store_with_truth()
+    assert con.execute("""select trace_id, property_id, rqst_id, observed, internal, observed_c, internal_c,
+                                 suspicious from inversions order by trace_id""").fetchall() == [
+        (1, "PEX(rflex)", 2, "TN", "FN", True, False, True),
+        (2, "PEX(rflex)", 2, "TN", "FN", True, False, False)]
+    assert "Ground truth: 2 of 2 observed verdicts differ" in summary(con, EPSILON)
+    assert "caught 1 of them and is raised on 1 verdicts in all" in summary(con, EPSILON)
+
+
+def test_traces_without_ground_truth_have_no_inversions():
+    con = judged_store(load(HERE / "tables.trace"), EPSILON)
+    assert con.execute("select count(*) from inversions").fetchone()[0] == 0
+    assert "Ground truth" not in summary(con, EPSILON)
+
+
+def test_analysing_again_replaces_the_verdicts():
+    con = judged_store(load(HERE / "tables.trace"), EPSILON)
+    before = con.execute("select * from verdicts order by all").fetchall()
+    materialise(con, load(HERE / "tables.trace").properties, EPSILON)
+    assert con.execute("select * from verdicts order by all").fetchall() == before
+    materialise(con, [PEX], 1.0)
+    assert con.execute("select distinct property_id from verdicts").fetchall() == [("PEX(rflex)",)]
+    assert con.execute("select count(*) filter (where suspicious) from verdicts").fetchone()[0] == 2  # 0.5 s
+    assert con.execute("select epsilon, properties from analysis").fetchall() == [(1.0, 1)]
+
+
+def test_a_property_that_cannot_be_rendered_leaves_the_verdicts_alone():
+    con = judged_store(load(HERE / "tables.trace"), EPSILON)
+    before = con.execute("select count(*) from verdicts").fetchone()[0]
+    broken = Property(id="ES(broken)", family="ES", type="ES", x=("ndd.GotoPosition",), r_p="disallowed")
+    with pytest.raises(PropertyError, match=r"ES\(broken\)"):
+        materialise(con, [PEX, broken], EPSILON)
+    assert con.execute("select count(*) from verdicts").fetchone()[0] == before
+
+
+def test_a_failing_oracle_query_rolls_everything_back():
+    con = judged_store(load(HERE / "tables.trace"), EPSILON)
+    before = con.execute("select * from verdicts order by all").fetchall()
+    con.execute("alter table reply_codes rename to reply_catalogue")  # the oracles can no longer bind
+    with pytest.raises(StoreError, match="oracle queries failed.*reply_codes"):
+        materialise(con, [PEX], 0.5)
+    assert con.execute("select * from verdicts order by all").fetchall() == before
+    assert con.execute("select epsilon from analysis").fetchall() == [(EPSILON,)]
+
+
+def _two_properties(tmp_path):
+    """The fixture's two properties in a properties file, with the interface beside it."""
+    chosen = [e for e in tomllib.loads((DEFAULT_MISSION_DIR / "properties.toml").read_text())["property"]
+              if e["id"] in ("PEX(rflex)", "AIB(ndd.GotoPosition)")]
+    lines = [f'[[property]]\n' + "".join(f"{k} = {json.dumps(v)}\n" for k, v in e.items()) for e in chosen]
+    shutil.copy(DEFAULT_MISSION_DIR / "interface.toml", tmp_path / "interface.toml")
+    (tmp_path / "properties.toml").write_text("\n".join(lines))
+    return tmp_path / "properties.toml"
+
+
+def test_analyze_command_prints_tables_ii_to_iv(tmp_path, capsys):
+    db = tmp_path / "store.duckdb"
+    judged_store(load(HERE / "tables.trace"), EPSILON, db).close()
+    assert main(["analyze", "--db", str(db), "--properties", str(_two_properties(tmp_path))]) == 0
+    out = capsys.readouterr().out
+    assert "Judged 22 events of 6 traces against 2 properties" in out
+    table2, table3, table4 = (_cells(out, a, b) for a, b in (("Table II -", "Table III"),
+                                                            ("Table III", "Table IV"), ("Table IV", "Ground")))
+    assert table2 == [["sut", "total", "hung", "crashed", "with_fn", "with_fp", "bad", "t_rob"],
+                      ["A", "4", "1", "0", "1", "1", "3", "25.0%"], ["B", "2", "0", "1", "0", "0", "1", "50.0%"]]
+    assert table3 == [["family", "A", "B"], ["PEX", "50.0", "100.0"], ["AIB", "100.0", "-"], ["All", "66.7", "100.0"]]
+    assert table4 == [["family", "A", "B"], ["PEX", "50.0", "-"], ["AIB", "0.0", "0.0"], ["All", "33.3", "0.0"]]
+
+
+def _cells(out: str, start: str, end: str) -> list[list[str]]:
+    """The cells of the printed table between two titles, without its title and rule."""
+    lines = out.split(start)[1].split(end)[0].splitlines()[1:]
+    return [line.split() for line in lines if line.strip() and set(line) - {"-", " "}]
+
+
+def test_analyze_refuses_a_missing_store_and_a_bad_epsilon(tmp_path, capsys):
+    assert main(["analyze", "--db", str(tmp_path / "none.duckdb")]) == 2
+    assert "no store at" in capsys.readouterr().err
+    db = tmp_path / "store.duckdb"
+    judged_store(load(HERE / "tables.trace"), EPSILON, db).close()
+    assert main(["analyze", "--db", str(db), "--epsilon", "-1"]) == 2
+    assert "epsilon = -1.0" in capsys.readouterr().err

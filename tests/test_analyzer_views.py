@@ -1,0 +1,63 @@
+"""The views' numbers (paper Tables II-IV) on the small hand-made store of tests/traces/tables.trace."""
+import pytest
+
+from traces.fixtures import HERE, load, judged_store
+
+EPSILON = 0.01
+
+
+@pytest.fixture(scope="module")
+def con():
+    return judged_store(load(HERE / "tables.trace"), EPSILON)
+
+
+def test_trace_robustness_is_table_ii(con):
+    rows = con.execute("select * from trace_robustness order by sut").fetchall()
+    assert [d[0] for d in con.description] == ["sut", "total", "hung", "crashed", "with_fn", "with_fp",
+                                               "bad", "t_rob"]
+    assert rows == [("A", 4, 1, 0, 1, 1, 3, 0.25), ("B", 2, 0, 1, 0, 0, 1, 0.5)]
+
+
+def test_tp_rates_are_table_iii(con):
+    rows = con.execute("select sut, family, tp, fn, tp_rate from tp_rates order by sut, family").fetchall()
+    assert rows == [("A", "AIB", 1, 0, 1.0), ("A", "All", 2, 1, pytest.approx(2 / 3)), ("A", "PEX", 1, 1, 0.5),
+                    ("B", "AIB", 0, 0, None), ("B", "All", 1, 0, 1.0), ("B", "PEX", 1, 0, 1.0)]
+
+
+def test_fp_rates_are_table_iv(con):
+    rows = con.execute("select sut, family, fp, tn, fp_rate from fp_rates order by sut, family").fetchall()
+    assert rows == [("A", "AIB", 0, 1, 0.0), ("A", "All", 1, 2, pytest.approx(1 / 3)), ("A", "PEX", 1, 1, 0.5),
+                    ("B", "AIB", 0, 1, 0.0), ("B", "All", 0, 1, 0.0), ("B", "PEX", 0, 0, None)]
+
+
+def test_property_verdicts_break_down_each_property(con):
+    rows = con.execute("""select sut, property_id, verdicts, tn, tp, fn, fp, op, na, omega, suspicious
+                          from property_verdicts order by sut, property_id""").fetchall()
+    assert rows == [("A", "AIB(ndd.GotoPosition)", 2, 1, 1, 0, 0, 0, 0, 0, 0),
+                    ("A", "PEX(rflex)", 4, 1, 1, 1, 1, 0, 0, 0, 0),
+                    ("B", "AIB(ndd.GotoPosition)", 1, 1, 0, 0, 0, 0, 0, 0, 0),
+                    ("B", "PEX(rflex)", 1, 0, 1, 0, 0, 0, 0, 0, 0)]
+
+
+def test_requests_and_activities(con):
+    # a_fp: Init ok, Stop rejected (wait_init), GotoPosition interrupted, Stop ok
+    rows = con.execute("""select rqst_id, service, t, final_t, reply, class from requests
+                          join traces using (trace_id) where label = 'a_fp' order by rqst_id""").fetchall()
+    assert rows == [(1, "Init", 0.0, 0.5, "ok", "T"), (2, "Stop", 1.0, 1.1, "wait_init", "R"),
+                    (3, "GotoPosition", 2.0, 2.6, "interrupted", "Z"), (4, "Stop", 2.5, 2.7, "ok", "T")]
+    ran = con.execute("""select rqst_id, start_t, end_t, round(duration_s, 6) from activities
+                         join traces using (trace_id) where label = 'a_fp' order by rqst_id""").fetchall()
+    assert ran == [(1, 0.0, 0.5, 0.5), (3, 2.0, 2.6, 0.6), (4, 2.5, 2.7, 0.2)]
+
+
+def test_a_rejected_request_is_no_activity_and_an_unanswered_one_has_no_end():
+    con = judged_store(load(HERE / "pc.trace"), EPSILON)
+    ran = dict(con.execute("""select label, end_t from activities join traces using (trace_id)
+                              where service = 'TrackSpeedStart' and label in
+                              ('pc_true_none', 'pc_true_rp', 'pc_true_accepted')""").fetchall())
+    assert ran == {"pc_true_none": None, "pc_true_accepted": 2.0}
+
+
+def test_verdicts_follow_the_properties_file_order(con):
+    firsts = con.execute("select property_id from verdicts group by property_id order by min(rowid)").fetchall()
+    assert firsts == [("PEX(rflex)",), ("AIB(ndd.GotoPosition)",)]
