@@ -267,6 +267,7 @@ def test_table3_cells_reach_trace_pages_in_two_clicks(site):
                              from verdicts v join traces t using (trace_id) where v.verdict in ('TP', 'FN', 'FP')
                              group by grouping sets ((t.sut, v.family), (t.sut))""")
     listed = {(r["sut"], r["family"]): r["n"] for r in found}
+    _, rates = _query(db, "select * from tp_rates")
     rows = _page(out / "index.html").tables["table3"]
     suts = [text for text, _ in rows[0][1:]]
     for row in rows[1:]:
@@ -275,6 +276,9 @@ def test_table3_cells_reach_trace_pages_in_two_clicks(site):
             links = [a["href"] for tag, a in cell_page.elements if tag == "a" and "trace-" in a.get("href", "")]
             assert len(links) == listed.get((sut, row[0][0]), 0), (sut, row[0][0])
             assert all((out / link).exists() for link in links)
+            cell = next(r for r in rates if (r["sut"], r["family"]) == (sut, row[0][0]))
+            assert f"TP {cell['tp']}, FN {cell['fn']}: TP rate {shown(cell['tp_rate'], rate=True)} %" in \
+                (out / href).read_text()
 
 
 def test_every_bad_trace_is_listed_under_its_variant(site):

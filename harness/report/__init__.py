@@ -63,10 +63,10 @@ def write_report(con, out: Path, extra_traces: list[int] = ()) -> dict[str, int]
         stale.unlink()
     for table in csv_tables:
         table.write_csv(out)
-    lists = pages.write_lists(out, family_traces, bad, suts, families)
+    lists = pages.write_lists(out, family_traces, bad, suts, families, (tp, fp))
     pages.write_traces(out, queries.trace_details(con, sorted(page_ids)), queries.module_order(con))
     pages.write_index(out, dict(
         campaigns=queries.campaigns(con), analysis=queries.analysis(con), tables=tables, bad=bad, suts=suts,
-        charts=pages.index_charts(suts, families, tp, fp, table2, "t_rob", queries.verdict_mix(con)),
+        charts=pages.index_charts(suts, families, tp, fp, table2, queries.verdict_mix(con)),
         csv=[t.name for t in csv_tables]))
     return {"traces": len(page_ids), "lists": lists, "csv": len(csv_tables)}

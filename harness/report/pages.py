@@ -39,8 +39,7 @@ _env.globals.update(trace_href=trace_href, list_href=list_href, bad_href=bad_hre
 
 def pivot(view: Table, rate: str, name: str, title: str, suts: list[str], families: list[str]) -> Table:
     """Paper layout of Tables III/IV: a row per family, a column per variant, each cell a link."""
-    cell = {(r[view.columns.index("family")], r[view.columns.index("sut")]): r[view.columns.index(rate)]
-            for r in view.rows}
+    cell = {(r["family"], r["sut"]): r[rate] for r in view.records()}
     families = [f for f in families if any((f, s) in cell for s in suts)]
     suts = [s for s in suts if any((f, s) in cell for f in families)]
     table = Table(name, title, ["family", *suts], [(f, *(cell.get((f, s)) for s in suts)) for f in families],
@@ -59,14 +58,18 @@ def write_index(out: Path, context: dict) -> None:
     render("index.html.j2", out / "index.html", shown_rows=SHOWN_ROWS, **context)
 
 
-def write_lists(out: Path, family_traces: dict, bad: Table, suts: list[str], families: list[str]) -> int:
+def write_lists(out: Path, family_traces: dict, bad: Table, suts: list[str], families: list[str],
+                rate_views: tuple[Table, ...]) -> int:
     """The pages a Table II-IV cell links to: per (variant, family), and bad traces per variant."""
+    counts: dict[tuple[str, str], dict] = {}
+    for view in rate_views:
+        for r in view.records():
+            counts.setdefault((r["sut"], r["family"]), {}).update(r)
     for sut in suts:
         for family in families:
             render("list.html.j2", out / list_href(sut, family), sut=sut, family=family,
-                   traces=family_traces.get((sut, family), []))
-        mine = [dict(zip(bad.columns, row)) for row in bad.rows if row[bad.columns.index("sut")] == sut]
-        render("bad.html.j2", out / bad_href(sut), sut=sut, traces=mine)
+                   traces=family_traces.get((sut, family), []), counts=counts.get((sut, family)))
+        render("bad.html.j2", out / bad_href(sut), sut=sut, traces=[r for r in bad.records() if r["sut"] == sut])
     return len(suts) * (len(families) + 1)
 
 
@@ -81,12 +84,12 @@ def write_traces(out: Path, details: list[dict], modules: list[str]) -> None:
 
 
 def index_charts(suts: list[str], families: list[str], tp: Table, fp: Table, table2: Table,
-                 rob: str, mix: dict) -> list[tuple[str, Markup]]:
+                 mix: dict) -> list[tuple[str, Markup]]:
     def values(view: Table, rate: str) -> dict:
-        i, j, k = (view.columns.index(c) for c in ("family", "sut", rate))
-        return {(r[i], r[j]): r[k] for r in view.rows}
+        return {(r["family"], r["sut"]): r[rate] for r in view.records()}
 
-    t_rob = {("T_ROB", r[table2.columns.index("sut")]): r[table2.columns.index(rob)] for r in table2.rows}
+    t_rob = {("T_ROB", r["sut"]): r["t_rob"] for r in table2.records()}
+
     def chart(title, draw, *data, **options):
         return title, draw(title, *data, **options)
 

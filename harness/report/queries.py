@@ -192,12 +192,17 @@ def _by_trace(found: list[dict]) -> dict[int, list[dict]]:
     return grouped
 
 
+def _steps(body: str) -> list[str]:
+    """The script's step lines: mutants are re-rendered without the golden's comment lines."""
+    return [line for line in body.splitlines() if line.strip() and not line.lstrip().startswith("#")]
+
+
 def _diff(trace: dict) -> list[tuple[str, str]]:
     """The mutant's unified diff against the golden script, each line with its CSS class."""
     if trace["body"] is None or trace["golden"] is None or trace["script_kind"] == "golden":
         return []
-    lines = difflib.unified_diff(trace["golden"].splitlines(), trace["body"].splitlines(),
-                                 "golden.mission", f"script-{trace['script_id']}.mission", lineterm="")
+    lines = difflib.unified_diff(_steps(trace["golden"]), _steps(trace["body"]), "golden.mission",
+                                 f"script-{trace['script_id']}.mission", lineterm="")
     css = {"@": "hunk", "+": "add", "-": "del"}
     return [(css.get(line[:1], "same"), line) for line in lines]
 

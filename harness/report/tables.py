@@ -20,6 +20,9 @@ class Table:
         i = self.columns.index(name)
         return [row[i] for row in self.rows]
 
+    def records(self) -> list[dict]:
+        return [dict(zip(self.columns, row)) for row in self.rows]
+
     def link_column(self, name: str, href) -> "Table":
         """Link each cell of a column to href(value), when href gives one."""
         i = self.columns.index(name)
