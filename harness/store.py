@@ -47,14 +47,19 @@ def add_campaign(con, campaign_id: int, mission: str, seed: int, config: dict) -
 
 def add_reply_codes(con, interface: Interface) -> None:
     """Record the interface's reply catalogue; a code whose class changed is refused."""
-    for module, service, reply, cls in interface.reply_codes():
-        known = con.execute("select class from reply_codes where module=? and service=? and reply=?",
-                            [module, service, reply]).fetchone()
-        if known is None:
-            con.execute("insert into reply_codes values (?, ?, ?, ?)", [module, service, reply, cls])
-        elif known[0] != cls:
-            raise StoreError(f"{interface.path}: reply {reply!r} of {module}.{service} has class {cls!r}, "
-                             f"but the store already has class {known[0]!r}; use a fresh --db")
+    rows = interface.reply_codes()
+    codes = pa.table({"position": range(len(rows)), **{  # noqa: F841 (read by DuckDB)
+        name: [r[i] for r in rows] for i, name in enumerate(("module", "service", "reply", "class"))}})
+    changed = con.execute("""select c.module, c.service, c.reply, c.class, r.class from codes c
+                             join reply_codes r using (module, service, reply) where c.class <> r.class
+                             order by c.position limit 1""").fetchone()
+    if changed:
+        module, service, reply, cls, known = changed
+        raise StoreError(f"{interface.path}: reply {reply!r} of {module}.{service} has class {cls!r}, "
+                         f"but the store already has class {known!r}; use a fresh --db")
+    # Set-based, in the interface's order (readers rely on insertion order).
+    con.execute("""insert into reply_codes select module, service, reply, class from codes
+                   anti join reply_codes using (module, service, reply) order by position""")
 
 
 def _table(rows: list[tuple], columns: tuple[str, ...], schema: pa.Schema, trace_id: int) -> pa.Table:
