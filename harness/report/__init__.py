@@ -28,12 +28,12 @@ def main(args) -> int:
     return 0
 
 
-def write_report(con, out: Path, extra_traces: list[int] = ()) -> dict[str, int]:
+def write_report(con, out: Path, extra_traces: list[int]) -> dict[str, int]:
     """Write the whole report under `out`; returns how many files of each sort it wrote."""
     suts, families = queries.sut_order(con), queries.family_order(con)
-    table2 = queries.view(con, "trace_robustness", "Table II: per-trace results", percent=frozenset({"t_rob"}))
-    tp = queries.view(con, "tp_rates", "True positive rates", percent=frozenset({"tp_rate"}))
-    fp = queries.view(con, "fp_rates", "False positive rates", percent=frozenset({"fp_rate"}))
+    table2 = queries.view(con, "trace_robustness", percent=frozenset({"t_rob"}))
+    tp = queries.view(con, "tp_rates", percent=frozenset({"tp_rate"}))
+    fp = queries.view(con, "fp_rates", percent=frozenset({"fp_rate"}))
     bad = queries.bad_traces(con)
     family_traces = queries.family_traces(con)
     page_ids = set(bad.column("trace_id")) | {r["trace_id"] for found in family_traces.values()
@@ -48,9 +48,9 @@ def write_report(con, out: Path, extra_traces: list[int] = ()) -> dict[str, int]
         "trace_outcomes": queries.trace_counts(con),
         "invalid_mutants": queries.invalid_mutants(con),
         "table2": table2.link_column("sut", pages.bad_href),
-        "table3": pages.pivot(tp, "tp_rate", "table3", "Table III: true positive rates (%)", suts, families),
-        "table4": pages.pivot(fp, "fp_rate", "table4", "Table IV: false positive rates (%)", suts, families),
-        "properties": queries.view(con, "property_verdicts", "Verdicts per property and variant"),
+        "table3": pages.pivot(tp, "tp_rate", "table3", suts, families),
+        "table4": pages.pivot(fp, "fp_rate", "table4", suts, families),
+        "properties": queries.view(con, "property_verdicts"),
         "suspicious": queries.suspicious(con),
         "inversions": queries.inversions(con),
     }

@@ -37,12 +37,12 @@ def bad_href(sut: str) -> str:
 _env.globals.update(trace_href=trace_href, list_href=list_href, bad_href=bad_href)
 
 
-def pivot(view: Table, rate: str, name: str, title: str, suts: list[str], families: list[str]) -> Table:
+def pivot(view: Table, rate: str, name: str, suts: list[str], families: list[str]) -> Table:
     """Paper layout of Tables III/IV: a row per family, a column per variant, each cell a link."""
     cell = {(r["family"], r["sut"]): r[rate] for r in view.records()}
     families = [f for f in families if any((f, s) in cell for s in suts)]
     suts = [s for s in suts if any((f, s) in cell for f in families)]
-    table = Table(name, title, ["family", *suts], [(f, *(cell.get((f, s)) for s in suts)) for f in families],
+    table = Table(name, ["family", *suts], [(f, *(cell.get((f, s)) for s in suts)) for f in families],
                   percent=frozenset(suts))
     for r, family in enumerate(families):
         for c, sut in enumerate(suts, start=1):

@@ -12,7 +12,7 @@ from harness.report.timeline import Request
 VERDICTS = ("TP", "FN", "FP", "TN", "op", "na", "omega")
 # What `python -m harness analyze` materialises and the report reads.
 ANALYSED = ("verdicts", "requests", "property_verdicts", "family_verdicts", "trace_robustness",
-            "tp_rates", "fp_rates", "inversions")
+            "tp_rates", "fp_rates", "inversions", "analysis")
 # Rank columns to order a view's rows: variants as they were run, properties and families in the
 # order of the properties file (the verdicts table is materialised in that order); All comes last.
 RANKS = {"sut": "select sut, min(trace_id) as sut_rank from traces group by sut",
@@ -40,7 +40,7 @@ def check_analysed(con, db: str) -> None:
 
 def sut_order(con) -> list[str]:
     """Variants in the order the campaign ran them."""
-    return [r[0] for r in con.execute("select sut from traces group by sut order by min(trace_id)").fetchall()]
+    return [r[0] for r in con.execute(f"select sut from ({RANKS['sut']}) order by sut_rank").fetchall()]
 
 
 def module_order(con) -> list[str]:
@@ -51,9 +51,8 @@ def module_order(con) -> list[str]:
 
 def family_order(con) -> list[str]:
     """Families in the order the properties file lists them (verdict insertion order), then All."""
-    found = [r[0] for r in con.execute("select family from verdicts group by family "
-                                       "order by min(rowid)").fetchall()]
-    return found + ["All"]
+    found = con.execute(f"select family from ({RANKS['family']}) order by family_rank").fetchall()
+    return [r[0] for r in found] + ["All"]
 
 
 def campaigns(con) -> list[dict]:
@@ -70,7 +69,7 @@ def campaigns(con) -> list[dict]:
 
 
 def trace_counts(con) -> Table:
-    return query_table(con, "trace_outcomes", "Traces per variant and outcome", """
+    return query_table(con, "trace_outcomes", """
         select campaign_id, sut, count(*) as traces,
                count(*) filter (where outcome = 'completed') as completed,
                count(*) filter (where outcome = 'hung') as hung,
@@ -80,18 +79,18 @@ def trace_counts(con) -> Table:
 
 
 def invalid_mutants(con) -> Table:
-    return query_table(con, "invalid_mutants", "Mutants the executive rejected as manifestly faulty", """
+    return query_table(con, "invalid_mutants", """
         select script_id, campaign_id, mutations, invalid_reason
         from scripts where not valid order by script_id""")
 
 
-def view(con, name: str, title: str, **options) -> Table:
+def view(con, name: str, **options) -> Table:
     """A whole analyzer view, with its own columns, in the order the campaign and properties give."""
     columns = [d[0] for d in con.execute(f"select * from {name} limit 0").description]
     ranked = [c for c in RANKS if c in columns]
     joins = " ".join(f"left join ({RANKS[c]}) using ({c})" for c in ranked)
     order = ", ".join(f"{c}_rank nulls last" for c in ranked) or "all"
-    return query_table(con, name, title, f"select v.* from {name} v {joins} order by {order}", **options)
+    return query_table(con, name, f"select v.* from {name} v {joins} order by {order}", **options)
 
 
 def verdict_mix(con) -> dict[tuple[str, str], int]:
@@ -101,15 +100,12 @@ def verdict_mix(con) -> dict[tuple[str, str], int]:
 
 
 def analysis(con) -> dict:
-    """When the verdicts were made and with which epsilon (the analyzer's record), if it left one."""
-    known = con.execute("select count(*) from information_schema.tables where table_name = 'analysis'")
-    if not known.fetchone()[0]:
-        return {}
+    """When the verdicts were made, from how many properties and with which epsilon."""
     return rows(con, "select analysed_at::timestamp as analysed_at, epsilon, properties from analysis")[0]
 
 
 def suspicious(con) -> Table:
-    return query_table(con, "suspicious", "Suspicious verdicts (margin below epsilon)", """
+    return query_table(con, "suspicious", """
         select v.trace_id, t.sut, v.property_id, v.rqst_id, v.module, v.service, v.c_holds,
                v.verdict, v.margin_s
         from verdicts v join traces t using (trace_id)
@@ -118,7 +114,7 @@ def suspicious(con) -> Table:
 
 def bad_traces(con) -> Table:
     """Table II's bad traces (hung, with FN, with FP) and crashed runs, with their world events."""
-    return query_table(con, "bad_traces", "Bad traces", """
+    return query_table(con, "bad_traces", """
         with judged as (
             select t.trace_id, t.sut, t.outcome, t.script_id,
                    count(*) filter (where v.verdict = 'FN') as fn,
@@ -131,7 +127,7 @@ def bad_traces(con) -> Table:
 
 
 def bad_verdicts(con) -> Table:
-    return query_table(con, "bad_trace_verdicts", "FN and FP verdicts of the bad traces", """
+    return query_table(con, "bad_trace_verdicts", """
         select v.trace_id, t.sut, t.outcome, v.property_id, v.family, v.rqst_id, v.module, v.service,
                v.c_holds, v.verdict, v.margin_s, v.suspicious
         from verdicts v join traces t using (trace_id)
@@ -148,10 +144,7 @@ def family_traces(con) -> dict[tuple[str, str], list[dict]]:
         group by grouping sets ((t.sut, v.family, v.trace_id), (t.sut, v.trace_id))
         having fn + tp + fp > 0
         order by fn desc, fp desc, tp desc, v.trace_id""")
-    grouped = defaultdict(list)
-    for r in found:
-        grouped[(r["sut"], r["family"])].append(r)
-    return grouped
+    return _grouped(found, lambda r: (r["sut"], r["family"]))
 
 
 def trace_details(con, ids: list[int]) -> list[dict]:
@@ -185,11 +178,15 @@ def trace_details(con, ids: list[int]) -> list[dict]:
     return traces
 
 
-def _by_trace(found: list[dict]) -> dict[int, list[dict]]:
+def _grouped(found: list[dict], key) -> dict:
     grouped = defaultdict(list)
     for r in found:
-        grouped[r["trace_id"]].append(r)
+        grouped[key(r)].append(r)
     return grouped
+
+
+def _by_trace(found: list[dict]) -> dict[int, list[dict]]:
+    return _grouped(found, lambda r: r["trace_id"])
 
 
 def _steps(body: str) -> list[str]:
@@ -213,6 +210,6 @@ def trace_ids(con, ids: list[int]) -> list[int]:
 
 
 def inversions(con) -> Table:
-    return query_table(con, "inversions", "Verdicts the observation delay inverted", """
+    return query_table(con, "inversions", """
         select t.sut, i.* from inversions i join traces t using (trace_id)
         order by i.trace_id, i.rqst_id, i.property_id""")

@@ -8,8 +8,7 @@ from pathlib import Path
 
 @dataclass
 class Table:
-    name: str  # CSV file stem and HTML anchor
-    title: str
+    name: str  # CSV file stem and HTML id
     columns: list[str]
     rows: list[tuple]
     links: dict[tuple[int, int], str] = field(default_factory=dict)  # (row, column) -> href
@@ -46,9 +45,9 @@ class Table:
         return path
 
 
-def query_table(con, name: str, title: str, sql: str, params=(), **options) -> Table:
+def query_table(con, name: str, sql: str, params=(), **options) -> Table:
     cursor = con.execute(sql, list(params))
-    return Table(name, title, [d[0] for d in cursor.description], cursor.fetchall(), **options)
+    return Table(name, [d[0] for d in cursor.description], cursor.fetchall(), **options)
 
 
 def percent(rate: float | None) -> str:
