@@ -41,6 +41,8 @@ class LayerMisbehaved(Exception):
 class Request:
     rqst_id: int
     step: Step
+    args: str | None = None  # as JSON text
+    taken: bool = False  # the layer's control task has taken it
     final: str | None = None
     observed: Event | None = None  # succeeds when the final reply is observed
 
@@ -80,15 +82,22 @@ class Executive:
         args = self._args_json(step)
         self.observed.add(self.env.now, "request", request, args)
 
-        def deliver():
-            self.internal.add(self.env.now, "request", request, args)
-            self.layer.receive(request.rqst_id, step.service, dict(step.args), self.on_reply)
-        self.env.call_at(self.env.now + self._delay(), deliver)
+        request.args = args
+        self.env.call_at(self.env.now + self._delay(),
+                         lambda: self.layer.receive(request.rqst_id, step.service, dict(step.args), self.on_reply))
 
     def on_reply(self, rqst_id: int, kind: str, code: str | None) -> None:
+        """The layer's messages: `request` when its control task takes the request (the internal
+        instant the layer decides on it, not observed), then `intermediate` and `final` replies."""
         request = self.requests.get(rqst_id)
         if request is None:
             raise LayerMisbehaved(f"the layer replied to request {rqst_id}, which was never sent")
+        if kind == "request":
+            if request.taken:
+                raise LayerMisbehaved(f"the layer took request {rqst_id} ({request.step.service}) twice")
+            request.taken = True
+            self.internal.add(self.env.now, "request", request, request.args)
+            return
         if request.final is not None:
             raise LayerMisbehaved(f"the layer sent a {kind} reply {code!r} to request {rqst_id} "
                                   f"({request.step.service}) after its final reply {request.final!r}")

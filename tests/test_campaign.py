@@ -31,6 +31,7 @@ class FakeLayer:
         self.env, self.world_events = env, [(0.25, "bump", json.dumps({"variant": variant}))]
 
     def receive(self, rqst_id, service, args, reply):
+        reply(rqst_id, "request", None)
         if not service.endswith(("TrackSpeedStart", "ContinuousShot", "Fuse")):  # until stopped
             self.env.call_at(self.env.now + 0.5, lambda: reply(rqst_id, "final", "ok"))
 

@@ -6,9 +6,10 @@ from harness.mutator.script import parse, validate
 
 
 class FakeLayer:
-    """Ends each request `ok` after `duration` s; `deadlock_at` stops it answering anything."""
+    """Takes each request after `take_s`, ends it `ok` after `duration` s; `deadlock_at` stops
+    it answering anything."""
 
-    duration, deadlock_at, crash_on, bad_code = 1.0, None, None, None
+    duration, take_s, deadlock_at, crash_on, bad_code = 1.0, 0.0, None, None, None
 
     def __init__(self, env, variant, interface, world_file):
         self.env, self.world_events = env, [(0.5, "collision", '{"with": "rock"}')]
@@ -17,6 +18,7 @@ class FakeLayer:
         return self.deadlock_at is None or self.env.now < self.deadlock_at
 
     def receive(self, rqst_id, service, args, reply):
+        self.env.call_at(self.env.now + self.take_s, lambda: reply(rqst_id, "request", None))
         if service == self.crash_on:
             raise ZeroDivisionError("codel divided by zero")
 
@@ -104,3 +106,21 @@ def test_a_reply_outside_the_catalogue_is_a_crash_naming_the_code(interface):
     trace = play(interface, SCRIPT, layer=Garbling)
     assert trace.outcome == "crashed"
     assert "replied 'maybe' to request 1 (rflex.Init)" in trace.error
+
+
+def test_internal_request_instant_is_when_the_layer_takes_it(interface):
+    class Queueing(FakeLayer):
+        take_s = 0.25
+    trace = play(interface, "send rflex.Init\nwait all\n", layer=Queueing)
+    observed = {(e[2], e[3]): e[1] for e in trace.events}
+    internal = {(e[2], e[3]): e[1] for e in trace.internal_events}
+    assert 0.25 <= internal[("request", 1)] - observed[("request", 1)] <= 0.253
+
+
+def test_a_layer_that_takes_a_request_twice_crashes_the_trace(interface):
+    class Stuttering(FakeLayer):
+        def receive(self, rqst_id, service, args, reply):
+            reply(rqst_id, "request", None)
+            super().receive(rqst_id, service, args, reply)
+    trace = play(interface, "send rflex.Init\nwait all\n", layer=Stuttering)
+    assert trace.outcome == "crashed" and "took request 1 (rflex.Init) twice" in trace.error

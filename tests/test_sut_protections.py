@@ -156,6 +156,8 @@ def test_control_task_serves_requests_in_order_one_latency_apart(interface):
     init = d.send(0.0, "sick.Init")
     d.run(1.0)
     assert [d.when(r) for r in requests] == pytest.approx([0.001, 0.002, 0.003])
+    assert [d.when(r, "request") for r in requests] == [d.when(r) for r in requests]  # taken, then served
+    assert d.when(init, "request") == pytest.approx(0.004)
     assert d.when(init) == pytest.approx(0.004 + 0.5)
     assert d.layer.modules["sick"].settings["fov"] == 92.0
-    assert all(kind == "final" for _, r, kind, _ in d.replies if r in requests)  # no intermediate
+    assert [kind for _, r, kind, _ in d.replies if r in requests] == ["request", "final"] * 3  # no intermediate

@@ -77,7 +77,11 @@ class FunctionalLayer:
                 self.succeeded.add(service)
             reply(rqst_id, kind, code)
         module = self.modules[spec.module]
-        module.enqueue(lambda: self._handle(module, rqst_id, spec, args, answer))
+
+        def take() -> None:
+            reply(rqst_id, "request", None)  # the internal instant the layer decides on it
+            self._handle(module, rqst_id, spec, args, answer)
+        module.enqueue(take)
 
     def _handle(self, module: Module, rqst_id: int, service: Service, raw: dict, answer) -> None:
         values = parse_args(service, raw)
