@@ -13,8 +13,7 @@
 ),
 -- each x(i) with every other y(j) of its trace, placed relative to x(i)'s activity
 {{ name }}_met as (
-    select x.trace_id, x.rqst_id, x.module, x.service, x.reply, x.class, x.t, x.final_t,
-           y.t as y_t, y.class as y_class,
+    select x.trace_id, x.rqst_id, x.t, x.final_t, y.t as y_t, y.class as y_class,
            {{ base.before('x.', 'y.') }} as x_first,
            coalesce({{ base.before('y.', 'x.final_') }}, true) as y_before_end
     from {{ name }}_x x
@@ -23,7 +22,7 @@
 -- y(j) conflicts if sent while x(i) runs; its shift is how far it would have to move to the
 -- other side of x(i)'s request or final reply
 {{ name }}_pairs as (
-    select trace_id, rqst_id, module, service, reply, class,
+    select trace_id, rqst_id,
            x_first and y_before_end as conflicts,
            case when x_first and y_before_end then least(y_t - t, final_t - y_t)
                 when x_first then y_t - final_t

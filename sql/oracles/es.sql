@@ -12,8 +12,7 @@
 ),
 -- each x(i) with every other y(j) of its trace, placed relative to x(i)
 {{ name }}_met as (
-    select x.trace_id, x.rqst_id, x.module, x.service, x.reply, x.class, x.t,
-           y.t as y_t, y.final_t as y_final_t, y.class as y_class,
+    select x.trace_id, x.rqst_id, x.t, y.t as y_t, y.final_t as y_final_t, y.class as y_class,
            {{ base.before('y.', 'x.') }} as y_first,
            coalesce({{ base.before('y.final_', 'x.') }}, false) as y_ended
     from {{ name }}_x x
@@ -22,7 +21,7 @@
 -- y(j) conflicts if sent before x(i) and not ended before it; its shift is how far its request
 -- or its final reply would have to move to the other side of x(i)
 {{ name }}_pairs as (
-    select trace_id, rqst_id, module, service, reply, class,
+    select trace_id, rqst_id,
            y_first and not y_ended as conflicts,
            case when y_first and not y_ended then least(t - y_t, y_final_t - t)
                 when y_ended then t - y_final_t

@@ -8,7 +8,7 @@
     select * from requests where {{ base.among(x) }}
 ),
 {{ name }}_needed as (
-    select * from (values {% for s in q %}{% set module, service = s.split('.', 1) %}({{ module | lit }}, {{ service | lit }}){{ ', ' if not loop.last }}{% endfor %}) as needed(module, service)
+    select * from (values {% for s in q %}{% set module, service = s.split('.', 1) %}({{ loop.index }}, {{ module | lit }}, {{ service | lit }}){{ ', ' if not loop.last }}{% endfor %}) as needed(position, module, service)
 ),
 {{ name }}_oks as (
     select trace_id, module, service, final_t as t, final_seq as seq
@@ -17,7 +17,7 @@
 -- one pair per x(i) and q in Q: q conflicts while none of its ok replies precedes x(i).
 -- Its shift: back to the earliest ok before x(i), or on to the first ok after it (none: never)
 {{ name }}_pairs as (
-    select x.trace_id, x.rqst_id, x.module, x.service, x.reply, x.class,
+    select x.trace_id, x.rqst_id,
            not coalesce(bool_or({{ base.before('o.', 'x.') }}), false) as conflicts,
            coalesce(max(x.t - o.t) filter (where {{ base.before('o.', 'x.') }}),
                     min(o.t - x.t), 'infinity') as shift,
@@ -25,7 +25,7 @@
     from {{ name }}_x x
     cross join {{ name }}_needed n
     left join {{ name }}_oks o on o.trace_id = x.trace_id and o.module = n.module and o.service = n.service
-    group by x.trace_id, x.rqst_id, x.module, x.service, x.reply, x.class, n.module, n.service
+    group by x.trace_id, x.rqst_id, n.position
 ),
 {{ base.condition(name) }},
 {{ base.judged(name, r_p, ['T', 'Z']) }}

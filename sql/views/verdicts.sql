@@ -1,28 +1,32 @@
-{#- The verdicts table (DESIGN §6), materialised from every property's oracle query.
-    `target` is verdicts (observed events) or verdicts_internal (the ground truth). -#}
-create or replace table {{ target }} as
-with oracle_rows as materialized (
+{#- The verdicts table (DESIGN §6), filled by every property's oracle query in the order of
+    the properties file. `target` is verdicts (observed events) or verdicts_internal (the
+    ground truth). Several statements, run in the analyzer's transaction. -#}
+create or replace table {{ target }} (
+    trace_id     integer not null,
+    property_id  varchar not null,
+    family       varchar not null,
+    rqst_id      integer not null,
+    module       varchar not null,
+    service      varchar not null,
+    c_holds      boolean,            -- the P-condition; NULL where it is undefined
+    verdict      varchar not null check (verdict in ({{ verdict_names | map('lit') | join(', ') }})),
+    margin_s     double,             -- NULL when no event near enough could change C
+    suspicious   boolean not null
+);
+
 {% for oracle in oracles %}
-    select {{ loop.index }} as position, * from (
-{{ oracle | indent(8, true) }}
-    ){{ ' union all' if not loop.last }}
+insert into {{ target }}
+{{ oracle }};
+
 {% endfor %}
-),
--- shared codes: a rejection or interruption that a property did not call for (FP) but that
+-- Shared codes: a rejection or interruption that a property did not call for (FP) but that
 -- another property with the same code called for on the same request (TP) was enforced for
--- that other property: it is 'op', not FP
-enforced as (
-    select trace_id, module, service, rqst_id, property_id from oracle_rows where verdict = 'TP'
-),
-explained as (
-    select distinct f.trace_id, f.module, f.service, f.rqst_id, f.property_id
-    from oracle_rows f join enforced e using (trace_id, module, service, rqst_id)
-    where f.verdict = 'FP' and e.property_id <> f.property_id
-)
-select o.trace_id, o.property_id, o.family, o.rqst_id, o.module, o.service, o.c_holds,
-       case when x.property_id is null then o.verdict else 'op' end as verdict,
-       o.margin_s, o.suspicious
-from oracle_rows o
-left join explained x using (trace_id, module, service, rqst_id, property_id)
--- properties in the order of the properties file, each by trace and request
-order by o.position, o.trace_id, o.rqst_id
+-- that other property: it is 'op', not FP.
+update {{ target }} as v set verdict = 'op'
+from (
+    select distinct f.trace_id, f.rqst_id, f.property_id
+    from {{ target }} f join {{ target }} e using (trace_id, rqst_id)
+    where f.verdict = 'FP' and e.verdict = 'TP' and e.property_id <> f.property_id
+) as explained
+where v.trace_id = explained.trace_id and v.rqst_id = explained.rqst_id
+  and v.property_id = explained.property_id;
