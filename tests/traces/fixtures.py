@@ -8,8 +8,9 @@
     2.0 final   2 ok
 
 Events get seq in line order. After `=>` on a request line come the expected verdict rows
-of that request, separated by `;`: property id, verdict, c_holds (true, false, null) and
-margin_s (seconds, or - for NULL). Every verdict row of the trace must be listed.
+of that request, separated by `;`: property id, verdict, c_holds (true, false, null),
+margin_s (seconds, or - for NULL), and `suspicious` when the row is flagged although its own
+margin is not below epsilon. Every verdict row of the trace must be listed.
 Properties come from missions/dala/properties.toml and tests/traces/properties.toml.
 """
 from __future__ import annotations
@@ -36,6 +37,7 @@ class Case:
     trace: Trace
     # (property_id, rqst_id) -> (verdict, c_holds, margin_s)
     expected: dict[tuple[str, int], tuple[str, bool | None, float | None]] = field(default_factory=dict)
+    flagged: set[tuple[str, int]] = field(default_factory=set)  # suspicious whatever their margin
     services: dict[int, str] = field(default_factory=dict)  # rqst_id -> "module.Service"
 
 
@@ -46,14 +48,14 @@ class Fixture:
     cases: list[Case]
 
 
-def _expectations(text: str, rqst_id: int, where: str) -> dict:
-    found = {}
+def _expect(case: Case, text: str, rqst_id: int, where: str) -> None:
     for item in text.split(";"):
-        property_id, verdict, c_holds, margin = item.split()
-        if property_id not in PROPERTIES or c_holds not in BOOLEANS:
+        property_id, verdict, c_holds, margin, *flag = item.split()
+        if property_id not in PROPERTIES or c_holds not in BOOLEANS or flag not in ([], ["suspicious"]):
             raise ValueError(f"{where}: bad expectation {item.strip()!r}")
-        found[(property_id, rqst_id)] = (verdict, BOOLEANS[c_holds], None if margin == "-" else float(margin))
-    return found
+        case.expected[(property_id, rqst_id)] = (verdict, BOOLEANS[c_holds], None if margin == "-" else float(margin))
+        if flag:
+            case.flagged.add((property_id, rqst_id))
 
 
 def load(path: Path) -> Fixture:
@@ -80,7 +82,7 @@ def load(path: Path) -> Fixture:
             case.trace.events.append((len(case.trace.events) + 1, float(t), kind, rqst_id,
                                       module, service, None, reply))
             if expect.strip():
-                case.expected.update(_expectations(expect, rqst_id, where))
+                _expect(case, expect, rqst_id, where)
     return Fixture(path, properties, cases)
 
 
