@@ -159,7 +159,7 @@ def read(path: Path) -> tuple[pa.Table, str]:
 
 
 def problems(con) -> list[tuple[int, str]]:
-    """Every bad row of the registered `staged` table: (line, what is wrong with which value)."""
+    """The bad rows of the registered `staged` table, up to SHOWN per check: (line, what is wrong)."""
     found = []
     for column, condition, advice in ROW_CHECKS:
         for line, value in con.execute(f"select line, {column} from staged where {condition} "

@@ -105,7 +105,7 @@ def _two_properties(tmp_path):
     """The fixture's two properties in a properties file, with the interface beside it."""
     chosen = [e for e in tomllib.loads((DEFAULT_MISSION_DIR / "properties.toml").read_text())["property"]
               if e["id"] in ("PEX(rflex)", "AIB(ndd.GotoPosition)")]
-    lines = [f'[[property]]\n' + "".join(f"{k} = {json.dumps(v)}\n" for k, v in e.items()) for e in chosen]
+    lines = ['[[property]]\n' + "".join(f"{k} = {json.dumps(v)}\n" for k, v in e.items()) for e in chosen]
     shutil.copy(DEFAULT_MISSION_DIR / "interface.toml", tmp_path / "interface.toml")
     (tmp_path / "properties.toml").write_text("\n".join(lines))
     return tmp_path / "properties.toml"
