@@ -105,5 +105,6 @@ def main(args) -> int:
     verdicts = con.execute("select count(*) from verdicts").fetchone()[0]
     print(f"Judged {events} events of {traces} traces against {len(properties)} properties "
           f"in {elapsed:.2f} s: {verdicts} verdicts in table verdicts.\n")
-    print(summary(con, args.epsilon))
+    print(summary(con, args.epsilon) if traces else
+          "The store holds no traces yet: run a campaign or import traces, then analyze again.")
     return 0
