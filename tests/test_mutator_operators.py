@@ -5,7 +5,6 @@ import random
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
-from harness.interface import load_interface
 from harness.mutator import operators
 from harness.mutator.operators import generate, mutate
 from harness.mutator.script import load_script, parse, validate
@@ -18,11 +17,6 @@ sleep 2
 send ndd.Init
 wait all
 """
-
-
-@pytest.fixture(scope="module")
-def interface():
-    return load_interface(DEFAULT_MISSION_DIR / "interface.toml")
 
 
 @pytest.fixture(scope="module")

@@ -57,12 +57,16 @@ def _plausible(value: float) -> float:
     return float(f"{value:.3g}")
 
 
-def delete_request(steps, rng, interface):
-    sends = _indices(steps, "send")
-    if not sends:
+def _delete_one(steps, rng, kind: str, op: str):
+    candidates = _indices(steps, kind)
+    if not candidates:
         return None
-    i = rng.choice(sends)
-    return {"op": "delete_request", "line": _line(steps[i]), "step": _text(steps.pop(i))}
+    i = rng.choice(candidates)
+    return {"op": op, "line": _line(steps[i]), "step": _text(steps.pop(i))}
+
+
+def delete_request(steps, rng, interface):
+    return _delete_one(steps, rng, "send", "delete_request")
 
 
 def _random_request(service: Service, rng: random.Random, handle: str | None) -> Step:
@@ -103,11 +107,7 @@ def swap_requests(steps, rng, interface):
 
 
 def drop_wait(steps, rng, interface):
-    waits = _indices(steps, "wait")
-    if not waits:
-        return None
-    i = rng.choice(waits)
-    return {"op": "drop_wait", "line": _line(steps[i]), "step": _text(steps.pop(i))}
+    return _delete_one(steps, rng, "wait", "drop_wait")
 
 
 def change_sleep(steps, rng, interface):

@@ -12,6 +12,13 @@
 ({% for s in services %}{% set module, service = s.split('.', 1) %}(module = {{ module | lit }} and service = {{ service | lit }}){{ ' or ' if not loop.last }}{% endfor %})
 {%- endmacro %}
 
+{% macro relevant(name, role, services) -%}
+-- the requests that play the role {{ role }} in this property
+{{ name }}_{{ role }} as (
+    select * from requests where {{ among(services) }}
+)
+{%- endmacro %}
+
 {% macro before(a, b) -%}
 ({{ a }}t < {{ b }}t or ({{ a }}t = {{ b }}t and {{ a }}seq < {{ b }}seq))
 {%- endmacro %}

@@ -5,12 +5,8 @@
 {% import 'oracles/_base.sql' as base %}
 
 {% macro ctes(name, x, y, z_p) -%}
-{{ name }}_x as (
-    select * from requests where {{ base.among(x) }}
-),
-{{ name }}_y as (
-    select * from requests where {{ base.among(y) }}
-),
+{{ base.relevant(name, 'x', x) }},
+{{ base.relevant(name, 'y', y) }},
 -- each x(i) with every other y(j) of its trace, placed relative to x(i)'s activity
 {{ name }}_met as (
     select x.trace_id, x.rqst_id, x.t, x.final_t, y.t as y_t, y.class as y_class,

@@ -4,12 +4,8 @@
 {% import 'oracles/_base.sql' as base %}
 
 {% macro ctes(name, x, y, r_p) -%}
-{{ name }}_x as (
-    select * from requests where {{ base.among(x) }}
-),
-{{ name }}_y as (
-    select * from requests where {{ base.among(y) }}
-),
+{{ base.relevant(name, 'x', x) }},
+{{ base.relevant(name, 'y', y) }},
 -- each x(i) with every other y(j) of its trace, placed relative to x(i)
 {{ name }}_met as (
     select x.trace_id, x.rqst_id, x.t, y.t as y_t, y.final_t as y_final_t, y.class as y_class,

@@ -4,9 +4,7 @@
 {% import 'oracles/_base.sql' as base %}
 
 {% macro ctes(name, x, q, r_p) -%}
-{{ name }}_x as (
-    select * from requests where {{ base.among(x) }}
-),
+{{ base.relevant(name, 'x', x) }},
 {{ name }}_needed as (
     select * from (values {% for s in q %}{% set module, service = s.split('.', 1) %}({{ loop.index }}, {{ module | lit }}, {{ service | lit }}){{ ', ' if not loop.last }}{% endfor %}) as needed(position, module, service)
 ),
