@@ -16,7 +16,7 @@ from harness.errors import PropertyError, StoreError
 from harness.interface import Property, load_interface, load_properties
 from harness.oracles import render_property, render_view
 from harness.store import connect
-from harness.textable import format_table
+from harness.textable import format_table, percent
 
 # (events source, verdicts table): the observed timeline and the ground truth.
 SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
@@ -56,10 +56,6 @@ def _ordered(con, sql: str) -> list[tuple]:
                            order by first""").fetchall()
 
 
-def _percent(rate) -> str:
-    return "-" if rate is None else f"{100 * rate:.1f}"
-
-
 def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
     """Paper layout: one row per family (properties-file order, then All), one column per variant."""
     families = [r[0] for r in con.execute("select family from verdicts group by family order by min(rowid)")
@@ -67,14 +63,14 @@ def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
     rate = {(sut, family): value for sut, family, value
             in con.execute(f"select sut, family, {column} from {view}").fetchall()}
     return format_table(["family"] + suts,
-                        [[f] + [_percent(rate.get((s, f))) for s in suts] for f in families])
+                        [[f] + [percent(rate.get((s, f))) for s in suts] for f in families])
 
 
 def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
     robustness = _ordered(con, "select * from trace_robustness")
     columns = [d[0] for d in con.execute("select * from trace_robustness limit 0").description]
     suts = [r[0] for r in robustness]
-    table2 = format_table(columns, [r[:-1] + (_percent(r[-1]) + "%",) for r in robustness])
+    table2 = format_table(columns, [r[:-1] + (percent(r[-1]) + "%",) for r in robustness])
     parts = ["Table II - per trace results\n" + table2,
              "Table III - true positive rates TP/(TP+FN), %\n" + _rates_by_family(con, "tp_rates", "tp_rate", suts),
              "Table IV - false positive rates FP/(FP+TN), %\n" + _rates_by_family(con, "fp_rates", "fp_rate", suts)]

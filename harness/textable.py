@@ -1,7 +1,13 @@
-"""Aligned plain-text tables for the terminal: numbers right-aligned, text left-aligned."""
+"""Values as text: aligned plain-text tables for the terminal (numbers right-aligned, text
+left-aligned), and the one way a rate is shown, in the terminal and in the report alike."""
 from __future__ import annotations
 
 from numbers import Number
+
+
+def percent(rate: float | None) -> str:
+    """A rate in [0, 1] as a percentage with one decimal, "-" for NULL (no case to count)."""
+    return "-" if rate is None else f"{100 * rate:.1f}"
 
 
 def cell(value, null: str = "NULL") -> str:

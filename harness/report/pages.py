@@ -8,8 +8,9 @@ from jinja2 import Environment, FileSystemLoader, StrictUndefined
 from markupsafe import Markup
 
 from harness.report import charts, queries
-from harness.report.tables import Table, percent
+from harness.report.tables import Table
 from harness.report.timeline import timeline
+from harness.textable import percent
 
 TEMPLATES = Path(__file__).parent / "templates"
 SHOWN_ROWS = 200  # longer tables are cut on the page; their CSV has every row

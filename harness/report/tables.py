@@ -5,6 +5,8 @@ import csv
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from harness.textable import percent
+
 
 @dataclass
 class Table:
@@ -48,10 +50,6 @@ class Table:
 def query_table(con, name: str, sql: str, params=(), **options) -> Table:
     cursor = con.execute(sql, list(params))
     return Table(name, [d[0] for d in cursor.description], cursor.fetchall(), **options)
-
-
-def percent(rate: float | None) -> str:
-    return "-" if rate is None else f"{100 * rate:.1f}"
 
 
 def _text(value, is_rate: bool) -> str:
