@@ -87,13 +87,10 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
 
 
 def main(args) -> int:
-    db = Path(args.db)
-    if not db.exists():
-        raise StoreError(f"no store at {str(db)!r}; run a campaign or import traces first, or pass --db")
+    con = connect(args.db, create=False)
     properties_path = Path(args.properties)
     interface = load_interface(properties_path.parent / "interface.toml")
     properties = load_properties(properties_path, interface)
-    con = connect(db)
     started = time.perf_counter()
     materialise(con, properties, args.epsilon)
     elapsed = time.perf_counter() - started

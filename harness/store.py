@@ -20,12 +20,14 @@ WORLD_SCHEMA = pa.schema([("trace_id", pa.int32()), ("t", pa.float64()), ("kind"
                           ("detail", pa.string())])
 
 
-def connect(path: str | Path = ":memory:", read_only: bool = False) -> duckdb.DuckDBPyConnection:
-    """Open (and if needed create) a store; the schema is applied idempotently."""
+def connect(path: str | Path = ":memory:", read_only: bool = False,
+            create: bool = True) -> duckdb.DuckDBPyConnection:
+    """Open a store, creating it unless it is opened read-only or with create=False (then a
+    missing store is refused); a writable store gets the schema, applied idempotently."""
     if str(path) != ":memory:":
+        if (read_only or not create) and not Path(path).exists():
+            raise StoreError(f"no store at {str(path)!r}; run a campaign or import traces first, or pass --db")
         Path(path).parent.mkdir(parents=True, exist_ok=True)
-        if read_only and not Path(path).exists():
-            raise StoreError(f"no store at {str(path)!r}; run a campaign first or pass --db")
     try:
         con = duckdb.connect(str(path), read_only=read_only)
     except duckdb.Error as e:

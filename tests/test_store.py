@@ -63,5 +63,8 @@ def test_reply_codes_come_from_the_interface_and_a_changed_class_is_refused(inte
 
 
 def test_read_only_open_of_a_missing_store_says_what_to_do(tmp_path):
-    with pytest.raises(StoreError, match="no store at .*run a campaign first or pass --db"):
-        store.connect(tmp_path / "missing.duckdb", read_only=True)
+    with pytest.raises(StoreError, match="no store at .*run a campaign or import traces first, or pass --db"):
+        store.connect(tmp_path / "folder" / "missing.duckdb", read_only=True)
+    with pytest.raises(StoreError, match="no store at"):
+        store.connect(tmp_path / "missing.duckdb", create=False)
+    assert list(tmp_path.iterdir()) == [], "a refused store leaves no file and no folder behind"
