@@ -38,9 +38,14 @@ def bad_href(sut: str) -> str:
 _env.globals.update(trace_href=trace_href, list_href=list_href, bad_href=bad_href)
 
 
+def _rates(view: Table, rate: str) -> dict[tuple[str, str], float | None]:
+    """(family, variant) -> the rate column of a tp_rates or fp_rates view."""
+    return {(r["family"], r["sut"]): r[rate] for r in view.records()}
+
+
 def pivot(view: Table, rate: str, name: str, suts: list[str], families: list[str]) -> Table:
     """Paper layout of Tables III/IV: a row per family, a column per variant, each cell a link."""
-    cell = {(r["family"], r["sut"]): r[rate] for r in view.records()}
+    cell = _rates(view, rate)
     families = [f for f in families if any((f, s) in cell for s in suts)]
     suts = [s for s in suts if any((f, s) in cell for f in families)]
     table = Table(name, ["family", *suts], [(f, *(cell.get((f, s)) for s in suts)) for f in families],
@@ -86,16 +91,13 @@ def write_traces(out: Path, details: list[dict], modules: list[str]) -> None:
 
 def index_charts(suts: list[str], families: list[str], tp: Table, fp: Table, table2: Table,
                  mix: dict) -> list[tuple[str, Markup]]:
-    def values(view: Table, rate: str) -> dict:
-        return {(r["family"], r["sut"]): r[rate] for r in view.records()}
-
     t_rob = {("T_ROB", r["sut"]): r["t_rob"] for r in table2.records()}
 
     def chart(title, draw, *data, **options):
         return title, draw(title, *data, **options)
 
     return [chart("Trace robustness per variant", charts.grouped_bars, ["T_ROB"], suts, t_rob),
-            chart("True positive rate per family", charts.grouped_bars, families, suts, values(tp, "tp_rate")),
-            chart("False positive rate per family", charts.grouped_bars, families, suts, values(fp, "fp_rate"),
+            chart("True positive rate per family", charts.grouped_bars, families, suts, _rates(tp, "tp_rate")),
+            chart("False positive rate per family", charts.grouped_bars, families, suts, _rates(fp, "fp_rate"),
                   full_scale=False),
             chart("Verdict mix per variant", charts.stacked_bars, suts, list(queries.VERDICTS), mix)]
