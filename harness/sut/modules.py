@@ -51,18 +51,20 @@ class Rflex(DalaModule):
         self.settings = {"mode": "idle"}
         self.bodies["TrackSpeedStart"] = self._track
 
+    def _drive(self, speed: float, turn: float) -> None:
+        """Move the rover up to now at the old wheel speeds, then command new ones; publish the pose."""
+        self.world.advance()
+        self.world.set_wheels(speed, turn)
+        self.posters.robot = self.world.pose
+
     def _track(self, _activity: Activity):
         while True:
-            self.world.advance()
-            self.world.set_wheels(*(self.posters.ref if self.settings["mode"] == "velocity" else (0.0, 0.0)))
-            self.posters.robot = self.world.pose
+            self._drive(*(self.posters.ref if self.settings["mode"] == "velocity" else (0.0, 0.0)))
             yield self.env.timeout(self.PERIOD_S)
 
     def ended(self, activity: Activity) -> None:
         if activity.service == "TrackSpeedStart" and not self.running("TrackSpeedStart"):
-            self.world.advance()
-            self.world.set_wheels(0.0, 0.0)
-            self.posters.robot = self.world.pose
+            self._drive(0.0, 0.0)
 
 
 class Sick(DalaModule):
