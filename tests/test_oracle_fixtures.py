@@ -12,9 +12,9 @@ CASES = [(i, case) for i, f in enumerate(FIXTURES) for case in f.cases]
 PC_CELLS = {(c, v) for c in (True, False) for v in ("op", "omega")} | {
     (True, "TN"), (True, "FP"), (False, "FN"), (False, "TP")}
 EE_CELLS = PC_CELLS | {(False, "na"), (None, "op")}
+MX_CELLS = {(True, "TN"), (True, "FP"), (False, "FN"), (False, "TP"), (False, "na"), (False, "omega")}
 CELLS = {"PC": PC_CELLS, "ES": PC_CELLS | {(False, "na")}, "EE": EE_CELLS, "EX": EE_CELLS,
-         "MX_R": {(True, "TN"), (True, "FP"), (False, "FN"), (False, "TP"), (False, "na")},
-         "MX_I": {(True, "TN"), (True, "FP"), (False, "FN"), (False, "TP"), (False, "na")}}
+         "MX_R": MX_CELLS | {(True, "omega")}, "MX_I": MX_CELLS}
 
 
 @functools.cache
@@ -38,13 +38,16 @@ def test_trace_gets_the_expected_verdicts(index, case):
 
 def test_fixtures_cover_every_cell_of_every_verdict_table():
     seen = {t: set() for t in CELLS}
-    roles = set()
+    roles, suspicious = set(), set()
     for fixture in FIXTURES:
         types = {p.id: p for p in fixture.properties}
         for case in fixture.cases:
-            for (property_id, rqst_id), (verdict, c_holds, _) in case.expected.items():
+            for (property_id, rqst_id), (verdict, c_holds, margin) in case.expected.items():
                 prop = types[property_id]
                 seen[prop.type].add((c_holds, verdict))
                 roles.add((prop.type, "x" if case.services[rqst_id] in prop.x else "y"))
+                if margin is not None and margin < EPSILON:
+                    suspicious.add(prop.type)
     assert {t: CELLS[t] - seen[t] for t in CELLS} == {t: set() for t in CELLS}
+    assert suspicious == set(CELLS), "every type needs a near-coincident (suspicious) verdict"
     assert {("MX_R", "y"), ("MX_I", "y")} <= roles, "mutual properties judge y requests too"
