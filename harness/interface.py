@@ -71,12 +71,13 @@ class Property:
     z_p: str | None = None
 
 
-def _read_toml(path: Path) -> dict:
+def read_toml(path: Path, missing: str = "file not found; pass an existing file") -> dict:
+    """A TOML data file's contents; `missing` is the message for a file that is not there."""
     try:
         with open(path, "rb") as f:
             return tomllib.load(f)
     except FileNotFoundError:
-        raise InputFileError(path, "", "file not found; pass an existing file") from None
+        raise InputFileError(path, "", missing) from None
     except tomllib.TOMLDecodeError as e:
         raise InputFileError(path, "", f"not valid TOML: {e}") from None
 
@@ -98,7 +99,7 @@ def _argument(path, where, name, spec) -> Argument:
 
 def load_interface(path: str | Path) -> Interface:
     path = Path(path)
-    data = _read_toml(path)
+    data = read_toml(path)
     replies = data.get("replies")
     if not isinstance(replies, dict) or not replies:
         raise InputFileError(path, "[replies]", "missing reply catalogue; add a [replies] table of code = \"T|Z|R\"")
@@ -138,7 +139,7 @@ def _names(path, where, value, key, interface: Interface) -> tuple[str, ...]:
 
 def load_properties(path: str | Path, interface: Interface) -> list[Property]:
     path = Path(path)
-    entries = _read_toml(path).get("property")
+    entries = read_toml(path).get("property")
     if not isinstance(entries, list) or not entries:
         raise InputFileError(path, "", "no properties; add [[property]] entries")
     props, seen = [], set()

@@ -23,13 +23,13 @@ from __future__ import annotations
 
 import json
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import pymunk
 
 from harness.errors import InputFileError
+from harness.interface import read_toml
 from harness.sut.kernel import Environment
 
 MAX_STEP_S = 0.1  # longest single physics step; longer advances are split
@@ -81,13 +81,7 @@ def _inside(spec_path, where, x, y, margin, x_range, y_range) -> None:
 
 def load_world(path: str | Path) -> WorldSpec:
     path = Path(path)
-    try:
-        with open(path, "rb") as f:
-            data = tomllib.load(f)
-    except FileNotFoundError:
-        raise InputFileError(path, "", "world file not found; pass an existing world.toml") from None
-    except tomllib.TOMLDecodeError as e:
-        raise InputFileError(path, "", f"not valid TOML: {e}") from None
+    data = read_toml(path, "world file not found; pass an existing world.toml")
     bounds, rover = data.get("bounds"), data.get("rover")
     if not isinstance(bounds, dict) or not isinstance(rover, dict):
         raise InputFileError(path, "", "a world needs a [bounds] table (x, y) and a [rover] table "
