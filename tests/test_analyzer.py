@@ -11,9 +11,8 @@ from harness.analyzer import materialise, summary
 from harness.cli import main
 from harness.errors import PropertyError, StoreError
 from harness.interface import Property
-from harness.store import add_campaign, add_reply_codes, connect, insert_trace
 from harness.trace import Trace
-from traces.fixtures import HERE, INTERFACE, PROPERTIES, judged_store, load
+from traces.fixtures import HERE, PROPERTIES, judged_store, judged_traces, load
 
 EPSILON = 0.01
 PEX = PROPERTIES["PEX(rflex)"]
@@ -30,10 +29,8 @@ def _store_with_truth():
     Trace 1: observed ok 2 ms before the request (TN, suspicious); internally the ok came after (FN).
     Trace 2: observed ok 0.5 s before (TN, not suspicious); internally after (FN) - missed by the flag.
     """
-    con = connect(":memory:")
-    add_campaign(con, 1, "test", 0, {})
-    add_reply_codes(con, INTERFACE)
-    for trace_id, gap in ((1, 0.002), (2, 0.5)):
+    traces = []
+    for gap in (0.002, 0.5):
         trace = Trace(sut="genom", seed=0)
         trace.events = [_row(1, 0.0, "request", 1, "rflex.Init"), _row(2, 1.0, "final", 1, "rflex.Init", "ok"),
                         _row(3, 1.0 + gap, "request", 2, "rflex.TrackSpeedStart"),
@@ -42,9 +39,8 @@ def _store_with_truth():
                                  _row(2, 1.0, "request", 2, "rflex.TrackSpeedStart"),
                                  _row(3, 1.001, "final", 1, "rflex.Init", "ok"),
                                  _row(4, 2.0, "final", 2, "rflex.TrackSpeedStart", "ok")]
-        insert_trace(con, trace_id, 1, None, trace)
-    materialise(con, [PEX], EPSILON)
-    return con
+        traces.append((trace, None))
+    return judged_traces("test", traces, [PEX], EPSILON)
 
 
 def test_the_same_oracles_judge_the_internal_timeline():

@@ -90,12 +90,20 @@ def all_fixtures() -> list[Fixture]:
     return [load(p) for p in sorted(HERE.glob("*.trace"))]
 
 
+def judged_traces(mission: str, traces: list[tuple[Trace, str | None]], properties: list, epsilon: float,
+                  path=":memory:"):
+    """A store of one campaign holding `traces`, (trace, label) pairs given ids 1, 2, ... in order,
+    judged with `properties`."""
+    con = connect(path)
+    add_campaign(con, 1, mission, 0, {})
+    add_reply_codes(con, INTERFACE)
+    for trace_id, (trace, label) in enumerate(traces, 1):
+        insert_trace(con, trace_id, 1, None, trace, label=label)
+    materialise(con, properties, epsilon)
+    return con
+
+
 def judged_store(fixture: Fixture, epsilon: float, path=":memory:"):
     """A store holding the fixture's traces (ids 1, 2, ... in file order), judged with its properties."""
-    con = connect(path)
-    add_campaign(con, 1, str(fixture.path), 0, {})
-    add_reply_codes(con, INTERFACE)
-    for trace_id, case in enumerate(fixture.cases, 1):
-        insert_trace(con, trace_id, 1, None, case.trace, label=case.label)
-    materialise(con, fixture.properties, epsilon)
-    return con
+    return judged_traces(str(fixture.path), [(case.trace, case.label) for case in fixture.cases],
+                         fixture.properties, epsilon, path)
