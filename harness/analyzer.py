@@ -23,6 +23,11 @@ SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
 # Creation order: each view reads only tables or views created before it.
 VIEWS = ("requests", "activities", "property_verdicts", "family_verdicts", "trace_robustness",
          "tp_rates", "fp_rates", "inversions")
+# Rank queries ordering the views' rows: variants as they were run, properties and families in
+# the order of the properties file (the verdicts table is filled in that order); All comes last.
+RANKS = {"sut": "select sut, min(trace_id) as sut_rank from traces group by sut",
+         "family": "select family, min(rowid) as family_rank from verdicts group by family",
+         "property_id": "select property_id, min(rowid) as property_id_rank from verdicts group by property_id"}
 
 
 def statements(properties: list[Property], epsilon: float) -> list[str]:
@@ -49,26 +54,37 @@ def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsi
     con.execute("commit")
 
 
-def _ordered(con, sql: str) -> list[tuple]:
-    """Rows of `sql` (which has a sut column) in the order the variants were run."""
-    return con.execute(f"""select r.* from ({sql}) r
-                           join (select sut, min(trace_id) as first from traces group by sut) using (sut)
-                           order by first""").fetchall()
+def sut_order(con) -> list[str]:
+    """Variants in the order the campaign ran them."""
+    return [r[0] for r in con.execute(f"select sut from ({RANKS['sut']}) order by sut_rank").fetchall()]
+
+
+def family_order(con) -> list[str]:
+    """Families in the order the properties file lists them (verdict insertion order), then All."""
+    found = con.execute(f"select family from ({RANKS['family']}) order by family_rank").fetchall()
+    return [r[0] for r in found] + ["All"]
+
+
+def ordered(con, view: str) -> str:
+    """The query of a whole view (or table), its rows in the order of RANKS."""
+    columns = [d[0] for d in con.execute(f"select * from {view} limit 0").description]
+    ranked = [c for c in RANKS if c in columns]
+    joins = " ".join(f"left join ({RANKS[c]}) using ({c})" for c in ranked)
+    order = ", ".join(f"{c}_rank nulls last" for c in ranked) or "all"
+    return f"select v.* from {view} v {joins} order by {order}"
 
 
 def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
     """Paper layout: one row per family (properties-file order, then All), one column per variant."""
-    families = [r[0] for r in con.execute("select family from verdicts group by family order by min(rowid)")
-                .fetchall()] + ["All"]
     rate = {(sut, family): value for sut, family, value
             in con.execute(f"select sut, family, {column} from {view}").fetchall()}
     return format_table(["family"] + suts,
-                        [[f] + [percent(rate.get((s, f))) for s in suts] for f in families])
+                        [[f] + [percent(rate.get((s, f))) for s in suts] for f in family_order(con)])
 
 
 def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
-    robustness = _ordered(con, "select * from trace_robustness")
-    columns = [d[0] for d in con.execute("select * from trace_robustness limit 0").description]
+    cursor = con.execute(ordered(con, "trace_robustness"))
+    columns, robustness = [d[0] for d in cursor.description], cursor.fetchall()
     suts = [r[0] for r in robustness]
     table2 = format_table(columns, [r[:-1] + (percent(r[-1]) + "%",) for r in robustness])
     parts = ["Table II - per trace results\n" + table2,

@@ -9,6 +9,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+from harness.analyzer import family_order, sut_order
 from harness.errors import StoreError
 from harness.report import pages, queries
 from harness.store import connect
@@ -30,7 +31,7 @@ def main(args) -> int:
 
 def write_report(con, out: Path, extra_traces: list[int]) -> dict[str, int]:
     """Write the whole report under `out`; returns how many files of each sort it wrote."""
-    suts, families = queries.sut_order(con), queries.family_order(con)
+    suts, families = sut_order(con), family_order(con)
     table2 = queries.view(con, "trace_robustness", percent=frozenset({"t_rob"}))
     tp = queries.view(con, "tp_rates", percent=frozenset({"tp_rate"}))
     fp = queries.view(con, "fp_rates", percent=frozenset({"fp_rate"}))

@@ -5,6 +5,7 @@ import difflib
 import json
 from collections import defaultdict
 
+from harness.analyzer import ordered
 from harness.errors import StoreError
 from harness.report.tables import Table, query_table
 from harness.report.timeline import Request
@@ -13,11 +14,6 @@ VERDICTS = ("TP", "FN", "FP", "TN", "op", "na", "omega")
 # What `python -m harness analyze` materialises and the report reads.
 ANALYSED = ("verdicts", "requests", "property_verdicts", "family_verdicts", "trace_robustness",
             "tp_rates", "fp_rates", "inversions", "analysis")
-# Rank columns to order a view's rows: variants as they were run, properties and families in the
-# order of the properties file (the verdicts table is materialised in that order); All comes last.
-RANKS = {"sut": "select sut, min(trace_id) as sut_rank from traces group by sut",
-         "family": "select family, min(rowid) as family_rank from verdicts group by family",
-         "property_id": "select property_id, min(rowid) as property_id_rank from verdicts group by property_id"}
 
 
 def rows(con, sql: str, params=()) -> list[dict]:
@@ -38,21 +34,10 @@ def check_analysed(con, db: str) -> None:
                          f"run python -m harness analyze --db {db} first")
 
 
-def sut_order(con) -> list[str]:
-    """Variants in the order the campaign ran them."""
-    return [r[0] for r in con.execute(f"select sut from ({RANKS['sut']}) order by sut_rank").fetchall()]
-
-
 def module_order(con) -> list[str]:
     """Modules in the order the interface description declares them (reply_codes insertion order)."""
     return [r[0] for r in con.execute("select module from reply_codes group by module "
                                       "order by min(rowid)").fetchall()]
-
-
-def family_order(con) -> list[str]:
-    """Families in the order the properties file lists them (verdict insertion order), then All."""
-    found = con.execute(f"select family from ({RANKS['family']}) order by family_rank").fetchall()
-    return [r[0] for r in found] + ["All"]
 
 
 def campaigns(con) -> list[dict]:
@@ -86,11 +71,7 @@ def invalid_mutants(con) -> Table:
 
 def view(con, name: str, **options) -> Table:
     """A whole analyzer view, with its own columns, in the order the campaign and properties give."""
-    columns = [d[0] for d in con.execute(f"select * from {name} limit 0").description]
-    ranked = [c for c in RANKS if c in columns]
-    joins = " ".join(f"left join ({RANKS[c]}) using ({c})" for c in ranked)
-    order = ", ".join(f"{c}_rank nulls last" for c in ranked) or "all"
-    return query_table(con, name, f"select v.* from {name} v {joins} order by {order}", **options)
+    return query_table(con, name, ordered(con, name), **options)
 
 
 def verdict_mix(con) -> dict[tuple[str, str], int]:
