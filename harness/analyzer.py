@@ -15,7 +15,7 @@ import duckdb
 from harness.errors import PropertyError, StoreError
 from harness.interface import Property, load_interface, load_properties
 from harness.oracles import render_property, render_view
-from harness.store import connect
+from harness.store import connect, transaction
 from harness.textable import format_table, percent
 
 # (events source, verdicts table): the observed timeline and the ground truth.
@@ -42,16 +42,14 @@ def statements(properties: list[Property], epsilon: float) -> list[str]:
 def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsilon: float) -> None:
     """(Re)build the verdict tables and the views in one transaction; a failure keeps the old ones."""
     sql = statements(properties, epsilon)  # a property that cannot be rendered stops us here
-    con.execute("begin transaction")
     try:
-        for statement in sql:
-            con.execute(statement)
-        con.execute("create or replace table analysis as select now() as analysed_at, "
-                    "?::double as epsilon, ?::integer as properties", [epsilon, len(properties)])
+        with transaction(con):
+            for statement in sql:
+                con.execute(statement)
+            con.execute("create or replace table analysis as select now() as analysed_at, "
+                        "?::double as epsilon, ?::integer as properties", [epsilon, len(properties)])
     except duckdb.Error as e:
-        con.execute("rollback")
         raise StoreError(f"the oracle queries failed on this store: {e}") from None
-    con.execute("commit")
 
 
 def sut_order(con) -> list[str]:

@@ -130,17 +130,16 @@ def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[M
         golden_runs.append((task, trace))
         session.count(trace)
     run_all(_tasks([(golden_id, golden_text)], golden_id, config), setup, jobs, keep, RUN_WALL_LIMIT_S)
-    con.begin()
-    campaign_id = store.next_id(con, "campaigns", "campaign_id")
-    store.add_campaign(con, campaign_id, config["mission"], config["seed"], config)
-    store.add_reply_codes(con, interface)
-    rows = [(golden_id, campaign_id, "golden", None, "[]", golden_text, True, None)]
-    rows += [(golden_id + n, campaign_id, "mutant", golden_id, json.dumps(m.operations), m.body,
-              m.valid, m.invalid_reason) for n, m in enumerate(mutants, 1)]
-    con.executemany("insert into scripts values (?, ?, ?, ?, ?, ?, ?, ?)", rows)
-    for task, trace in golden_runs:
-        store.insert_trace(con, task.trace_id, campaign_id, task.script_id, trace)
-    con.commit()
+    with store.transaction(con):
+        campaign_id = store.next_id(con, "campaigns", "campaign_id")
+        store.add_campaign(con, campaign_id, config["mission"], config["seed"], config)
+        store.add_reply_codes(con, interface)
+        rows = [(golden_id, campaign_id, "golden", None, "[]", golden_text, True, None)]
+        rows += [(golden_id + n, campaign_id, "mutant", golden_id, json.dumps(m.operations), m.body,
+                  m.valid, m.invalid_reason) for n, m in enumerate(mutants, 1)]
+        con.executemany("insert into scripts values (?, ?, ?, ?, ?, ?, ?, ?)", rows)
+        for task, trace in golden_runs:
+            store.insert_trace(con, task.trace_id, campaign_id, task.script_id, trace)
     return campaign_id
 
 
@@ -161,9 +160,8 @@ def pending_tasks(con, campaign_id: int, config: dict) -> list[Task]:
 
 def _store_each(con, campaign_id: int, session: Session):
     def on_trace(task: Task, trace: Trace) -> None:
-        con.begin()
-        store.insert_trace(con, task.trace_id, campaign_id, task.script_id, trace)
-        con.commit()
+        with store.transaction(con):
+            store.insert_trace(con, task.trace_id, campaign_id, task.script_id, trace)
         session.count(trace)
     return on_trace
 

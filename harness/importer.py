@@ -19,7 +19,7 @@ import pyarrow.parquet as pq
 
 from harness.errors import InputFileError
 from harness.interface import Interface, load_interface
-from harness.store import add_campaign, add_reply_codes, connect, next_id
+from harness.store import add_campaign, add_reply_codes, connect, next_id, transaction
 from harness.trace import OUTCOMES
 
 REQUIRED = ("trace_id", "seq", "t", "kind", "rqst_id", "module", "service")
@@ -180,8 +180,7 @@ def _refuse(path: Path, unit: str, found: list[tuple[int, str]], interface: Inte
 
 def load(con, path: Path, interface: Interface) -> tuple[int, int, int]:
     """Campaign, traces and events in one transaction: (campaign_id, first trace id, traces)."""
-    con.execute("begin transaction")
-    try:
+    with transaction(con):
         campaign_id = next_id(con, "campaigns", "campaign_id")
         add_campaign(con, campaign_id, str(path), 0, {"imported": str(path), "interface": interface.path})
         add_reply_codes(con, interface)
@@ -199,10 +198,6 @@ def load(con, path: Path, interface: Interface) -> tuple[int, int, int]:
                        from staged s join imported_ids i on i.label = s.trace_id order by i.id, s.line""")
         count = con.execute("select count(*) from imported_ids").fetchone()[0]
         con.execute("drop table imported_ids")
-    except BaseException:
-        con.execute("rollback")
-        raise
-    con.execute("commit")
     return campaign_id, first, count
 
 

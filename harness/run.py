@@ -49,17 +49,16 @@ def main(args) -> int:
     script = load_script(script_path, interface)
     trace = run_script(script, args.sut, args.seed, interface, world_file, max_delay=args.max_delay)
     con = store.connect(args.db)
-    con.begin()
-    campaign_id = store.next_id(con, "campaigns", "campaign_id")
-    store.add_campaign(con, campaign_id, str(script_path), args.seed,
-                       {"kind": "run", "sut": args.sut, "max_delay": args.max_delay})
-    store.add_reply_codes(con, interface)
-    script_id = store.next_id(con, "scripts", "script_id")
-    con.execute("insert into scripts values (?, ?, 'golden', null, ?, ?, true, null)",
-                [script_id, campaign_id, json.dumps([]), script.render()])
-    trace_id = store.next_id(con, "traces", "trace_id")
-    store.insert_trace(con, trace_id, campaign_id, script_id, trace)
-    con.commit()
+    with store.transaction(con):
+        campaign_id = store.next_id(con, "campaigns", "campaign_id")
+        store.add_campaign(con, campaign_id, str(script_path), args.seed,
+                           {"kind": "run", "sut": args.sut, "max_delay": args.max_delay})
+        store.add_reply_codes(con, interface)
+        script_id = store.next_id(con, "scripts", "script_id")
+        con.execute("insert into scripts values (?, ?, 'golden', null, ?, ?, true, null)",
+                    [script_id, campaign_id, json.dumps([]), script.render()])
+        trace_id = store.next_id(con, "traces", "trace_id")
+        store.insert_trace(con, trace_id, campaign_id, script_id, trace)
     print(f"trace {trace_id} of {script_path} on {args.sut} (seed {args.seed}) stored in {args.db}")
     print(summary(trace, interface.replies))
     return 0 if trace.outcome == "completed" else 1

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+from contextlib import contextmanager
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -35,6 +36,18 @@ def connect(path: str | Path = ":memory:", read_only: bool = False,
     if not read_only:
         con.execute((SQL_DIR / "schema.sql").read_text())
     return con
+
+
+@contextmanager
+def transaction(con):
+    """The block's writes commit together, or on any exception are rolled back and it propagates."""
+    con.begin()
+    try:
+        yield
+    except BaseException:
+        con.rollback()
+        raise
+    con.commit()
 
 
 def next_id(con, table: str, column: str) -> int:
