@@ -41,7 +41,7 @@ class LayerMisbehaved(Exception):
 class Request:
     rqst_id: int
     step: Step
-    args: str | None = None  # as JSON text
+    args: str  # as JSON text
     taken: bool = False  # the layer's control task has taken it
     final: str | None = None
     observed: Event | None = None  # succeeds when the final reply is observed
@@ -51,8 +51,10 @@ class Request:
 class _Log:
     rows: list[tuple] = field(default_factory=list)
 
-    def add(self, t, kind, request: Request, args, reply=None):
+    def add(self, t, kind, request: Request, reply=None):
+        """One event row; only a request carries the arguments."""
         module, service = request.step.service.split(".")
+        args = request.args if kind == "request" else None
         self.rows.append((len(self.rows) + 1, t, kind, request.rqst_id, module, service, args, reply))
 
 
@@ -75,14 +77,11 @@ class Executive:
         return json.dumps({k: float(v) if service.args[k].type == "float" else v for k, v in step.args})
 
     def send(self, step: Step) -> None:
-        request = Request(len(self.requests) + 1, step, observed=self.env.event())
+        request = Request(len(self.requests) + 1, step, self._args_json(step), observed=self.env.event())
         self.requests[request.rqst_id] = request
         if step.handle:
             self.handles[step.handle] = request
-        args = self._args_json(step)
-        self.observed.add(self.env.now, "request", request, args)
-
-        request.args = args
+        self.observed.add(self.env.now, "request", request)
         self.env.call_at(self.env.now + self._delay(),
                          lambda: self.layer.receive(request.rqst_id, step.service, dict(step.args), self.on_reply))
 
@@ -96,7 +95,7 @@ class Executive:
             if request.taken:
                 raise LayerMisbehaved(f"the layer took request {rqst_id} ({request.step.service}) twice")
             request.taken = True
-            self.internal.add(self.env.now, "request", request, request.args)
+            self.internal.add(self.env.now, "request", request)
             return
         if request.final is not None:
             raise LayerMisbehaved(f"the layer sent a {kind} reply {code!r} to request {rqst_id} "
@@ -106,10 +105,10 @@ class Executive:
                 raise LayerMisbehaved(f"the layer replied {code!r} to request {rqst_id} "
                                       f"({request.step.service}); the interface catalogue has no such code")
             request.final = code
-        self.internal.add(self.env.now, kind, request, None, code)
+        self.internal.add(self.env.now, kind, request, code)
 
         def observe():
-            self.observed.add(self.env.now, kind, request, None, code)
+            self.observed.add(self.env.now, kind, request, code)
             if kind == "final":
                 request.observed.succeed()
         self.env.call_at(self.env.now + self._delay(), observe)
