@@ -106,8 +106,9 @@ def load_interface(path: str | Path) -> Interface:
     for code, cls in replies.items():
         if cls not in REPLY_CLASSES:
             raise InputFileError(path, f"[replies] {code}", f"class {cls!r} is not one of T, Z, R")
-    if "ok" not in replies or replies["ok"] != "T":
-        raise InputFileError(path, "[replies]", "the catalogue must contain ok = \"T\"")
+    if replies.get("ok") != "T":
+        given = f", not ok = {replies['ok']!r}" if "ok" in replies else ""
+        raise InputFileError(path, "[replies]", f"the catalogue must contain ok = \"T\"{given}")
     modules = data.get("modules")
     if not isinstance(modules, dict) or not modules:
         raise InputFileError(path, "[modules]", "no modules declared; add [modules.NAME] tables")

@@ -37,6 +37,7 @@ def test_dala_interface_and_21_properties(interface, properties):
     (GOOD.replace('kind = "exec"', 'kind = "run"'), "[modules.m] services.Go: kind 'run' is not one of init, control, exec"),
     (GOOD.replace("max = 1.0", "max = -1.0"), "argument 'v' needs numeric min <= max, got min=0.0 max=-1.0"),
     (GOOD.replace('ok = "T"', ""), "the catalogue must contain ok"),
+    (GOOD.replace('ok = "T"', 'ok = "R"'), "the catalogue must contain ok = \"T\", not ok = 'R'"),
     ("[replies\n", "not valid TOML"),
 ])
 def test_malformed_interface_names_file_entry_and_value(tmp_path, text, message):
