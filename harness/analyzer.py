@@ -47,9 +47,18 @@ def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsi
             for statement in sql:
                 con.execute(statement)
             con.execute("create or replace table analysis as select now() as analysed_at, "
-                        "?::double as epsilon, ?::integer as properties", [epsilon, len(properties)])
+                        "?::double as epsilon, ?::integer as properties, "
+                        "(select count(*) from traces) as traces", [epsilon, len(properties)])
     except duckdb.Error as e:
         raise StoreError(f"the oracle queries failed on this store: {e}") from None
+
+
+def judges_every_trace(con: duckdb.DuckDBPyConnection) -> bool:
+    """True when the stored verdicts were made after the last trace came in."""
+    tables = {r[0] for r in con.execute("select table_name from information_schema.tables").fetchall()}
+    if not {"verdicts", "analysis"} <= tables:
+        return False
+    return con.execute("select traces = (select count(*) from traces) from analysis").fetchone()[0]
 
 
 def sut_order(con) -> list[str]:

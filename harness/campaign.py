@@ -21,7 +21,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from harness import analyzer, store
+from harness import DEFAULT_EPSILON_S, analyzer, store
 from harness.errors import InputFileError, StoreError, UntimelyError
 from harness.executive import run_script
 from harness.interface import Interface, load_interface, load_properties
@@ -37,7 +37,6 @@ TRACE_FILES = ("golden.mission", "interface.toml", "world.toml")
 # Arguments that decide what is run; --jobs and --db do not.
 COMPARED = ("mutants", "sut", "seed", "ops_per_mutant", "time_mutations", "max_delay", "files")
 RUN_WALL_LIMIT_S = 600.0
-EPSILON_S = 0.01  # the analyze command's default; `python -m harness analyze --epsilon S` changes it
 
 
 def _sha256(path: Path) -> str:
@@ -222,14 +221,8 @@ def main(args, runner=None) -> int:
     if session.runs:
         session.progress.close()
     print(summary(con, campaign_id, session))
-    if session.runs or not _has_verdicts(con):
-        analyzer.materialise(con, properties, EPSILON_S)
-        print(f"verdicts  materialised for every trace of {args.db} (epsilon {EPSILON_S:g} s)\n")
-        print(analyzer.summary(con, EPSILON_S))
+    if not analyzer.judges_every_trace(con):  # new traces, or a session stopped while judging
+        analyzer.materialise(con, properties, DEFAULT_EPSILON_S)
+        print(f"verdicts  materialised for every trace of {args.db} (epsilon {DEFAULT_EPSILON_S:g} s)\n")
+        print(analyzer.summary(con, DEFAULT_EPSILON_S))
     return 0
-
-
-def _has_verdicts(con) -> bool:
-    """False when the last session that ran something was stopped before its verdicts were in."""
-    return con.execute("select count(*) from information_schema.tables where table_name = 'verdicts'"
-                       ).fetchone()[0] > 0

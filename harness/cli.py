@@ -6,7 +6,7 @@ import importlib
 import os
 import sys
 
-from harness import DEFAULT_DB, DEFAULT_MISSION_DIR
+from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR
 from harness.errors import UntimelyError
 
 VARIANTS_HELP = "genom, bip-a, bip-b, bare, reference"
@@ -52,7 +52,7 @@ def _parser() -> argparse.ArgumentParser:
                 "harness.analyzer:main")
     c.add_argument("--properties", default=str(DEFAULT_MISSION_DIR / "properties.toml"),
                    help="properties file (default: %(default)s)")
-    c.add_argument("--epsilon", type=float, default=0.01,
+    c.add_argument("--epsilon", type=float, default=DEFAULT_EPSILON_S,
                    help="margin in seconds below which a verdict is suspicious (default: %(default)s)")
     db(c)
 

@@ -12,7 +12,7 @@ import re
 
 import jinja2
 
-from harness import SQL_DIR
+from harness import DEFAULT_EPSILON_S, SQL_DIR
 from harness.errors import PropertyError
 from harness.interface import Property
 
@@ -47,7 +47,7 @@ def _parameters(prop: Property) -> dict:
     return given
 
 
-def render_property(prop: Property, events: str = "events", epsilon: float = 0.01) -> str:
+def render_property(prop: Property, events: str = "events", epsilon: float = DEFAULT_EPSILON_S) -> str:
     """The oracle query of one property over the events table `events`: the verdicts columns."""
     if not _TABLE_NAME.fullmatch(events):
         raise PropertyError(f"events source {events!r} is not a table name; use events or internal_events")

@@ -269,3 +269,28 @@ def test_a_finished_campaign_without_verdicts_gets_them_without_running_anything
     out = capsys.readouterr().out
     assert "nothing to run" in out and "verdicts  materialised" in out
     assert dump(db) == before
+
+
+def test_a_finished_campaign_judges_traces_added_after_its_verdicts(mission, tmp_path, capsys):
+    db = tmp_path / "c.duckdb"
+    campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)
+    con = store.connect(db)
+    extra = con.execute("select max(trace_id) + 100 from traces").fetchone()[0]
+    con.execute("insert into traces select * replace (? as trace_id) from traces where trace_id = 1", [extra])
+    con.execute("insert into events select * replace (? as trace_id) from events where trace_id = 1", [extra])
+    con.close()
+    capsys.readouterr()
+    campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)
+    out = capsys.readouterr().out
+    assert "nothing to run" in out and "verdicts  materialised" in out
+    con = store.connect(db, read_only=True)
+    assert con.execute("select count(*) from verdicts where trace_id = ?", [extra]).fetchone()[0] > 0
+
+
+def test_a_finished_and_judged_campaign_is_left_as_it_is(mission, tmp_path, capsys):
+    db = tmp_path / "c.duckdb"
+    campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)
+    capsys.readouterr()
+    campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)
+    out = capsys.readouterr().out
+    assert "nothing to run" in out and "verdicts  materialised" not in out
