@@ -5,7 +5,9 @@ worker holds, so when a worker process dies (os._exit, a segfault in a native li
 OOM killer) exactly that run is recorded as crashed and a fresh worker takes the next one.
 An exception escaping the runner is caught in the worker and becomes a crashed trace too.
 A run that gives no result within `watchdog_s` of wall time has its worker killed: the
-simulator works in virtual time, so that is a bug in it, not a slow mission.
+simulator works in virtual time, so that is a bug in it, not a slow mission. The clock starts
+when the worker is ready (it has imported the project), not when the task is handed out: a
+spawned worker takes a second or more to start on a loaded machine.
 
 Workers are spawned (not forked): the parent holds an open DuckDB connection and threads.
 They ignore SIGINT, so Ctrl-C reaches the parent alone, which stops them.
@@ -107,10 +109,14 @@ class _Worker:
                 message = self.conn.recv()
                 if message != READY:
                     return message
-                self.ready = True
+                self.ready, self.since = True, time.monotonic()
         except (EOFError, OSError):
             pass
         return None
+
+    def overdue(self, watchdog_s: float | None) -> bool:
+        """Busy past the watchdog, counted from when it was ready (or given its task, if later)."""
+        return self.ready and watchdog_s is not None and time.monotonic() - self.since >= watchdog_s
 
     def death(self) -> str:
         self.process.join(STOP_GRACE_S)
@@ -146,7 +152,7 @@ def run_all(tasks: list[Task], setup: Setup, jobs: int, on_trace: Callable[[Task
                 alive = worker.process.is_alive()  # before reading: a dead worker's result is all in the pipe
                 result = worker.result()
                 if result is None and alive:
-                    if watchdog_s is None or time.monotonic() - worker.since < watchdog_s:
+                    if not worker.overdue(watchdog_s):
                         continue
                     worker.kill()
                     result = crashed(worker.task, f"no result after {watchdog_s:g} s of wall time; "

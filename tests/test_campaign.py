@@ -239,6 +239,28 @@ def test_a_run_past_the_wall_clock_watchdog_is_killed_and_recorded(mission):
     assert results["genom"].outcome == results["bip-a"].outcome == "completed"
 
 
+class SlowToStartRunner:
+    """Unpickled in the spawned worker before it reports ready, like a slow import on a loaded machine."""
+
+    def __getstate__(self):
+        return {"start_up_s": 2.0}  # a non-empty state, so that unpickling calls __setstate__
+
+    def __setstate__(self, state):
+        time.sleep(state["start_up_s"])
+
+    def __call__(self, script, sut, seed, interface, world_file, max_delay):
+        time.sleep(0.5)
+        return fake_runner(script, sut, seed, interface, world_file, max_delay)
+
+
+def test_the_watchdog_counts_from_when_the_worker_is_ready_not_from_its_slow_start(mission):
+    tasks = [workers.Task(1, 1, "genom", 0, (mission / "golden.mission").read_text())]
+    setup = workers.Setup(SlowToStartRunner(), mission / "interface.toml", mission / "world.toml", 0.003)
+    results = []
+    workers.run_all(tasks, setup, 1, lambda task, trace: results.append(trace), watchdog_s=1.5)
+    assert [t.outcome for t in results] == ["completed"], results[0].error
+
+
 def test_progress_logs_a_line_every_tenth_when_not_on_a_terminal():
     stream = io.StringIO()
     bar = Progress(20, stream=stream)
