@@ -60,9 +60,10 @@ class _Log:
 
 class Executive:
     def __init__(self, env: Environment, layer, interface: Interface, rng: random.Random,
-                 max_delay: float):
+                 max_delay: float, probe_period: float = PROBE_PERIOD_S, probe_timeout: float = PROBE_TIMEOUT_S):
         self.env, self.layer, self.interface = env, layer, interface
         self.rng, self.max_delay = rng, max_delay
+        self.probe_period, self.probe_timeout = probe_period, probe_timeout
         self.requests: dict[int, Request] = {}
         self.handles: dict[str, Request] = {}
         self.observed, self.internal = _Log(), _Log()
@@ -73,8 +74,7 @@ class Executive:
         return self.rng.uniform(0.0, self.max_delay)
 
     def _args_json(self, step: Step) -> str:
-        service = self.interface.services[step.service]
-        return json.dumps({k: float(v) if service.args[k].type == "float" else v for k, v in step.args})
+        return json.dumps(self.interface.services[step.service].typed(dict(step.args)))
 
     def send(self, step: Step) -> None:
         request = Request(len(self.requests) + 1, step, self._args_json(step), observed=self.env.event())
@@ -147,10 +147,10 @@ class Executive:
 
     def probe(self):
         while True:
-            yield self.env.timeout(PROBE_PERIOD_S)
+            yield self.env.timeout(self.probe_period)
             answered = self.env.event()
             self.layer.ping(lambda: answered.triggered or answered.succeed())
-            yield self._first_of(answered, self.env.timeout(PROBE_TIMEOUT_S))
+            yield self._first_of(answered, self.env.timeout(self.probe_timeout))
             if not answered.triggered:
                 self.notes.append((self.env.now, "probe_unanswered", json.dumps({})))
                 if not self.done.triggered:
@@ -180,7 +180,14 @@ def run_script(script: Script, sut: str, seed: int, interface: Interface, world_
     except Exception as e:  # noqa: BLE001 - any failure inside the layer is a crashed trace
         trace.outcome = "crashed"
         trace.error = "".join(traceback.format_exception_only(e)).strip()
-    trace.events, trace.internal_events = executive.observed.rows, executive.internal.rows
-    trace.world_events = sorted(list(layer.world_events) + executive.notes)
-    trace.sim_s, trace.wall_s = env.now, time.perf_counter() - wall
+    return trace_of(executive, env, trace, wall, executive.internal.rows, layer.world_events)
+
+
+def trace_of(executive: Executive, env: Environment, trace: Trace, wall_start: float,
+             internal: list[tuple], world: list[tuple]) -> Trace:
+    """A finished run's timelines and clocks, into its trace: the observed events, the layer's
+    internal ones, its virtual damage with the executive's notes."""
+    trace.events, trace.internal_events = executive.observed.rows, internal
+    trace.world_events = sorted(list(world) + executive.notes)
+    trace.sim_s, trace.wall_s = env.now, time.perf_counter() - wall_start
     return trace

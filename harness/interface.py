@@ -41,6 +41,10 @@ class Service:
     def qualified(self) -> str:
         return f"{self.module}.{self.name}"
 
+    def typed(self, raw: dict[str, str]) -> dict:
+        """A request's argument values as JSON types: numbers for float arguments."""
+        return {k: float(v) if self.args[k].type == "float" else v for k, v in raw.items()}
+
 
 @dataclass(frozen=True)
 class Interface:
@@ -52,6 +56,13 @@ class Interface:
     @property
     def modules(self) -> list[str]:
         return list(dict.fromkeys(s.module for s in self.services.values()))
+
+    def describe(self) -> dict:
+        """What a SUT is told of the interface in the protocol's hello (DESIGN §8)."""
+        modules: dict[str, dict[str, str]] = {}
+        for s in self.services.values():
+            modules.setdefault(s.module, {})[s.name] = s.kind
+        return {"modules": modules, "replies": dict(self.replies)}
 
     def reply_codes(self) -> list[tuple[str, str, str, str]]:
         """Rows of the reply_codes table: every service may end with every catalogued code."""

@@ -97,3 +97,7 @@ def insert_trace(con, trace_id: int, campaign_id: int, script_id: int | None, tr
     if trace.world_events:
         arrow = _table(trace.world_events, WORLD_EVENT_COLUMNS, WORLD_SCHEMA, trace_id)  # noqa: F841
         con.execute("insert into world_events select * from arrow")
+    if trace.provenance:
+        columns = ", ".join(trace.provenance)
+        con.execute(f"insert into trace_runs (trace_id, {columns}) values (?{', ?' * len(trace.provenance)})",
+                    [trace_id, *trace.provenance.values()])

@@ -21,6 +21,8 @@ class Trace:
     events: list[tuple] = field(default_factory=list)
     internal_events: list[tuple] = field(default_factory=list)
     world_events: list[tuple] = field(default_factory=list)  # (t, kind, detail JSON text)
+    # Where, when and with what interface latency a real-time run ran (a trace_runs row).
+    provenance: dict | None = None
 
     def __repr__(self) -> str:
         return (f"<Trace {self.sut} seed={self.seed} {self.outcome} {len(self.events)} events "

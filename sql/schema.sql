@@ -74,3 +74,18 @@ create table if not exists world_events (
     kind      varchar not null,
     detail    json
 );
+
+-- Where, when and how fast a real-time run against an external SUT ran (DESIGN §8): such runs
+-- are not reproducible, so their circumstances are kept. rtt_* are the liveness pings' round
+-- trips in wall seconds (times time_scale for mission seconds); none for simulated runs.
+create table if not exists trace_runs (
+    trace_id    integer primary key,
+    host        varchar not null,
+    started_at  timestamp not null,      -- UTC
+    time_scale  double not null,
+    sut_info    varchar,                 -- what the SUT said of itself in its hello
+    pings       integer not null,
+    rtt_p50_s   double,
+    rtt_p95_s   double,
+    rtt_max_s   double
+);

@@ -24,6 +24,12 @@ class RealtimeEnvironment(Environment):
         self._start = time.monotonic()
         self._posted: queue.SimpleQueue[Callable[[], None]] = queue.SimpleQueue()
 
+    def restart_clock(self) -> None:
+        """Start the clock anew (after a SUT's start-up, say); only before anything happened."""
+        if self._heap or self.now:
+            raise RuntimeError(f"{self!r}: the clock can only restart before any event")
+        self._start = time.monotonic()
+
     def clock(self) -> float:
         """The wall clock in mission seconds since start."""
         return (time.monotonic() - self._start) * self.time_scale

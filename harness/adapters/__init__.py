@@ -1,0 +1,1 @@
+"""Adapters that put a system behind the `untimely/1` protocol (DESIGN §8)."""

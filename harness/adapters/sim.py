@@ -1,0 +1,103 @@
+"""`python -m harness.adapters.sim --variant NAME`: the simulated layer as an external SUT.
+
+It speaks `untimely/1` on stdio (the bench starts it for each run) or, with `--listen
+HOST:PORT`, to every bench that connects (one run per connection, several at once). The layer
+runs in wall-clock time scaled by the hello's `time_scale`, so the same scripts can be run in
+process and through the protocol and their traces compared. It reports the layer's internal
+instants (`internal`) and its virtual damage (`world`).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import socketserver
+import sys
+import threading
+from pathlib import Path
+
+from harness import DEFAULT_MISSION_DIR
+from harness.errors import UntimelyError
+from harness.interface import load_interface
+from harness.protocol import BENCH_MESSAGES, PROTO, ProtocolViolation, decode, encode
+from harness.sut.host import LayerHost
+
+
+class Session:
+    """One run: the bench's lines in, the layer's replies out."""
+
+    def __init__(self, variant: str, mission: Path, output):
+        self.variant, self.mission, self.output = variant, mission, output
+        self.lock = threading.Lock()
+        self.host: LayerHost | None = None
+
+    def send(self, op: str, **fields) -> None:
+        with self.lock:
+            self.output.write(encode(op, **fields))
+            self.output.flush()
+
+    def on_reply(self, rqst_id: int, kind: str, code: str | None, t: float) -> None:
+        if kind != "request":
+            self.send("reply", id=rqst_id, kind=kind, **({"code": code} if code else {}))
+        self.send("internal", id=rqst_id, kind=kind, t=t, **({"code": code} if code else {}))
+
+    def start(self, hello: dict) -> None:
+        interface = load_interface(self.mission / "interface.toml")
+        self.host = LayerHost(self.variant, interface, self.mission / "world.toml", hello["time_scale"],
+                              on_world=lambda t, kind, detail: self.send("world", t=t, kind=kind,
+                                                                         detail=json.loads(detail)),
+                              on_error=lambda message: self.send("error", message=message))
+        self.send("hello", proto=PROTO, sut=f"untimely simulated layer, variant {self.variant}",
+                  caps=["internal", "world"])
+        self.host.start()
+
+    def serve(self, lines) -> int:
+        try:
+            for line in lines:
+                message = decode(line, BENCH_MESSAGES)
+                op = message["op"]
+                if op == "hello":
+                    self.start(message)
+                elif self.host is None:
+                    raise ProtocolViolation(f"{op!r} before hello")
+                elif op == "request":
+                    args = {k: str(v) for k, v in message["args"].items()}
+                    self.host.request(message["id"], f"{message['module']}.{message['service']}", args,
+                                      self.on_reply)
+                elif op == "ping":
+                    self.host.ping(lambda ping_id=message["id"]: self.send("pong", id=ping_id))
+                else:  # bye
+                    break
+        except (ProtocolViolation, UntimelyError) as e:
+            self.send("error", message=str(e))
+            return 1
+        finally:
+            if self.host:
+                self.host.stop()
+        return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="python -m harness.adapters.sim", description=__doc__.split("\n\n")[0])
+    p.add_argument("--variant", required=True, help="implementation variant of the simulated layer")
+    p.add_argument("--mission", default=str(DEFAULT_MISSION_DIR), help="mission folder (default: %(default)s)")
+    p.add_argument("--listen", metavar="HOST:PORT", help="serve benches over TCP instead of stdio")
+    args = p.parse_args(argv)
+    mission = Path(args.mission)
+    if not args.listen:
+        return Session(args.variant, mission, sys.stdout).serve(sys.stdin)
+
+    class Handler(socketserver.StreamRequestHandler):
+        def handle(self):
+            writer = self.connection.makefile("w", encoding="utf-8")
+            Session(args.variant, mission, writer).serve(self.connection.makefile("r", encoding="utf-8"))
+
+    host, port = args.listen.rsplit(":", 1)
+    with socketserver.ThreadingTCPServer((host, int(port)), Handler) as server:
+        server.daemon_threads = True
+        print(f"listening on {host}:{server.server_address[1]}", file=sys.stderr, flush=True)
+        server.serve_forever()
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

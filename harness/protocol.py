@@ -1,0 +1,67 @@
+"""The `untimely/1` wire format (DESIGN §8): one JSON object per line, each with an `op`.
+
+Shared by the bench's side and the adapters the project ships, so both read and write the
+same lines. A line that breaks the format raises ProtocolViolation, quoting what was wrong.
+"""
+from __future__ import annotations
+
+import json
+import math
+
+PROTO = "untimely/1"
+# What the SUT may send, with the fields each must carry and their JSON types.
+SUT_MESSAGES = {
+    "hello": {"proto": str},
+    "reply": {"id": int, "kind": str},  # and `code`: text on a final, optional on an intermediate
+    "pong": {"id": int},
+    "internal": {"id": int, "kind": str, "t": float},
+    "world": {"t": float, "kind": str, "detail": dict},
+    "error": {"message": str},
+}
+BENCH_MESSAGES = {
+    "hello": {"proto": str, "run": int, "seed": int, "time_scale": float, "interface": dict},
+    "request": {"id": int, "module": str, "service": str, "args": dict},
+    "ping": {"id": int},
+    "bye": {},
+}
+REPLY_KINDS = ("intermediate", "final")
+INTERNAL_KINDS = ("request", "intermediate", "final")
+
+
+class ProtocolViolation(Exception):
+    """A line that is not a well-formed message of the protocol."""
+
+
+def encode(op: str, **fields) -> str:
+    """One message as a line (NaN and infinities are refused: they are not JSON)."""
+    return json.dumps({"op": op, **fields}, separators=(",", ":"), allow_nan=False) + "\n"
+
+
+def _has_type(value, kind: type) -> bool:
+    if kind is float:
+        return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+    if kind is int:
+        return isinstance(value, int) and not isinstance(value, bool)
+    return isinstance(value, kind)
+
+
+def decode(line: str, messages: dict[str, dict[str, type]] = SUT_MESSAGES) -> dict:
+    """The message of one line, checked against `messages` (what the other side may send)."""
+    try:
+        message = json.loads(line, parse_constant=lambda c: _refuse(f"{c} is not a JSON number"))
+    except ValueError as e:
+        raise ProtocolViolation(f"not a JSON line ({e})") from None
+    if not isinstance(message, dict):
+        raise ProtocolViolation("not a JSON object")
+    op = message.get("op")
+    if op not in messages:
+        raise ProtocolViolation(f"unknown op {op!r}; expected one of {', '.join(messages)}")
+    for name, kind in messages[op].items():
+        if not _has_type(message.get(name), kind):
+            raise ProtocolViolation(f"{op!r} needs a field {name!r} of type {kind.__name__}, "
+                                    f"got {message.get(name)!r}")
+    return message
+
+
+def _refuse(problem: str):
+    raise ValueError(problem)
