@@ -22,7 +22,7 @@ from harness.textable import format_table, percent
 SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
 # Creation order: each view reads only tables or views created before it.
 VIEWS = ("requests", "activities", "property_verdicts", "family_verdicts", "trace_robustness",
-         "tp_rates", "fp_rates", "inversions")
+         "tp_rates", "fp_rates", "inversions", "interface_latency")
 # Rank queries ordering the views' rows: variants as they were run, properties and families in
 # the order of the properties file (the verdicts table is filled in that order); All comes last.
 RANKS = {"sut": "select sut, min(trace_id) as sut_rank from traces group by sut",
@@ -106,6 +106,11 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
         parts.append(f"Ground truth: {inverted} of {judged} observed verdicts differ from the verdicts on "
                      f"the internal timeline (view inversions); the suspicious flag (margin < {epsilon:g} s) "
                      f"caught {caught} of them and is raised on {flagged} verdicts in all.")
+    cursor = con.execute("select * exclude (campaign_id) from interface_latency order by campaign_id, sut")
+    latency = cursor.fetchall()
+    if latency:
+        parts.append("Interface latency of the real-time runs (ping round trips, wall s; "
+                     "suggested epsilon in mission s)\n" + format_table([d[0] for d in cursor.description], latency))
     return "\n\n".join(parts)
 
 

@@ -28,6 +28,7 @@ from harness.interface import Interface, load_interface, load_properties
 from harness.mutator.operators import Mutant, generate
 from harness.mutator.script import load_script
 from harness.progress import Progress
+from harness.suts import ExternalSut, resolve
 from harness.trace import Trace
 from harness.workers import Setup, Task, run_all, script_label
 
@@ -35,8 +36,11 @@ from harness.workers import Setup, Task, run_all, script_label
 # properties.toml is not among them: editing a property re-judges traces, it does not re-run them.
 TRACE_FILES = ("golden.mission", "interface.toml", "world.toml")
 # Arguments that decide what is run; --jobs and --db do not.
-COMPARED = ("mutants", "sut", "seed", "ops_per_mutant", "time_mutations", "max_delay", "files")
-RUN_WALL_LIMIT_S = 600.0
+COMPARED = ("mutants", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "max_delay", "files")
+# What a config stored before a key existed means by its absence.
+ABSENT = {"external": {}}
+RUN_WALL_LIMIT_S = 600.0  # of a simulated run; a real-time one has the executive's watchdogs
+REALTIME_WALL_LIMIT_S = 3 * 3600.0
 
 
 def _sha256(path: Path) -> str:
@@ -57,11 +61,10 @@ def campaign_config(args) -> dict:
         raise UntimelyError(f"--jobs {args.jobs}: give a number of worker processes, or 0 for all cores")
     if not args.max_delay >= 0:
         raise UntimelyError(f"--max-delay {args.max_delay}: give a delay in seconds >= 0")
-    suts = [s.strip() for s in args.sut.split(",")]
-    if not all(suts) or len(set(suts)) != len(suts):
-        raise UntimelyError(f"--sut {args.sut!r}: give distinct comma-separated variants, e.g. genom,bip-a,bip-b")
     mission = Path(args.mission)
+    suts, external = resolve(args.sut, mission, args.time_scale)
     return {"kind": "campaign", "mission": str(mission.resolve()), "mutants": args.mutants, "sut": suts,
+            "external": {name: sut.config() for name, sut in external.items()},
             "seed": args.seed, "ops_per_mutant": args.ops_per_mutant, "time_mutations": args.time_mutations,
             "max_delay": args.max_delay, "jobs": args.jobs,
             "files": {name: _sha256(mission / name) for name in TRACE_FILES}}
@@ -69,12 +72,14 @@ def campaign_config(args) -> dict:
 
 def _difference(stored: dict, wanted: dict) -> str | None:
     for key in COMPARED:
-        if stored.get(key) == wanted[key]:
+        if stored.get(key, ABSENT.get(key)) == wanted[key]:
             continue
         if key == "files":
             changed = [n for n in TRACE_FILES if stored["files"].get(n) != wanted["files"][n]]
             return (f"--mission {stored['mission']} had other contents: {', '.join(changed)} "
                     f"differ from {wanted['mission']}")
+        if key == "external":
+            return f"external SUTs {stored[key]}, not {wanted[key]}"
         show = (lambda v: ",".join(v)) if key == "sut" else str
         flag = "--" + key.replace("_", "-")
         return f"{flag} {show(stored.get(key))}, not {show(wanted[key])}"
@@ -128,7 +133,7 @@ def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[M
     def keep(task, trace):
         golden_runs.append((task, trace))
         session.count(trace)
-    run_all(_tasks([(golden_id, golden_text)], golden_id, config), setup, jobs, keep, RUN_WALL_LIMIT_S)
+    run_all(_tasks([(golden_id, golden_text)], golden_id, config), setup, jobs, keep)
     with store.transaction(con):
         campaign_id = store.next_id(con, "campaigns", "campaign_id")
         store.add_campaign(con, campaign_id, config["mission"], config["seed"], config)
@@ -194,8 +199,11 @@ def main(args, runner=None) -> int:
     properties = load_properties(mission / "properties.toml", interface)
     con = store.connect(args.db)
     campaign_id = find_campaign(con, config, args.db)
-    setup = Setup(runner or run_script, mission / "interface.toml", mission / "world.toml", args.max_delay)
-    jobs = args.jobs or len(os.sched_getaffinity(0))
+    external = {name: ExternalSut(**spec) for name, spec in config["external"].items()}
+    setup = Setup(runner or run_script, mission / "interface.toml", mission / "world.toml", args.max_delay,
+                  external, REALTIME_WALL_LIMIT_S if external else RUN_WALL_LIMIT_S)
+    # A real-time run mostly waits: its slots may outnumber the cores.
+    jobs = args.jobs or max([len(os.sched_getaffinity(0))] + [s.slots for s in external.values()])
     variants = len(config["sut"])
     start = time.monotonic()
     if campaign_id is None:
@@ -217,7 +225,7 @@ def main(args, runner=None) -> int:
         else:
             print(f"campaign {campaign_id} in {args.db} is complete ({total} runs stored); nothing to run")
     if pending:
-        run_all(pending, setup, jobs, _store_each(con, campaign_id, session), RUN_WALL_LIMIT_S)
+        run_all(pending, setup, jobs, _store_each(con, campaign_id, session))
     if session.runs:
         session.progress.close()
     print(summary(con, campaign_id, session))

@@ -10,6 +10,8 @@ from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR
 from harness.errors import UntimelyError
 
 VARIANTS_HELP = "genom, bip-a, bip-b, bare, reference"
+EXTERNAL_HELP = ("; or an external SUT over untimely/1: NAME=cmd:COMMAND (started per run, stdio), "
+                 "NAME=tcp://HOST:PORT, or a NAME from the mission folder's suts.toml")
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -24,28 +26,35 @@ def _parser() -> argparse.ArgumentParser:
         c.set_defaults(target=target)
         return c
 
+    def time_scale(c):
+        c.add_argument("--time-scale", type=float, help="external SUTs: mission seconds per wall second "
+                       "(1 = real time; default: the SUT's own, else 1)")
+
     def db(c, help="the DuckDB store"):
         c.add_argument("--db", default=str(DEFAULT_DB), help=f"{help} (default: %(default)s)")
 
     c = command("run", "run one script on one variant, store and summarise its trace", "harness.run:main")
     c.add_argument("mission", help="a mission script, e.g. missions/dala/golden.mission")
-    c.add_argument("--sut", required=True, help=f"implementation variant: {VARIANTS_HELP}")
+    c.add_argument("--sut", required=True, help=f"implementation variant: {VARIANTS_HELP}{EXTERNAL_HELP}")
     c.add_argument("--seed", type=int, default=0, help="seed of the observation delays (default: 0)")
     c.add_argument("--interface", help="interface description (default: interface.toml beside the script)")
     c.add_argument("--max-delay", type=float, default=0.003,
                    help="largest interface observation delay in seconds (default: %(default)s)")
+    time_scale(c)
     db(c)
 
     c = command("campaign", "run golden + seeded mutants on each variant; resumable", "harness.campaign:main")
     c.add_argument("--mission", default=str(DEFAULT_MISSION_DIR), help="mission folder (default: %(default)s)")
     c.add_argument("--mutants", type=int, default=300, help="number of mutants (default: %(default)s)")
-    c.add_argument("--sut", default="genom,bip-a,bip-b", help="comma-separated variants (default: %(default)s)")
+    c.add_argument("--sut", default="genom,bip-a,bip-b",
+                   help=f"comma-separated SUTs (default: %(default)s): variants {VARIANTS_HELP}{EXTERNAL_HELP}")
     c.add_argument("--seed", type=int, default=2012, help="campaign seed (default: %(default)s)")
     c.add_argument("--jobs", type=int, default=0, help="worker processes, 0 = all cores (default: %(default)s)")
     c.add_argument("--ops-per-mutant", type=int, default=1, help="mutation operations per mutant (default: 1)")
     c.add_argument("--time-mutations", action="store_true", help="also drop waits and change sleeps")
     c.add_argument("--max-delay", type=float, default=0.003,
                    help="largest interface observation delay in seconds (default: %(default)s)")
+    time_scale(c)
     db(c)
 
     c = command("analyze", "(re)materialise verdicts from the stored traces and print Tables II-IV",

@@ -10,9 +10,12 @@ from collections import Counter
 from pathlib import Path
 
 from harness import store
+from harness.errors import UntimelyError
 from harness.executive import run_script
+from harness.external import run_external
 from harness.interface import load_interface
 from harness.mutator.script import load_script
+from harness.suts import resolve
 from harness.trace import Trace
 
 
@@ -20,6 +23,15 @@ def mission_files(script_path: Path, interface: str | None = None) -> tuple[Path
     """The interface and world descriptions that belong beside a mission script."""
     folder = script_path.resolve().parent
     return Path(interface) if interface else folder / "interface.toml", folder / "world.toml"
+
+
+def latency_line(provenance: dict) -> str:
+    """The ping round trips of a real-time run (`analyze` suggests an epsilon from them)."""
+    p = provenance
+    if not p["pings"]:
+        return "no ping answered: no latency measured"
+    return (f"{p['pings']} pings on {p['host']}, round trip p50 {p['rtt_p50_s'] * 1000:.2f} ms, "
+            f"p95 {p['rtt_p95_s'] * 1000:.2f} ms, max {p['rtt_max_s'] * 1000:.2f} ms (wall)")
 
 
 def summary(trace: Trace, replies: dict[str, str]) -> str:
@@ -39,6 +51,8 @@ def summary(trace: Trace, replies: dict[str, str]) -> str:
         + "".join(f"\n             t={t:.3f} {kind} {detail}" for t, kind, detail in trace.world_events),
         f"time       simulated {trace.sim_s:.1f} s, wall {trace.wall_s:.3f} s ({speed:,.0f}x real time)",
     ]
+    if trace.provenance:
+        lines.append("interface  " + latency_line(trace.provenance))
     return "\n".join(lines)
 
 
@@ -47,18 +61,26 @@ def main(args) -> int:
     interface_path, world_file = mission_files(script_path, args.interface)
     interface = load_interface(interface_path)
     script = load_script(script_path, interface)
-    trace = run_script(script, args.sut, args.seed, interface, world_file, max_delay=args.max_delay)
+    names, external = resolve(args.sut, world_file.parent, args.time_scale)
+    if len(names) != 1:
+        raise UntimelyError(f"--sut {args.sut!r}: run takes one SUT; a campaign takes several")
+    sut = names[0]
+    config = {"kind": "run", "sut": sut, "max_delay": args.max_delay}
+    if sut in external:
+        trace = run_external(script, external[sut], args.seed, interface)
+        config["external"] = {sut: external[sut].config()}
+    else:
+        trace = run_script(script, sut, args.seed, interface, world_file, max_delay=args.max_delay)
     con = store.connect(args.db)
     with store.transaction(con):
         campaign_id = store.next_id(con, "campaigns", "campaign_id")
-        store.add_campaign(con, campaign_id, str(script_path), args.seed,
-                           {"kind": "run", "sut": args.sut, "max_delay": args.max_delay})
+        store.add_campaign(con, campaign_id, str(script_path), args.seed, config)
         store.add_reply_codes(con, interface)
         script_id = store.next_id(con, "scripts", "script_id")
         con.execute("insert into scripts values (?, ?, 'golden', null, ?, ?, true, null)",
                     [script_id, campaign_id, json.dumps([]), script.render()])
         trace_id = store.next_id(con, "traces", "trace_id")
         store.insert_trace(con, trace_id, campaign_id, script_id, trace)
-    print(f"trace {trace_id} of {script_path} on {args.sut} (seed {args.seed}) stored in {args.db}")
+    print(f"trace {trace_id} of {script_path} on {sut} (seed {args.seed}) stored in {args.db}")
     print(summary(trace, interface.replies))
     return 0 if trace.outcome == "completed" else 1

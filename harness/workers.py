@@ -5,7 +5,10 @@ worker holds, so when a worker process dies (os._exit, a segfault in a native li
 OOM killer) exactly that run is recorded as crashed and a fresh worker takes the next one.
 An exception escaping the runner is caught in the worker and becomes a crashed trace too.
 A run that gives no result within `watchdog_s` of wall time has its worker killed: the
-simulator works in virtual time, so that is a bug in it, not a slow mission. The clock starts
+simulator works in virtual time, so that is a bug in it, not a slow mission; a real-time run has
+the executive's own watchdogs, so that is a bench that hangs. Each worker is a slot: it keeps its
+number (0..jobs-1) for its life, and an external SUT started for one of its runs learns it
+(UNTIMELY_SLOT), to pick ports of its own. The clock starts
 when the worker is ready (it has imported the project), not when the task is handed out: a
 spawned worker takes a second or more to start on a loaded machine.
 
@@ -19,14 +22,16 @@ import signal
 import time
 import traceback
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from multiprocessing.connection import wait
 from pathlib import Path
 from typing import Callable
 
 from harness.errors import UntimelyError
+from harness.external import run_external
 from harness.interface import load_interface
 from harness.mutator.script import parse
+from harness.suts import ExternalSut
 from harness.trace import Trace
 
 STOP_GRACE_S = 2.0
@@ -49,6 +54,14 @@ class Setup:
     interface_file: Path
     world_file: Path
     max_delay: float
+    external: dict[str, ExternalSut] = field(default_factory=dict)  # SUTs run over untimely/1
+    watchdog_s: float | None = None  # wall seconds a run may take before its worker is killed
+
+    def run(self, task: Task, interface, slot: int) -> Trace:
+        script = parse(task.body, script_label(task.script_id))
+        if task.sut in self.external:
+            return run_external(script, self.external[task.sut], task.seed, interface, slot, task.trace_id)
+        return self.runner(script, task.sut, task.seed, interface, self.world_file, self.max_delay)
 
 
 @dataclass(frozen=True)
@@ -66,7 +79,7 @@ def crashed(task: Task, error: str, wall_s: float = 0.0) -> Trace:
     return Trace(sut=task.sut, seed=task.seed, outcome="crashed", error=error, wall_s=wall_s)
 
 
-def _serve(conn, setup: Setup) -> None:
+def _serve(conn, setup: Setup, slot: int) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     interface = load_interface(setup.interface_file)
     conn.send(READY)
@@ -79,8 +92,7 @@ def _serve(conn, setup: Setup) -> None:
             return
         start = time.perf_counter()
         try:
-            script = parse(task.body, script_label(task.script_id))
-            result = setup.runner(script, task.sut, task.seed, interface, setup.world_file, setup.max_delay)
+            result = setup.run(task, interface, slot)
         except UntimelyError as e:  # the user's input (a variant or world that cannot be built)
             result = UserError(str(e))
         except Exception:  # noqa: BLE001 - any other failure is this run's crash
@@ -89,9 +101,10 @@ def _serve(conn, setup: Setup) -> None:
 
 
 class _Worker:
-    def __init__(self, context, setup: Setup):
+    def __init__(self, context, setup: Setup, slot: int):
+        self.slot = slot
         self.conn, child = context.Pipe()
-        self.process = context.Process(target=_serve, args=(child, setup), daemon=True)
+        self.process = context.Process(target=_serve, args=(child, setup, slot), daemon=True)
         self.process.start()
         child.close()
         self.task: Task | None = None
@@ -133,8 +146,7 @@ class _Worker:
         self.process.join()
 
 
-def run_all(tasks: list[Task], setup: Setup, jobs: int, on_trace: Callable[[Task, Trace], None],
-            watchdog_s: float | None = None) -> None:
+def run_all(tasks: list[Task], setup: Setup, jobs: int, on_trace: Callable[[Task, Trace], None]) -> None:
     """Run every task on `jobs` workers; `on_trace(task, trace)` is called in this process, in
     completion order. A worker that raises UntimelyError aborts the whole campaign with it."""
     context = multiprocessing.get_context("spawn")
@@ -142,7 +154,8 @@ def run_all(tasks: list[Task], setup: Setup, jobs: int, on_trace: Callable[[Task
     try:
         while pending or any(w.task for w in workers):
             while pending and len(workers) < jobs:
-                workers.append(_Worker(context, setup))
+                free = min(set(range(jobs)) - {w.slot for w in workers})
+                workers.append(_Worker(context, setup, free))
             for worker in workers:
                 if worker.task is None and pending:
                     worker.give(pending.popleft())
@@ -152,11 +165,11 @@ def run_all(tasks: list[Task], setup: Setup, jobs: int, on_trace: Callable[[Task
                 alive = worker.process.is_alive()  # before reading: a dead worker's result is all in the pipe
                 result = worker.result()
                 if result is None and alive:
-                    if not worker.overdue(watchdog_s):
+                    if not worker.overdue(setup.watchdog_s):
                         continue
                     worker.kill()
-                    result = crashed(worker.task, f"no result after {watchdog_s:g} s of wall time; "
-                                                  "the worker was killed", watchdog_s)
+                    result = crashed(worker.task, f"no result after {setup.watchdog_s:g} s of wall time; "
+                                                  "the worker was killed", setup.watchdog_s)
                 elif result is None:
                     result = crashed(worker.task, worker.death())
                 if isinstance(result, UserError):

@@ -75,7 +75,7 @@ def mission(tmp_path):
 
 def arguments(mission, db, **changes):
     values = dict(mission=str(mission), mutants=6, sut="genom,bip-a", seed=11, jobs=2, ops_per_mutant=1,
-                  time_mutations=False, max_delay=0.003, db=str(db))
+                  time_mutations=False, max_delay=0.003, time_scale=None, db=str(db))
     values.update(changes)
     return argparse.Namespace(**values)
 
@@ -189,8 +189,10 @@ def test_changed_arguments_are_refused_naming_the_argument(mission, tmp_path):
 
 def test_bad_arguments_are_refused_before_anything_runs(mission, tmp_path):
     db = tmp_path / "c.duckdb"
-    with pytest.raises(UntimelyError, match=r"--sut 'genom,,bip-a': give distinct comma-separated variants"):
+    with pytest.raises(UntimelyError, match=r"--sut 'genom,,bip-a': '' is not a new SUT name; give distinct"):
         campaign.main(arguments(mission, db, sut="genom,,bip-a"), runner=fake_runner)
+    with pytest.raises(UntimelyError, match=r"--sut 'genom,genom': 'genom' is not a new SUT name"):
+        campaign.main(arguments(mission, db, sut="genom,genom"), runner=fake_runner)
     with pytest.raises(UntimelyError, match=r"--ops-per-mutant 0: give at least 1"):
         campaign.main(arguments(mission, db, ops_per_mutant=0), runner=fake_runner)
     (mission / "world.toml").unlink()
@@ -231,9 +233,9 @@ def sleepy_runner(script, sut, seed, interface, world_file, max_delay):
 def test_a_run_past_the_wall_clock_watchdog_is_killed_and_recorded(mission):
     tasks = [workers.Task(n, 1, sut, 0, (mission / "golden.mission").read_text())
              for n, sut in enumerate(["slow", "genom", "bip-a"], 1)]
-    setup = workers.Setup(sleepy_runner, mission / "interface.toml", mission / "world.toml", 0.003)
+    setup = workers.Setup(sleepy_runner, mission / "interface.toml", mission / "world.toml", 0.003, watchdog_s=1.0)
     results = {}
-    workers.run_all(tasks, setup, 2, lambda task, trace: results.update({task.sut: trace}), watchdog_s=1.0)
+    workers.run_all(tasks, setup, 2, lambda task, trace: results.update({task.sut: trace}))
     assert results["slow"].outcome == "crashed"
     assert results["slow"].error == "no result after 1 s of wall time; the worker was killed"
     assert results["genom"].outcome == results["bip-a"].outcome == "completed"
@@ -255,9 +257,10 @@ class SlowToStartRunner:
 
 def test_the_watchdog_counts_from_when_the_worker_is_ready_not_from_its_slow_start(mission):
     tasks = [workers.Task(1, 1, "genom", 0, (mission / "golden.mission").read_text())]
-    setup = workers.Setup(SlowToStartRunner(), mission / "interface.toml", mission / "world.toml", 0.003)
+    setup = workers.Setup(SlowToStartRunner(), mission / "interface.toml", mission / "world.toml", 0.003,
+                          watchdog_s=1.5)
     results = []
-    workers.run_all(tasks, setup, 1, lambda task, trace: results.append(trace), watchdog_s=1.5)
+    workers.run_all(tasks, setup, 1, lambda task, trace: results.append(trace))
     assert [t.outcome for t in results] == ["completed"], results[0].error
 
 

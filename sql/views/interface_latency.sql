@@ -1,0 +1,19 @@
+-- The interface latency of real-time runs, per campaign and SUT, from the liveness pings'
+-- round trips (wall seconds, trace_runs), and the epsilon it suggests in mission seconds: two
+-- events closer than the slowest round trip may be observed in either order (each line can be
+-- late by a one-way trip; the round trip bounds both). Rounded up to 0.1 ms.
+create or replace view interface_latency as
+with runs as (
+    select t.campaign_id, t.sut, r.*
+    from trace_runs r join traces t using (trace_id)
+),
+per_sut as (
+    select campaign_id, sut, count(*) as runs, sum(pings) as pings, max(time_scale) as time_scale,
+           median(rtt_p50_s) as rtt_p50_s,
+           quantile_cont(rtt_p95_s, 0.95) as rtt_p95_s,
+           max(rtt_max_s) as rtt_max_s
+    from runs
+    group by campaign_id, sut
+)
+select *, greatest(ceil(rtt_max_s * time_scale * 1e4) / 1e4, 1e-4) as suggested_epsilon_s
+from per_sut
