@@ -51,7 +51,8 @@ class Connection:
             raise UntimelyError(f"--sut {self.sut.name}: cannot start {self.sut.command!r}: {e}; "
                                 "check the command (a path relative to the current folder?)") from None
         self.output, self.input = self.process.stdout, self.process.stdin
-        threading.Thread(target=self._keep_stderr, name=f"{self.sut.name} stderr", daemon=True).start()
+        self._stderr_reader = threading.Thread(target=self._keep_stderr, name=f"{self.sut.name} stderr", daemon=True)
+        self._stderr_reader.start()
 
     def _read(self) -> None:
         try:
@@ -98,6 +99,7 @@ class Connection:
         except ProcessLookupError:
             pass
         self.process.wait()
+        self._stderr_reader.join(GRACE_S)  # its last lines, for the error of a crashed trace
 
     def stderr_tail(self) -> str:
         return "\n".join(self.stderr)
