@@ -47,7 +47,7 @@ def test_a_well_behaved_adapter_gives_a_completed_trace_with_its_latency(interfa
     assert all(a[1] <= b[1] for a, b in zip(trace.events, trace.events[1:])), "observed times go back"
     assert 20 < trace.sim_s < 40 and trace.wall_s < trace.sim_s / 2
     p = trace.provenance
-    assert p["sut_info"] == "faulty test adapter" and p["time_scale"] == 10.0 and p["pings"] >= 1
+    assert p["sut_info"] == "faulty test adapter on slot 2" and p["time_scale"] == 10.0 and p["pings"] >= 1
     assert 0 < p["rtt_p50_s"] <= p["rtt_p95_s"] <= p["rtt_max_s"] < 1.0
 
 

@@ -1,6 +1,6 @@
 """A tiny untimely/1 adapter for the bench's fault tests: a layer that ends every request `ok`
 after 0.2 mission seconds, answers pings, and misbehaves as `--fault` says once it has taken
-`--after` requests. It also writes its slot (UNTIMELY_SLOT) on stderr, for the slot test.
+`--after` requests. It names its slot (UNTIMELY_SLOT) in its hello and on stderr.
 
 Faults: none, crash (exits 3), silent (stops answering anything), garbage (a non-JSON line),
 two-finals (a second final to the same request), unknown-code, unknown-op, error (an error
@@ -58,7 +58,8 @@ for line in sys.stdin:
     if msg["op"] == "hello":
         state["scale"] = msg["time_scale"]
         if args.fault != "no-hello":
-            send(message(op="hello", proto="untimely/1", sut="faulty test adapter", caps=[]))
+            send(message(op="hello", proto="untimely/1", caps=[],
+                         sut=f"faulty test adapter on slot {os.environ.get('UNTIMELY_SLOT')}"))
     elif msg["op"] == "request":
         state["taken"] += 1
         if state["taken"] > args.after:
