@@ -3,7 +3,9 @@
 A reader thread hands every line the SUT writes to `deliver(line)`, and `None` when its output
 ends. A started adapter gets a process group of its own (it may start a ROS master and nodes),
 so closing the channel ends all of it. Its standard error is kept: the last lines go into the
-error of a crashed trace.
+error of a crashed trace. With UNTIMELY_PROTOCOL_LOG=FILE in the environment, every line that
+crosses the channel is appended to FILE with its direction and monotonic time (a transcript for
+adapter authors; docs/protocol.md shows one).
 """
 from __future__ import annotations
 
@@ -12,6 +14,7 @@ import signal
 import socket
 import subprocess
 import threading
+import time
 from collections import deque
 from typing import Callable
 
@@ -25,6 +28,7 @@ GRACE_S = 2.0  # after bye, how long an adapter has to exit by itself
 class Connection:
     def __init__(self, sut: ExternalSut, slot: int, deliver: Callable[[str | None], None]):
         self.sut, self.deliver = sut, deliver
+        self.transcript = _Transcript(os.environ.get("UNTIMELY_PROTOCOL_LOG"), f"{sut.name}@{slot}")
         self.stderr: deque[str] = deque(maxlen=STDERR_LINES)
         self.process: subprocess.Popen | None = None
         if sut.command:
@@ -57,6 +61,7 @@ class Connection:
     def _read(self) -> None:
         try:
             for line in self.output:
+                self.transcript.add("<", line)
                 self.deliver(line)
         except (OSError, ValueError):
             pass
@@ -67,6 +72,7 @@ class Connection:
             self.stderr.append(line.rstrip("\n"))
 
     def write(self, line: str) -> None:
+        self.transcript.add(">", line)
         try:
             self.input.write(line)
             self.input.flush()
@@ -103,3 +109,16 @@ class Connection:
 
     def stderr_tail(self) -> str:
         return "\n".join(self.stderr)
+
+
+class _Transcript:
+    """The lines of one channel, appended to a file shared by all channels (or nowhere)."""
+    lock = threading.Lock()
+
+    def __init__(self, path: str | None, label: str):
+        self.path, self.label, self.start = path, label, time.monotonic()
+
+    def add(self, direction: str, line: str) -> None:
+        if self.path:
+            with self.lock, open(self.path, "a", encoding="utf-8") as f:
+                f.write(f"{time.monotonic() - self.start:10.6f} {self.label} {direction} {line.rstrip()}\n")

@@ -48,7 +48,7 @@ class Session:
                               on_error=lambda message: self.send("error", message=message))
         self.send("hello", proto=PROTO, sut=f"untimely simulated layer, variant {self.variant}",
                   caps=["internal", "world"])
-        self.host.start()
+        self.host.start()  # internal times count from the hello answer
 
     def serve(self, lines) -> int:
         try:

@@ -32,6 +32,8 @@ class LayerHost:
         self._world_sent = 0
 
     def start(self) -> None:
+        """Start the layer's clock (mission time 0) and its thread."""
+        self.env.restart_clock()
         if self.on_world:
             self.env.process(self._forward_world(), "world events")
         self._thread.start()

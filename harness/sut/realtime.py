@@ -25,9 +25,10 @@ class RealtimeEnvironment(Environment):
         self._posted: queue.SimpleQueue[Callable[[], None]] = queue.SimpleQueue()
 
     def restart_clock(self) -> None:
-        """Start the clock anew (after a SUT's start-up, say); only before anything happened."""
-        if self._heap or self.now:
-            raise RuntimeError(f"{self!r}: the clock can only restart before any event")
+        """Start the clock anew (after a start-up or a handshake), before any event is processed:
+        what is scheduled keeps its mission time, counted from the new start."""
+        if self.now:
+            raise RuntimeError(f"{self!r}: the clock can only restart before any event is processed")
         self._start = time.monotonic()
 
     def clock(self) -> float:
