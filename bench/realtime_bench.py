@@ -1,0 +1,41 @@
+"""Real-time runs on parallel slots: the golden mission through the out-of-process simulator
+(`sim-reference` of missions/dala/suts.toml, at TIME_SCALE times real time), on 1 slot and on
+8 slots of the campaign's worker pool. A real-time run mostly waits, so slots may outnumber
+the cores; the speed-up of N slots over 1 is the figure (issue 8 aims at >= 0.8 N for N = 8).
+"""
+import time
+
+from harness import DEFAULT_MISSION_DIR
+from harness.suts import resolve
+from harness.workers import Setup, Task, run_all
+
+TIME_SCALE = 10.0
+ROUNDS = 2  # runs per slot
+
+
+def runs_per_second(slots: int, setup: Setup, body: str) -> tuple[float, float]:
+    tasks = [Task(n, 1, "sim-reference", n, body) for n in range(1, slots * ROUNDS + 1)]
+    traces = []
+    start = time.perf_counter()
+    run_all(tasks, setup, slots, lambda task, trace: traces.append(trace))
+    wall = time.perf_counter() - start
+    assert all(t.outcome == "completed" for t in traces), [t.error for t in traces]
+    return len(traces) / wall, sum(t.sim_s for t in traces) / wall
+
+
+def main() -> int:
+    _, external = resolve("sim-reference", DEFAULT_MISSION_DIR, TIME_SCALE)
+    setup = Setup(None, DEFAULT_MISSION_DIR / "interface.toml", DEFAULT_MISSION_DIR / "world.toml", 0.0, external)
+    body = (DEFAULT_MISSION_DIR / "golden.mission").read_text()
+    one, one_sim = runs_per_second(1, setup, body)
+    eight, eight_sim = runs_per_second(8, setup, body)
+    print(f"golden mission at {TIME_SCALE:g}x real time through untimely/1, {ROUNDS} runs per slot "
+          "(each run starts its own adapter process)")
+    print(f"1 slot           {one:.3f} runs/s, {one_sim:.1f} mission s per wall s")
+    print(f"8 slots          {eight:.3f} runs/s, {eight_sim:.1f} mission s per wall s")
+    print(f"speed-up         {eight / one:.2f}x with 8 slots over 1 ({eight / one / 8:.2f} N; aim >= 0.8 N)")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
