@@ -73,12 +73,12 @@ def family_order(con) -> list[str]:
 
 
 def ordered(con, view: str) -> str:
-    """The query of a whole view (or table), its rows in the order of RANKS."""
+    """The query of a whole view (or table), its rows in the order of RANKS, ties by its columns."""
     columns = [d[0] for d in con.execute(f"select * from {view} limit 0").description]
     ranked = [c for c in RANKS if c in columns]
     joins = " ".join(f"left join ({RANKS[c]}) using ({c})" for c in ranked)
-    order = ", ".join(f"{c}_rank nulls last" for c in ranked) or "all"
-    return f"select v.* from {view} v {joins} order by {order}"
+    order = [f"{c}_rank nulls last" for c in ranked] + [str(n) for n in range(1, len(columns) + 1)]
+    return f"select v.* from {view} v {joins} order by {', '.join(order)}"
 
 
 def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:

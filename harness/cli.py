@@ -77,6 +77,12 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--interface", required=True, help="interface description giving the reply classes")
     db(c)
 
+    c = command("export", "write every table and view of the store as Parquet or CSV files, with a manifest",
+                "harness.export:main")
+    c.add_argument("dir", help="output folder, created if missing")
+    c.add_argument("--format", choices=("parquet", "csv"), default="parquet", help="file format (default: %(default)s)")
+    db(c)
+
     c = command("sql", "run ad-hoc SQL against the store and print an aligned table", "harness.sqlshell:main")
     c.add_argument("query", help="a SQL query, e.g. \"select * from trace_robustness\"")
     db(c)

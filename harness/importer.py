@@ -18,6 +18,7 @@ import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 
 from harness.errors import InputFileError
+from harness.export import with_exported_traces
 from harness.interface import Interface, load_interface
 from harness.store import add_campaign, add_reply_codes, connect, next_id, transaction
 from harness.trace import OUTCOMES
@@ -146,6 +147,7 @@ def read(path: Path) -> tuple[pa.Table, str]:
     if reader is None:
         raise InputFileError(path, "", f"unknown format {path.suffix!r}; use .csv, .jsonl (JSON lines) or .parquet")
     table, unit = reader(path)
+    table = with_exported_traces(path, table)
     missing = [c for c in REQUIRED if c not in table.column_names]
     if missing:
         raise InputFileError(path, "columns", f"missing {', '.join(missing)}; the events columns are "

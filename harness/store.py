@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 import json
+import os
+import sys
 from contextlib import contextmanager
 from datetime import datetime, timezone
 from pathlib import Path
@@ -14,6 +16,12 @@ from harness.errors import StoreError
 from harness.interface import Interface
 from harness.trace import EVENT_COLUMNS, WORLD_EVENT_COLUMNS, Trace
 
+# DuckDB 2.0 writes its newest storage format unless told otherwise, and no 1.x client reads
+# that; DuckDB 1.0 cannot read the primary keys 2.0 writes. So stores are written for 1.1.
+STORAGE_VERSION = "v1.1.0"
+# The layout of sql/schema.sql; each store lists the versions it went through in schema_version.
+SCHEMA_VERSION = 1
+
 EVENT_SCHEMA = pa.schema([("trace_id", pa.int32()), ("seq", pa.int32()), ("t", pa.float64()),
                           ("kind", pa.string()), ("rqst_id", pa.int32()), ("module", pa.string()),
                           ("service", pa.string()), ("args", pa.string()), ("reply", pa.string())])
@@ -24,18 +32,78 @@ WORLD_SCHEMA = pa.schema([("trace_id", pa.int32()), ("t", pa.float64()), ("kind"
 def connect(path: str | Path = ":memory:", read_only: bool = False,
             create: bool = True) -> duckdb.DuckDBPyConnection:
     """Open a store, creating it unless it is opened read-only or with create=False (then a
-    missing store is refused); a writable store gets the schema, applied idempotently."""
+    missing store is refused); a writable store gets the schema, applied idempotently, and a
+    store from before schema versions is migrated. Read-only, such a store is read as is."""
     if str(path) != ":memory:":
         if (read_only or not create) and not Path(path).exists():
             raise StoreError(f"no store at {str(path)!r}; run a campaign or import traces first, or pass --db")
         Path(path).parent.mkdir(parents=True, exist_ok=True)
+    con = _open(path, read_only)
+    found = schema_version(con)
+    if found is not None and found > SCHEMA_VERSION:
+        con.close()
+        raise StoreError(f"the store {str(path)!r} has schema version {found}, written by a newer Untimely "
+                         f"than this one (schema version {SCHEMA_VERSION}); update the bench to open it")
+    if read_only:
+        return con
+    if found == 0:
+        con.close()
+        backup = _rewrite(Path(path))
+        con = _open(path, read_only)
+        print(f"migrated the store {str(path)!r} from schema version 0 to {SCHEMA_VERSION}: rewritten in "
+              f"the storage format of DuckDB {STORAGE_VERSION}, which DuckDB clients from {STORAGE_VERSION} on "
+              f"open; the original is kept as {str(backup)!r} (delete it when you no longer need it)",
+              file=sys.stderr)
+    con.execute((SQL_DIR / "schema.sql").read_text())
+    if found != SCHEMA_VERSION:
+        note = "created" if found is None else f"migrated from schema version {found}"
+        con.execute("insert into schema_version values (?, ?, ?)",
+                    [SCHEMA_VERSION, datetime.now(timezone.utc).replace(tzinfo=None), note])
+    return con
+
+
+def _open(path: str | Path, read_only: bool) -> duckdb.DuckDBPyConnection:
     try:
-        con = duckdb.connect(str(path), read_only=read_only)
+        return duckdb.connect(str(path), read_only=read_only,
+                              config={"storage_compatibility_version": STORAGE_VERSION})
     except duckdb.Error as e:
         raise StoreError(f"cannot open the store {str(path)!r}: {e}") from None
-    if not read_only:
-        con.execute((SQL_DIR / "schema.sql").read_text())
-    return con
+
+
+def schema_version(con) -> int | None:
+    """The store's schema version: 0 for a store from before versions, None for an empty database."""
+    tables = {r[0] for r in con.execute("select table_name from duckdb_tables() "
+                                        "where database_name = current_database()").fetchall()}
+    if "schema_version" in tables:
+        return con.execute("select max(version) from schema_version").fetchone()[0]
+    return 0 if "traces" in tables else None
+
+
+def _rewrite(path: Path) -> Path:
+    """Copy a store into the STORAGE_VERSION format in its place; the original is moved aside."""
+    backup = path.with_name(f"{path.stem}.schema0{path.suffix}")
+    if backup.exists():
+        raise StoreError(f"cannot migrate the store {str(path)!r}: {str(backup)!r}, where its original "
+                         f"would be kept, already exists; move that file away and retry")
+    fresh = path.with_name(path.name + ".migrating")
+    fresh.unlink(missing_ok=True)
+    con = duckdb.connect()
+    try:
+        con.execute(f"attach {quoted(path)} as original (read_only)")
+        con.execute(f"attach {quoted(fresh)} as migrated (storage_version '{STORAGE_VERSION}')")
+        con.execute("copy from database original to migrated")
+    except duckdb.Error as e:
+        raise StoreError(f"cannot migrate the store {str(path)!r}: {e}; it is left as it was") from None
+    finally:
+        con.close()
+    os.replace(path, backup)
+    os.replace(fresh, path)
+    return backup
+
+
+def quoted(path: str | Path) -> str:
+    """A path as a SQL string literal (DuckDB takes no parameters in attach or copy)."""
+    return "'" + str(path).replace("'", "''") + "'"
 
 
 @contextmanager

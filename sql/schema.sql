@@ -89,3 +89,10 @@ create table if not exists trace_runs (
     rtt_p95_s   double,
     rtt_max_s   double
 );
+
+-- The schema versions this store went through (harness.store.SCHEMA_VERSION): created or migrated.
+create table if not exists schema_version (
+    version     integer not null,
+    applied_at  timestamp not null,
+    note        varchar not null
+);

@@ -1,6 +1,6 @@
 import pytest
 
-from harness import DEFAULT_MISSION_DIR
+from harness import DEFAULT_MISSION_DIR, cli
 from harness.interface import load_interface, load_properties
 
 
@@ -12,3 +12,12 @@ def interface():
 @pytest.fixture(scope="session")
 def properties(interface):
     return load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface)
+
+
+@pytest.fixture(scope="session")
+def campaign_store(tmp_path_factory):
+    """A real, analysed campaign store (seed 7 gives a hung trace, FNs and an FP); tests only read it."""
+    db = tmp_path_factory.mktemp("campaign") / "campaign.duckdb"
+    assert cli.main(["campaign", "--mutants", "5", "--sut", "genom,bip-a", "--seed", "7", "--jobs", "1",
+                     "--db", str(db)]) == 0
+    return db

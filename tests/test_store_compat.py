@@ -1,0 +1,147 @@
+"""Stores open in the DuckDB 1.x clients people have, and stores of earlier benches open in this one."""
+from __future__ import annotations
+
+import gzip
+import hashlib
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pyarrow as pa
+import pytest
+
+from harness import store
+from harness.analyzer import ordered
+from harness.errors import StoreError
+from harness.export import relations
+
+# Written by main at 58d696f, before schema versions, in DuckDB 2.0's own storage format:
+# campaign --mutants 3 --sut reference,genom --seed 2012 --jobs 1.
+SCHEMA0_STORE = Path(__file__).parent / "stores" / "schema0-main-58d696f.duckdb.gz"
+V1_FORMAT = "v1.0.0+"  # storage version 64: DuckDB 1.0 and 1.1 write it, every later version reads it
+DUCKDB_CLI = Path(sys.executable).parent / "duckdb"  # PyPI's duckdb-cli, a dev dependency
+
+
+def duckdb_cli(path: Path, sql: str, mode: str = "-json") -> str:
+    if not DUCKDB_CLI.exists():
+        pytest.fail(f"no DuckDB command-line client at {DUCKDB_CLI}; pip install -e '.[dev]' installs it")
+    done = subprocess.run([str(DUCKDB_CLI), "-readonly", mode, str(path), sql],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and not done.stderr, done.stderr
+    return done.stdout
+
+
+def contents(path: Path) -> dict[str, pa.Table]:
+    """Every table and view of a store, its rows in the report's order, as this bench reads them."""
+    con = store.connect(path, read_only=True)
+    try:
+        return {name: con.sql(ordered(con, name)).to_arrow_table() for name, _ in relations(con)}
+    finally:
+        con.close()
+
+
+def storage_format(path: Path) -> str:
+    """DuckDB's name of a store's storage format: the first DuckDB version that writes it."""
+    con = store.connect(path, read_only=True)
+    try:
+        return con.execute("select tags['storage_version'] from duckdb_databases() "
+                           "where database_name = current_database()").fetchone()[0]
+    finally:
+        con.close()
+
+
+def assert_a_1x_client_reads_every_table_and_view(path: Path) -> None:
+    version = subprocess.run([str(DUCKDB_CLI), "--version"], capture_output=True, text=True).stdout
+    assert version.startswith("v1.5."), version
+    expected = {name: table.num_rows for name, table in contents(path).items()}
+    counts = " union all ".join(f"select '{name}' as name, count(*) as n from {name}" for name in expected)
+    found = {row["name"]: row["n"] for row in json.loads(duckdb_cli(path, counts))}
+    assert found == expected
+    for view in ("trace_robustness", "tp_rates", "fp_rates"):
+        con = store.connect(path, read_only=True)
+        query = ordered(con, view)
+        cursor = con.execute(query)
+        columns, rows = [d[0] for d in cursor.description], cursor.fetchall()
+        con.close()
+        assert json.loads(duckdb_cli(path, query)) == [dict(zip(columns, row)) for row in rows]
+
+
+@pytest.fixture
+def schema0_store(tmp_path) -> Path:
+    path = tmp_path / "old.duckdb"
+    with gzip.open(SCHEMA0_STORE) as packed, open(path, "wb") as plain:
+        shutil.copyfileobj(packed, plain)
+    return path
+
+
+def digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def test_the_duckdb_1_5_client_reads_every_table_and_view_of_a_campaign_store(campaign_store):
+    assert storage_format(campaign_store) == V1_FORMAT
+    assert {"verdicts", "trace_robustness", "tp_rates", "fp_rates", "inversions", "events"} <= set(
+        contents(campaign_store))
+    assert_a_1x_client_reads_every_table_and_view(campaign_store)
+
+
+def test_a_new_store_records_its_schema_version_once(tmp_path):
+    path = tmp_path / "new.duckdb"
+    store.connect(path).close()
+    con = store.connect(path)
+    assert store.schema_version(con) == store.SCHEMA_VERSION == 1
+    assert con.execute("select version, note from schema_version").fetchall() == [(1, "created")]
+
+
+def test_a_store_from_before_schema_versions_is_read_as_is_without_writing_it(schema0_store):
+    before = digest(schema0_store)
+    con = store.connect(schema0_store, read_only=True)
+    assert store.schema_version(con) == 0
+    assert con.execute(ordered(con, "trace_robustness")).fetchall() == [
+        ("reference", 4, 0, 0, 0, 0, 0, 1.0), ("genom", 4, 0, 0, 2, 0, 2, 0.5)]
+    con.close()
+    assert digest(schema0_store) == before
+    assert storage_format(schema0_store) == "v2.0.0+", "the fixture is in the format 1.x clients refuse"
+
+
+def test_writing_to_it_migrates_it_for_1x_clients_and_keeps_the_original(schema0_store, capsys):
+    original = contents(schema0_store)
+    before = digest(schema0_store)
+    store.connect(schema0_store).close()
+    backup = schema0_store.with_name("old.schema0.duckdb")
+    assert capsys.readouterr().err == (
+        f"migrated the store {str(schema0_store)!r} from schema version 0 to 1: rewritten in the storage "
+        f"format of DuckDB v1.1.0, which DuckDB clients from v1.1.0 on open; the original is kept as {str(backup)!r} "
+        f"(delete it when you no longer need it)\n")
+    assert digest(backup) == before
+    migrated = contents(schema0_store)
+    versions = migrated.pop("schema_version").select(["version", "note"]).to_pylist()
+    assert versions == [{"version": 1, "note": "migrated from schema version 0"}]
+    assert migrated == original
+    assert storage_format(schema0_store) == V1_FORMAT
+    assert_a_1x_client_reads_every_table_and_view(schema0_store)
+    store.connect(schema0_store).close()
+    assert capsys.readouterr().err == "", "a migrated store is not migrated again"
+
+
+def test_migration_never_overwrites_a_kept_original(schema0_store):
+    taken = schema0_store.with_name("old.schema0.duckdb")
+    taken.write_text("someone's file")
+    before = digest(schema0_store)
+    with pytest.raises(StoreError, match=r"cannot migrate the store '.*old.duckdb': '.*old.schema0.duckdb', "
+                                         r"where its original would be kept, already exists; move that file"):
+        store.connect(schema0_store)
+    assert digest(schema0_store) == before and taken.read_text() == "someone's file"
+
+
+def test_a_store_from_a_newer_bench_is_refused_not_misread(tmp_path):
+    path = tmp_path / "future.duckdb"
+    con = store.connect(path)
+    con.execute("insert into schema_version values (2, now()::timestamp, 'a later layout')")
+    con.close()
+    for read_only in (True, False):
+        with pytest.raises(StoreError, match=r"the store '.*future.duckdb' has schema version 2, written by a "
+                                             r"newer Untimely than this one \(schema version 1\); update the bench"):
+            store.connect(path, read_only=read_only)
