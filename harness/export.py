@@ -55,6 +55,16 @@ def _clear_previous(out: Path) -> None:
         path.unlink(missing_ok=True)
 
 
+def _as_text_json(con, name: str) -> str:
+    """The query of a table or view in the report's order, its JSON columns as plain text: in
+    Parquet, DuckDB's JSON type is bytes to readers that do not know it (Polars, Spark)."""
+    json_columns = [r[0] for r in con.execute(f"describe {name}").fetchall() if r[1] == "JSON"]
+    if not json_columns:
+        return ordered(con, name)
+    return (f"select * replace ({', '.join(f'{c}::varchar as {c}' for c in json_columns)}) "
+            f"from ({ordered(con, name)})")
+
+
 def export(con, store: str | Path, out: Path, fmt: str) -> dict:
     """Write every table and view of `con` under `out` in `fmt`, then the manifest; returns it."""
     _clear_previous(out)
@@ -64,7 +74,8 @@ def export(con, store: str | Path, out: Path, fmt: str) -> dict:
         with transaction(con):
             for name, kind in relations(con):
                 file = out / f"{name}.{fmt}"
-                rows = con.execute(f"copy ({ordered(con, name)}) to {quoted(file)} {FORMATS[fmt]}").fetchone()[0]
+                query = _as_text_json(con, name)
+                rows = con.execute(f"copy ({query}) to {quoted(file)} {FORMATS[fmt]}").fetchone()[0]
                 entries.append({"name": name, "kind": kind, "file": file.name, "rows": rows})
             version = schema_version(con)
     except duckdb.Error as e:

@@ -113,8 +113,8 @@ def test_writing_to_it_migrates_it_for_1x_clients_and_keeps_the_original(schema0
     backup = schema0_store.with_name("old.schema0.duckdb")
     assert capsys.readouterr().err == (
         f"migrated the store {str(schema0_store)!r} from schema version 0 to 1: rewritten in the storage "
-        f"format of DuckDB v1.1.0, which DuckDB clients from v1.1.0 on open; the original is kept as {str(backup)!r} "
-        f"(delete it when you no longer need it)\n")
+        f"format of DuckDB v1.1.0, which DuckDB clients from v1.1.0 on open; the original is kept as "
+        f"{str(backup)!r} (delete it when you no longer need it)\n")
     assert digest(backup) == before
     migrated = contents(schema0_store)
     versions = migrated.pop("schema_version").select(["version", "note"]).to_pylist()
