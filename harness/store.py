@@ -86,16 +86,18 @@ def _rewrite(path: Path) -> Path:
         raise StoreError(f"cannot migrate the store {str(path)!r}: {str(backup)!r}, where its original "
                          f"would be kept, already exists; move that file away and retry")
     fresh = path.with_name(path.name + ".migrating")
-    fresh.unlink(missing_ok=True)
-    con = duckdb.connect()
+    leftovers = (fresh, fresh.with_name(fresh.name + ".wal"))
+    for leftover in leftovers:
+        leftover.unlink(missing_ok=True)
     try:
-        con.execute(f"attach {quoted(path)} as original (read_only)")
-        con.execute(f"attach {quoted(fresh)} as migrated (storage_version '{STORAGE_VERSION}')")
-        con.execute("copy from database original to migrated")
+        with duckdb.connect() as con:
+            con.execute(f"attach {quoted(path)} as original (read_only)")
+            con.execute(f"attach {quoted(fresh)} as migrated (storage_version '{STORAGE_VERSION}')")
+            con.execute("copy from database original to migrated")
     except duckdb.Error as e:
+        for leftover in leftovers:
+            leftover.unlink(missing_ok=True)
         raise StoreError(f"cannot migrate the store {str(path)!r}: {e}; it is left as it was") from None
-    finally:
-        con.close()
     os.replace(path, backup)
     os.replace(fresh, path)
     return backup

@@ -12,7 +12,7 @@ from pathlib import Path
 import pyarrow as pa
 import pytest
 
-from harness import store
+from harness import cli, store
 from harness.analyzer import ordered
 from harness.errors import StoreError
 from harness.export import relations
@@ -95,13 +95,16 @@ def test_a_new_store_records_its_schema_version_once(tmp_path):
     assert con.execute("select version, note from schema_version").fetchall() == [(1, "created")]
 
 
-def test_a_store_from_before_schema_versions_is_read_as_is_without_writing_it(schema0_store):
+def test_a_store_from_before_schema_versions_is_read_as_is_without_writing_it(schema0_store, tmp_path):
     before = digest(schema0_store)
     con = store.connect(schema0_store, read_only=True)
     assert store.schema_version(con) == 0
     assert con.execute(ordered(con, "trace_robustness")).fetchall() == [
         ("reference", 4, 0, 0, 0, 0, 0, 1.0), ("genom", 4, 0, 0, 2, 0, 2, 0.5)]
     con.close()
+    assert cli.main(["report", "--db", str(schema0_store), "--out", str(tmp_path / "report")]) == 0
+    assert cli.main(["export", "--db", str(schema0_store), str(tmp_path / "export")]) == 0
+    assert json.loads((tmp_path / "export" / "manifest.json").read_text())["schema_version"] == 0
     assert digest(schema0_store) == before
     assert storage_format(schema0_store) == "v2.0.0+", "the fixture is in the format 1.x clients refuse"
 
@@ -145,3 +148,4 @@ def test_a_store_from_a_newer_bench_is_refused_not_misread(tmp_path):
         with pytest.raises(StoreError, match=r"the store '.*future.duckdb' has schema version 2, written by a "
                                              r"newer Untimely than this one \(schema version 1\); update the bench"):
             store.connect(path, read_only=read_only)
+
