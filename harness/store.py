@@ -48,18 +48,23 @@ def connect(path: str | Path = ":memory:", read_only: bool = False,
         return con
     if found == 0:
         con.close()
-        backup = _rewrite(Path(path))
-        con = _open(path, read_only)
+        backup = _migrate(Path(path))
+        con, found = _open(path, read_only), SCHEMA_VERSION
         print(f"migrated the store {str(path)!r} from schema version 0 to {SCHEMA_VERSION}: rewritten in "
               f"the storage format of DuckDB {STORAGE_VERSION}, which DuckDB clients from {STORAGE_VERSION} on "
               f"open; the original is kept as {str(backup)!r} (delete it when you no longer need it)",
               file=sys.stderr)
+    _apply_schema(con, found)
+    return con
+
+
+def _apply_schema(con, found: int | None) -> None:
+    """The schema on the current database, idempotently; the version is recorded when it changes."""
     con.execute((SQL_DIR / "schema.sql").read_text())
     if found != SCHEMA_VERSION:
         note = "created" if found is None else f"migrated from schema version {found}"
         con.execute("insert into schema_version values (?, ?, ?)",
                     [SCHEMA_VERSION, datetime.now(timezone.utc).replace(tzinfo=None), note])
-    return con
 
 
 def _open(path: str | Path, read_only: bool) -> duckdb.DuckDBPyConnection:
@@ -79,8 +84,9 @@ def schema_version(con) -> int | None:
     return 0 if "traces" in tables else None
 
 
-def _rewrite(path: Path) -> Path:
-    """Copy a store into the STORAGE_VERSION format in its place; the original is moved aside."""
+def _migrate(path: Path) -> Path:
+    """Replace a schema-0 store by a copy in the STORAGE_VERSION format with the current schema;
+    the original is moved aside (returned), and a failure leaves it where it was."""
     backup = path.with_name(f"{path.stem}.schema0{path.suffix}")
     if backup.exists():
         raise StoreError(f"cannot migrate the store {str(path)!r}: {str(backup)!r}, where its original "
@@ -94,6 +100,8 @@ def _rewrite(path: Path) -> Path:
             con.execute(f"attach {quoted(path)} as original (read_only)")
             con.execute(f"attach {quoted(fresh)} as migrated (storage_version '{STORAGE_VERSION}')")
             con.execute("copy from database original to migrated")
+            con.execute("use migrated")
+            _apply_schema(con, 0)
     except duckdb.Error as e:
         for leftover in leftovers:
             leftover.unlink(missing_ok=True)
