@@ -122,6 +122,9 @@ def test_writing_to_it_migrates_it_for_1x_clients_and_keeps_the_original(schema0
     migrated = contents(schema0_store)
     versions = migrated.pop("schema_version").select(["version", "note"]).to_pylist()
     assert versions == [{"version": 1, "note": "migrated from schema version 0"}]
+    added = {name: migrated.pop(name) for name in set(migrated) - set(original)}
+    fresh = {r[0] for r in store.connect().execute("select table_name from duckdb_tables()").fetchall()}
+    assert set(added) <= fresh and all(t.num_rows == 0 for t in added.values()), "new tables of the schema"
     assert migrated == original
     assert storage_format(schema0_store) == V1_FORMAT
     assert_a_1x_client_reads_every_table_and_view(schema0_store)
