@@ -18,6 +18,7 @@ import json
 import os
 import sys
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -35,7 +36,7 @@ from harness.workers import Setup, Task, run_all, script_label
 # The files a trace depends on; a store made from other contents is another campaign.
 # properties.toml is not among them: editing a property re-judges traces, it does not re-run them.
 TRACE_FILES = ("golden.mission", "interface.toml", "world.toml")
-# Arguments that decide what is run; --jobs and --db do not.
+# Arguments that decide what is run; --jobs, --cluster and --db do not.
 COMPARED = ("mutants", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "max_delay", "files")
 # What a config stored before a key existed means by its absence.
 ABSENT = {"external": {}}
@@ -127,13 +128,13 @@ class Session:
 
 
 def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[Mutant],
-            interface: Interface, setup: Setup, jobs: int, session: Session) -> int:
+            interface: Interface, run_tasks, session: Session) -> int:
     golden_runs = []
 
     def keep(task, trace):
         golden_runs.append((task, trace))
         session.count(trace)
-    run_all(_tasks([(golden_id, golden_text)], golden_id, config), setup, jobs, keep)
+    run_tasks(_tasks([(golden_id, golden_text)], golden_id, config), keep)
     with store.transaction(con):
         campaign_id = store.next_id(con, "campaigns", "campaign_id")
         store.add_campaign(con, campaign_id, config["mission"], config["seed"], config)
@@ -190,6 +191,17 @@ def summary(con, campaign_id: int, session: Session) -> str:
     return "\n".join(lines)
 
 
+@contextmanager
+def _backend(cluster: str | None, setup: Setup, jobs: int):
+    """`run_tasks(tasks, on_trace)` on the local pool, or on a checked Dask cluster."""
+    if not cluster:
+        yield lambda tasks, on_trace: run_all(tasks, setup, jobs, on_trace)
+        return
+    from harness import cluster as dask_cluster  # Dask is an optional dependency
+    with dask_cluster.connect(cluster, setup, jobs) as backend:
+        yield backend.run_all
+
+
 def main(args, runner=None) -> int:
     """`runner` replaces harness.executive.run_script (tests inject failing ones)."""
     config = campaign_config(args)
@@ -197,13 +209,18 @@ def main(args, runner=None) -> int:
     interface = load_interface(mission / "interface.toml")
     golden = load_script(mission / "golden.mission", interface)
     properties = load_properties(mission / "properties.toml", interface)
-    con = store.connect(args.db)
-    campaign_id = find_campaign(con, config, args.db)
     external = {name: ExternalSut(**spec) for name, spec in config["external"].items()}
     setup = Setup(runner or run_script, mission / "interface.toml", mission / "world.toml", args.max_delay,
                   external, REALTIME_WALL_LIMIT_S if external else RUN_WALL_LIMIT_S)
     # A real-time run mostly waits: its slots may outnumber the cores.
     jobs = args.jobs or max([len(os.sched_getaffinity(0))] + [s.slots for s in external.values()])
+    with _backend(args.cluster, setup, jobs) as run_tasks:
+        return _run(args, config, mission, interface, golden, properties, run_tasks)
+
+
+def _run(args, config, mission, interface, golden, properties, run_tasks) -> int:
+    con = store.connect(args.db)
+    campaign_id = find_campaign(con, config, args.db)
     variants = len(config["sut"])
     start = time.monotonic()
     if campaign_id is None:
@@ -212,7 +229,7 @@ def main(args, runner=None) -> int:
                            config["time_mutations"], name=lambda n: script_label(golden_id + n))
         session = Session(Progress(variants * (1 + sum(m.valid for m in mutants))), start)
         campaign_id = _create(con, config, golden_id, (mission / "golden.mission").read_text(), mutants,
-                              interface, setup, jobs, session)
+                              interface, run_tasks, session)
         pending = pending_tasks(con, campaign_id, config)
     else:
         pending = pending_tasks(con, campaign_id, config)
@@ -225,7 +242,7 @@ def main(args, runner=None) -> int:
         else:
             print(f"campaign {campaign_id} in {args.db} is complete ({total} runs stored); nothing to run")
     if pending:
-        run_all(pending, setup, jobs, _store_each(con, campaign_id, session))
+        run_tasks(pending, _store_each(con, campaign_id, session))
     if session.runs:
         session.progress.close()
     print(summary(con, campaign_id, session))

@@ -52,6 +52,8 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--jobs", type=int, default=0, help="worker processes, 0 = all cores (default: %(default)s)")
     c.add_argument("--ops-per-mutant", type=int, default=1, help="mutation operations per mutant (default: 1)")
     c.add_argument("--time-mutations", action="store_true", help="also drop waits and change sleeps")
+    c.add_argument("--cluster", metavar="ADDRESS", help="run on a Dask cluster: a scheduler address "
+                   "(tcp://HOST:8786) or local:N for N local workers; needs the cluster extra (docs/cluster.md)")
     c.add_argument("--max-delay", type=float, default=0.003,
                    help="largest interface observation delay in seconds (default: %(default)s)")
     time_scale(c)

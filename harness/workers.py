@@ -57,11 +57,18 @@ class Setup:
     external: dict[str, ExternalSut] = field(default_factory=dict)  # SUTs run over untimely/1
     watchdog_s: float | None = None  # wall seconds a run may take before its worker is killed
 
-    def run(self, task: Task, interface, slot: int) -> Trace:
-        script = parse(task.body, script_label(task.script_id))
-        if task.sut in self.external:
-            return run_external(script, self.external[task.sut], task.seed, interface, slot, task.trace_id)
-        return self.runner(script, task.sut, task.seed, interface, self.world_file, self.max_delay)
+    def run(self, task: Task, interface, slot: int) -> "Trace | UserError":
+        """One run, wherever it happens (a pool worker, a Dask worker); never raises."""
+        start = time.perf_counter()
+        try:
+            script = parse(task.body, script_label(task.script_id))
+            if task.sut in self.external:
+                return run_external(script, self.external[task.sut], task.seed, interface, slot, task.trace_id)
+            return self.runner(script, task.sut, task.seed, interface, self.world_file, self.max_delay)
+        except UntimelyError as e:  # the user's input (a variant, world or adapter that cannot be used)
+            return UserError(str(e))
+        except Exception:  # noqa: BLE001 - any other failure is this run's crash
+            return crashed(task, traceback.format_exc().strip(), time.perf_counter() - start)
 
 
 @dataclass(frozen=True)
@@ -90,14 +97,7 @@ def _serve(conn, setup: Setup, slot: int) -> None:
             return
         if task is None:
             return
-        start = time.perf_counter()
-        try:
-            result = setup.run(task, interface, slot)
-        except UntimelyError as e:  # the user's input (a variant or world that cannot be built)
-            result = UserError(str(e))
-        except Exception:  # noqa: BLE001 - any other failure is this run's crash
-            result = crashed(task, traceback.format_exc().strip(), time.perf_counter() - start)
-        conn.send(result)
+        conn.send(setup.run(task, interface, slot))
 
 
 class _Worker:
