@@ -1,0 +1,66 @@
+"""The Dask cluster backend (`campaign --cluster`) against the local pool, on this machine.
+
+1. Simulated runs: the same campaign on the local pool (--jobs 2) and on `--cluster local:2`;
+   runs/s of each and the cluster's overhead ratio (the coordinator ships every trace back).
+2. Real-time runs (the golden mission through `sim-reference` at TIME_SCALE x): spread over 2
+   local Dask workers against 1, one slot each.
+"""
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from harness import DEFAULT_MISSION_DIR, ROOT, store
+from harness.cluster import connect
+from harness.suts import resolve
+from harness.workers import Setup, Task
+
+MUTANTS = 100
+TIME_SCALE = 20.0
+RUNS = 4
+
+
+def campaign_runs_per_second(*options: str) -> float:
+    with tempfile.TemporaryDirectory() as tmp:
+        db = Path(tmp) / "c.duckdb"
+        start = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "harness", "campaign", "--mutants", str(MUTANTS), "--sut",
+                        "genom,bip-a", "--db", str(db), *options], cwd=ROOT, check=True,
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        wall = time.perf_counter() - start
+        con = store.connect(db, read_only=True)
+        runs = con.execute("select count(*) from traces").fetchone()[0]
+        con.close()
+    return runs / wall
+
+
+def realtime_wall(workers: int) -> float:
+    _, external = resolve("sim-reference", DEFAULT_MISSION_DIR, TIME_SCALE)
+    setup = Setup(None, DEFAULT_MISSION_DIR / "interface.toml", DEFAULT_MISSION_DIR / "world.toml", 0.0, external)
+    body = (DEFAULT_MISSION_DIR / "golden.mission").read_text()
+    tasks = [Task(n, 1, "sim-reference", n, body) for n in range(1, RUNS + 1)]
+    traces = []
+    with connect(f"local:{workers}", setup, workers) as cluster:
+        start = time.perf_counter()
+        cluster.run_all(tasks, lambda task, trace: traces.append(trace))
+        wall = time.perf_counter() - start
+    assert all(t.outcome == "completed" for t in traces), [t.error for t in traces]
+    return wall
+
+
+def main() -> int:
+    pool = campaign_runs_per_second("--jobs", "2")
+    dask = campaign_runs_per_second("--cluster", "local:2")
+    print(f"simulated campaign ({MUTANTS} mutants on genom,bip-a, start-up and analysis included)")
+    print(f"local pool, 2 jobs     {pool:.1f} runs/s")
+    print(f"Dask, local:2          {dask:.1f} runs/s  (cluster / pool = {dask / pool:.2f})")
+    one, two = realtime_wall(1), realtime_wall(2)
+    print(f"real time: {RUNS} golden runs through sim-reference at {TIME_SCALE:g}x")
+    print(f"1 Dask worker          {one:.1f} s wall")
+    print(f"2 Dask workers         {two:.1f} s wall  (speed-up {one / two:.2f}x)")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
