@@ -5,12 +5,17 @@ from __future__ import annotations
 import json
 import os
 import queue
+import shlex
 import shutil
 import subprocess
 import threading
 from pathlib import Path
 
 import pytest
+
+from harness import DEFAULT_MISSION_DIR, store
+from harness.cli import main
+from harness.protocol import PROTO, decode, encode
 
 ROOT = Path(__file__).resolve().parent.parent
 ADAPTER = ROOT / "examples" / "node" / "adapter.js"
@@ -21,12 +26,9 @@ PATIENCE_S = 15.0
 pytestmark = pytest.mark.skipif(NODE is None, reason="node is not installed (.ci/run installs Debian's nodejs)")
 
 
-def hello_line(interface, time_scale=TIME_SCALE) -> dict:
-    modules: dict[str, dict[str, str]] = {}
-    for service in interface.services.values():
-        modules.setdefault(service.module, {})[service.name] = service.kind
-    return {"op": "hello", "proto": "untimely/1", "run": 1, "seed": 7, "time_scale": time_scale,
-            "interface": {"modules": modules, "replies": interface.replies}}
+def hello_fields(interface, time_scale=TIME_SCALE) -> dict:
+    return {"proto": PROTO, "run": 1, "seed": 7, "time_scale": time_scale,
+            "interface": interface.describe()}
 
 
 class Adapter:
@@ -42,17 +44,17 @@ class Adapter:
 
     def _read(self):
         for line in self.process.stdout:
-            self.lines.put(json.loads(line))
+            self.lines.put(decode(line))  # the bench's own check of every line
         self.lines.put(None)
 
-    def send(self, **message):
-        self.process.stdin.write(json.dumps(message) + "\n")
+    def send(self, op: str, **fields):
+        self.process.stdin.write(encode(op, **fields))
         self.process.stdin.flush()
 
     def request(self, service: str, **args) -> int:
         self.next_id += 1
         module, name = service.split(".")
-        self.send(op="request", id=self.next_id, module=module, service=name, args=args)
+        self.send("request", id=self.next_id, module=module, service=name, args=args)
         return self.next_id
 
     def expect(self, **fields) -> dict:
@@ -68,7 +70,7 @@ class Adapter:
         return self.expect(op="reply", id=rqst_id, kind="final")["code"]
 
     def replies(self, rqst_id: int) -> list[tuple[str, str | None]]:
-        return [(m["kind"], m["code"]) for m in self.seen if m["op"] == "reply" and m["id"] == rqst_id]
+        return [(m["kind"], m.get("code")) for m in self.seen if m["op"] == "reply" and m["id"] == rqst_id]
 
     def init(self, *modules: str) -> None:
         for module in modules:
@@ -85,7 +87,7 @@ class Adapter:
 @pytest.fixture
 def adapter(interface):
     a = Adapter()
-    a.send(**hello_line(interface))
+    a.send("hello", **hello_fields(interface))
     yield a
     a.close()
 
@@ -102,8 +104,10 @@ def test_exec_request_gets_intermediate_then_ok_with_internal_ground_truth(adapt
     point = adapter.request("antenna.Point", az=135.0)
     assert adapter.final(point) == "ok"
     assert adapter.replies(point) == [("intermediate", None), ("final", "ok")]
-    truth = [(m["kind"], m["t"]) for m in adapter.seen if m["op"] == "internal" and m["id"] == point]
-    assert [kind for kind, _ in truth] == ["request", "intermediate", "final"]
+    intermediate = next(m for m in adapter.seen if m["op"] == "reply" and m["kind"] == "intermediate")
+    assert "code" not in intermediate
+    truth = [(m["kind"], m["t"], m.get("code")) for m in adapter.seen if m["op"] == "internal" and m["id"] == point]
+    assert [(kind, code) for kind, _, code in truth] == [("request", None), ("intermediate", None), ("final", "ok")]
     # Point slews for 2 mission seconds; internal t is in mission seconds (wall x time_scale)
     assert 1.9 <= truth[-1][1] - truth[0][1] <= 2 + PATIENCE_S * TIME_SCALE
     codes = [m["code"] for m in adapter.seen if m["op"] == "reply" and m["kind"] == "final"]
@@ -117,7 +121,7 @@ def test_control_request_replies_ok_at_once_without_intermediate(adapter):
 
 
 def test_ping_gets_its_pong(adapter):
-    adapter.send(op="ping", id=41)
+    adapter.send("ping", id=41)
     assert adapter.expect(op="pong")["id"] == 41
 
 
@@ -163,7 +167,7 @@ def test_moving_during_communication_loses_the_link_and_reports_world_damage(ada
 
 def test_bye_ends_the_adapter_with_status_0(adapter):
     adapter.expect(op="hello")
-    adapter.send(op="bye")
+    adapter.send("bye")
     assert adapter.process.wait(timeout=PATIENCE_S) == 0
 
 
@@ -177,9 +181,9 @@ def test_stdin_eof_ends_the_adapter(adapter):
 def test_a_catalogue_without_its_codes_is_refused_with_an_error(interface):
     a = Adapter()
     try:
-        line = hello_line(interface)
-        line["interface"]["replies"] = {"ok": "T", "interrupted": "Z"}
-        a.send(**line)
+        hello = hello_fields(interface)
+        hello["interface"]["replies"] = {"ok": "T", "interrupted": "Z"}
+        a.send("hello", **hello)
         assert a.expect(op="error")["message"] == ("the reply catalogue lacks wait_init, link_lost, "
                                                    "which this layer replies")
         assert a.process.wait(timeout=PATIENCE_S) == 1
@@ -191,15 +195,38 @@ def test_transcript_records_both_directions_in_order(interface, tmp_path):
     transcript = tmp_path / "transcript.txt"
     a = Adapter({"UNTIMELY_TRANSCRIPT": str(transcript)})
     try:
-        hello = hello_line(interface)
-        a.send(**hello)
-        a.send(op="ping", id=1)
+        hello = hello_fields(interface)
+        a.send("hello", **hello)
+        a.send("ping", id=1)
         a.expect(op="pong")
-        a.send(op="bye")
+        a.send("bye")
         assert a.process.wait(timeout=PATIENCE_S) == 0
     finally:
         a.close()
     rows = [line.split(" ", 1) for line in transcript.read_text().splitlines()]
     assert [(who, json.loads(text)["op"]) for who, text in rows] == [
         ("bench", "hello"), ("adapter", "hello"), ("bench", "ping"), ("adapter", "pong"), ("bench", "bye")]
-    assert json.loads(rows[0][1]) == hello
+    assert json.loads(rows[0][1]) == {"op": "hello", **hello}
+
+
+def test_golden_mission_through_the_bench_completes_with_every_final_in_the_catalogue(interface, tmp_path):
+    db = tmp_path / "node.duckdb"
+    command = f"{shlex.quote(NODE)} {shlex.quote(str(ADAPTER))}"
+    assert main(["run", str(DEFAULT_MISSION_DIR / "golden.mission"), "--sut", f"toy=cmd:{command}",
+                 "--time-scale", str(TIME_SCALE), "--db", str(db)]) == 0
+    con = store.connect(db, read_only=True)
+    assert con.execute("select sut, outcome, error from traces").fetchall() == [("toy", "completed", None)]
+    finals = con.execute("""
+        select r.module, r.service, f.reply from events r
+        left join events f on f.rqst_id = r.rqst_id and f.kind = 'final'
+        where r.kind = 'request' order by r.seq""").fetchall()
+    assert len(finals) == 23 and all(reply in interface.replies for _, _, reply in finals)
+    # the activities that run until stopped are interrupted by the mission's Stops, the rest end ok
+    assert {(m, s) for m, s, reply in finals if reply != "ok"} == {
+        ("rflex", "TrackSpeedStart"), ("sick", "ContinuousShot"), ("aspect", "Fuse")}
+    assert {reply for _, _, reply in finals} == {"ok", "interrupted"}
+    # the adapter's ground truth (internal) is stored beside the observed timeline
+    assert con.execute("select count(*) from internal_events where kind = 'final'").fetchone() == (23,)
+    pings, p50, sut_info = con.execute("select pings, rtt_p50_s, sut_info from trace_runs").fetchone()
+    assert pings >= 1 and 0 < p50 < PATIENCE_S and "node" in sut_info
+    con.close()

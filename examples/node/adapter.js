@@ -28,11 +28,11 @@ const send = (message) => {
   process.stdout.write(line + '\n');
 };
 const now = () => Number(process.hrtime.bigint() - started) / 1e9 * scale; // mission seconds
-const internal = (id, kind) => send({ op: 'internal', id, kind, t: now() });
+const internal = (id, kind, code) => send({ op: 'internal', id, kind, t: now(), ...(code && { code }) });
 
 function reply(id, kind, code) {
-  internal(id, kind);
-  send({ op: 'reply', id, kind, code });
+  internal(id, kind, code);
+  send({ op: 'reply', id, kind, ...(code && { code }) });
 }
 
 function finish(id, code) { // the one place a final reply of an activity is sent
@@ -66,7 +66,7 @@ function request({ id, module, service, args }) {
   if (kind === 'exec' && !initialised.has(module)) return reply(id, 'final', 'wait_init');
   // a Stop ends every activity of its module; any exec ends an older one of the same service
   interruptAll(module, (s) => s !== 'Init' && (service === 'Stop' || s === service), 'interrupted');
-  if (kind === 'exec') reply(id, 'intermediate', null);
+  if (kind === 'exec') reply(id, 'intermediate');
   if (service === MOVING && [...running.values()].some((a) => a.service === 'Communication')) {
     send({ op: 'world', t: now(), kind: 'moved_while_linked', detail: { request: id } });
     interruptAll('antenna', (s) => s === 'Communication', 'link_lost');
