@@ -27,7 +27,7 @@ const send = (message) => {
   record('adapter', line);
   process.stdout.write(line + '\n');
 };
-const now = () => Number(process.hrtime.bigint() - started) / 1e9 * scale; // mission seconds
+const now = () => Math.round(Number(process.hrtime.bigint() - started) / 1e3 * scale) / 1e6; // mission s
 const internal = (id, kind, code) => send({ op: 'internal', id, kind, t: now(), ...(code && { code }) });
 
 function reply(id, kind, code) {
