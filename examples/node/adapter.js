@@ -5,7 +5,6 @@
 // Every exec request is accepted and runs for a while (mission seconds, scaled by the hello's
 // time_scale); the long-running services run until their module's Stop interrupts them.
 'use strict';
-const fs = require('node:fs');
 const readline = require('node:readline');
 
 const SECONDS = { Init: 0.5, Stop: 0.05, Reset: 0.2, OneShot: 0.2, Point: 2, GotoPosition: 3 };
@@ -19,14 +18,7 @@ let started = 0n;
 const initialised = new Set(); // modules whose Init ended ok
 const running = new Map(); // request id -> { module, service, timer }
 
-// UNTIMELY_TRANSCRIPT=FILE records both directions of the protocol, as read and written
-const transcript = process.env.UNTIMELY_TRANSCRIPT && fs.openSync(process.env.UNTIMELY_TRANSCRIPT, 'a');
-const record = (from, line) => transcript && fs.writeSync(transcript, `${from.padEnd(7)} ${line}\n`);
-const send = (message) => {
-  const line = JSON.stringify(message);
-  record('adapter', line);
-  process.stdout.write(line + '\n');
-};
+const send = (message) => process.stdout.write(JSON.stringify(message) + '\n');
 const now = () => Math.round(Number(process.hrtime.bigint() - started) / 1e3 * scale) / 1e6; // mission s
 const internal = (id, kind, code) => send({ op: 'internal', id, kind, t: now(), ...(code && { code }) });
 
@@ -83,7 +75,6 @@ function fail(message) {
 
 const lines = readline.createInterface({ input: process.stdin });
 lines.on('line', (line) => {
-  record('bench', line);
   const message = JSON.parse(line);
   if (message.op === 'hello') hello(message);
   else if (message.op === 'ping') send({ op: 'pong', id: message.id });
