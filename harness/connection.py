@@ -65,6 +65,11 @@ class Connection:
                 self.deliver(line)
         except (OSError, ValueError):
             pass
+        if self.process:  # an adapter closing its output is usually exiting: let its status be known
+            try:
+                self.process.wait(GRACE_S)
+            except subprocess.TimeoutExpired:
+                pass
         self.deliver(None)
 
     def _keep_stderr(self) -> None:

@@ -47,6 +47,7 @@ class ProtocolLayer:
         self.internal: list[tuple] = []
         self.world_events: list[tuple] = []
         self.hello: dict | None = None
+        self.hello_at = 0.0  # monotonic instant the hello answer was read: mission time 0
         self.greeted = threading.Event()
         self.problem: str | None = None  # a violation before the hello answer
         self.closing = False
@@ -63,7 +64,7 @@ class ProtocolLayer:
                 message = decode(line)
                 if message["op"] != "hello" or message["proto"] != PROTO:
                     raise ProtocolViolation(f"expected a hello with proto {PROTO!r} first")
-                self.hello = message
+                self.hello, self.hello_at = message, time.monotonic()
             except ProtocolViolation as e:
                 self.problem = f"{e}; the SUT's line: {line.rstrip()!r}"
         self.greeted.set()
@@ -116,9 +117,10 @@ class ProtocolLayer:
                 raise ProtocolViolation(f"internal kind {message['kind']!r}; "
                                         f"expected one of {', '.join(INTERNAL_KINDS)}")
             service, args = self._request(message)
-            code = message.get("code") if message["kind"] != "request" else None
-            self.internal.append((len(self.internal) + 1, message["t"], message["kind"], message["id"],
-                                  service.module, service.name, args if code is None else None, code))
+            kind = message["kind"]
+            code = message.get("code") if kind != "request" else None
+            self.internal.append((len(self.internal) + 1, message["t"], kind, message["id"],
+                                  service.module, service.name, args if kind == "request" else None, code))
         elif op == "world":
             self.world_events.append((message["t"], message["kind"], json.dumps(message["detail"])))
         elif op == "error":
@@ -156,7 +158,7 @@ def run_external(script: Script, sut: ExternalSut, seed: int, interface: Interfa
             raise LayerMisbehaved(f"no hello answer within {sut.startup_s:g} s of starting")
         if layer.problem:
             raise LayerMisbehaved(layer.problem)
-        env.restart_clock()
+        env.restart_clock(layer.hello_at)
         env.process(executive.play(script), "executive")
         env.process(executive.probe(), "liveness probe")
         env.run(until=executive.done)

@@ -13,6 +13,7 @@ import json
 import socketserver
 import sys
 import threading
+import time
 from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR
@@ -46,9 +47,10 @@ class Session:
                               on_world=lambda t, kind, detail: self.send("world", t=t, kind=kind,
                                                                          detail=json.loads(detail)),
                               on_error=lambda message: self.send("error", message=message))
+        answered = time.monotonic()  # internal times count from the hello answer
         self.send("hello", proto=PROTO, sut=f"untimely simulated layer, variant {self.variant}",
                   caps=["internal", "world"])
-        self.host.start()  # internal times count from the hello answer
+        self.host.start(answered)
 
     def serve(self, lines) -> int:
         try:

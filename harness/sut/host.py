@@ -31,9 +31,10 @@ class LayerHost:
         self._thread = threading.Thread(target=self._run, name=f"layer {variant}", daemon=True)
         self._world_sent = 0
 
-    def start(self) -> None:
-        """Start the layer's clock (mission time 0) and its thread."""
-        self.env.restart_clock()
+    def start(self, origin: float | None = None) -> None:
+        """Start the layer's thread, its clock at mission time 0 at the monotonic instant `origin`
+        (default: now)."""
+        self.env.restart_clock(origin)
         if self.on_world:
             self.env.process(self._forward_world(), "world events")
         self._thread.start()

@@ -24,12 +24,13 @@ class RealtimeEnvironment(Environment):
         self._start = time.monotonic()
         self._posted: queue.SimpleQueue[Callable[[], None]] = queue.SimpleQueue()
 
-    def restart_clock(self) -> None:
-        """Start the clock anew (after a start-up or a handshake), before any event is processed:
-        what is scheduled keeps its mission time, counted from the new start."""
+    def restart_clock(self, origin: float | None = None) -> None:
+        """Start the clock anew (after a start-up or a handshake) at the monotonic instant `origin`
+        (default: now), before any event is processed: what is scheduled keeps its mission time,
+        counted from the new start."""
         if self.now:
             raise RuntimeError(f"{self!r}: the clock can only restart before any event is processed")
-        self._start = time.monotonic()
+        self._start = time.monotonic() if origin is None else origin
 
     def clock(self) -> float:
         """The wall clock in mission seconds since start."""
