@@ -70,7 +70,7 @@ def synthesise(con, interface, traces: int, requests: int, seed: int) -> int:
 def judge(path: Path, properties) -> tuple[int, int, float]:
     con = connect(path)
     started = time.perf_counter()
-    materialise(con, properties, 0.01)
+    materialise(con, properties, 0.01, load_interface(DEFAULT_MISSION_DIR / "interface.toml"))
     elapsed = time.perf_counter() - started
     traces, events = con.execute("select (select count(*) from traces), (select count(*) from events)").fetchone()
     con.close()

@@ -7,14 +7,18 @@ from the views. Nothing is re-run: the store is the only input.
 """
 from __future__ import annotations
 
+import re
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import duckdb
 
+from harness import SQL_DIR, diff  # diff as a module: it imports this one
 from harness.errors import PropertyError, StoreError
-from harness.interface import Property, load_interface, load_properties
+from harness.interface import Interface, Property, load_interface, load_properties
 from harness.oracles import render_property, render_view
+from harness.provenance import default_properties, last_epsilon, record
 from harness.store import connect, transaction
 from harness.textable import format_table, percent
 
@@ -22,41 +26,101 @@ from harness.textable import format_table, percent
 SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
 # Creation order: each view reads only tables or views created before it.
 VIEWS = ("requests", "activities", "property_verdicts", "family_verdicts", "trace_robustness",
-         "tp_rates", "fp_rates", "inversions", "interface_latency")
+         "tp_rates", "fp_rates", "inversions", "interface_latency", "table_values", "verdict_transitions",
+         "table_changes", "analysis")
 # Rank queries ordering the views' rows: variants as they were run, properties and families in
 # the order of the properties file (the verdicts table is filled in that order); All comes last.
 RANKS = {"sut": "select sut, min(trace_id) as sut_rank from traces group by sut",
          "family": "select family, min(rowid) as family_rank from verdicts group by family",
          "property_id": "select property_id, min(rowid) as property_id_rank from verdicts group by property_id"}
+_LINE = re.compile(r"LINE (\d+):")
 
 
-def statements(properties: list[Property], epsilon: float) -> list[str]:
+@dataclass
+class Oracle:
+    """One property's rendered query over one events source."""
+    prop: Property
+    target: str
+    sql: str
+
+    def failed(self, error: duckdb.Error) -> StoreError:
+        """The error naming the property, the template and the line of its rendered query."""
+        message = str(error).split("\n")[0]
+        template = SQL_DIR / "oracles" / f"{self.prop.type.lower()}.sql"
+        where = ""
+        line = _LINE.search(str(error))
+        if line:
+            number = int(line.group(1)) - 1  # the rendered query comes after "insert into ...\n"
+            lines = self.sql.splitlines()
+            text = lines[number - 1].strip() if 0 < number <= len(lines) else ""
+            # the line comes from the type's template or from a template it imports
+            found = [t for t in [template, *sorted((SQL_DIR / "oracles").glob("*.sql"))]
+                     if text and text in t.read_text()]
+            template = found[0] if found else template
+            where = f", line {number} of the rendered query: {text!r}"
+        return StoreError(f"the oracle of property {self.prop.id!r} ({self.target}) failed: {message} "
+                          f"[template {template.relative_to(SQL_DIR.parent)}{where}]; fix the template or the "
+                          f"property (harness.oracles.render_property renders its query). "
+                          f"The previous verdicts are kept.")
+
+
+def render_oracles(properties: list[Property], epsilon: float, interface: Interface | None = None) -> list[Oracle]:
     if not properties:
         raise PropertyError("no properties to judge; give a properties file with [[property]] entries")
-    tables = [render_view("verdicts", target=target,
-                          oracles=[render_property(p, events, epsilon) for p in properties])
-              for events, target in SOURCES]
-    return tables + [render_view(name) for name in VIEWS]
+    return [Oracle(p, target, render_property(p, events, epsilon, interface))
+            for events, target in SOURCES for p in properties]
 
 
-def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsilon: float) -> None:
-    """(Re)build the verdict tables and the views in one transaction; a failure keeps the old ones."""
-    sql = statements(properties, epsilon)  # a property that cannot be rendered stops us here
+def _exists(con, name: str) -> bool:
+    return con.execute("select count(*) from information_schema.tables where table_name = ?", [name]).fetchone()[0] > 0
+
+
+def _keep_previous(con) -> None:
+    """The verdicts and Tables II-IV of the analysis being replaced (empty before the first one),
+    for the diff views."""
+    if _exists(con, "verdicts"):
+        con.execute(render_view("table_values"))
+        con.execute("create or replace table verdicts_previous as from verdicts")
+        con.execute("create or replace table table_values_previous as from table_values")
+    else:
+        con.execute(render_view("verdicts", target="verdicts_previous"))
+        con.execute("create or replace table table_values_previous (sut varchar, family varchar, "
+                    "paper_table varchar, measure varchar, value double)")
+
+
+def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsilon: float,
+                interface: Interface | None = None, properties_file: Path | None = None) -> float:
+    """(Re)build the verdict tables and the views in one transaction, keeping the previous verdicts
+    for the diff; a failure keeps the old ones. Returns the seconds it took."""
+    started = time.perf_counter()
+    rendered = render_oracles(properties, epsilon, interface)  # a property that cannot be rendered stops us here
     try:
         with transaction(con):
-            for statement in sql:
-                con.execute(statement)
-            con.execute("create or replace table analysis as select now() as analysed_at, "
-                        "?::double as epsilon, ?::integer as properties, "
-                        "(select count(*) from traces) as traces", [epsilon, len(properties)])
+            if con.execute("select count(*) from information_schema.tables where table_name = 'analysis' "
+                           "and table_type = 'BASE TABLE'").fetchone()[0]:
+                con.execute("drop table analysis")  # a store analysed before the analyses table
+            _keep_previous(con)
+            for _, target in SOURCES:
+                con.execute(render_view("verdicts", target=target))
+            for oracle in rendered:
+                try:
+                    con.execute(f"insert into {oracle.target}\n{oracle.sql}")
+                except duckdb.Error as e:
+                    raise oracle.failed(e) from None
+            for _, target in SOURCES:
+                con.execute(render_view("shared_codes", target=target))
+            for name in VIEWS:
+                con.execute(render_view(name))
+            seconds = time.perf_counter() - started
+            record(con, properties_file, epsilon, len(properties), seconds)
     except duckdb.Error as e:
         raise StoreError(f"the oracle queries failed on this store: {e}") from None
+    return seconds
 
 
 def judges_every_trace(con: duckdb.DuckDBPyConnection) -> bool:
     """True when the stored verdicts were made after the last trace came in."""
-    tables = {r[0] for r in con.execute("select table_name from information_schema.tables").fetchall()}
-    if not {"verdicts", "analysis"} <= tables:
+    if not (_exists(con, "verdicts") and _exists(con, "analysis")):
         return False
     return con.execute("select traces = (select count(*) from traces) from analysis").fetchone()[0]
 
@@ -89,6 +153,16 @@ def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
                         [[f] + [percent(rate.get((s, f))) for s in suts] for f in family_order(con)])
 
 
+def flag_accuracy(con) -> tuple[int, int, int, int]:
+    """Over the traces with a ground truth: (verdicts, inverted verdicts, inverted and flagged,
+    flagged). Recall = inverted and flagged / inverted; precision = inverted and flagged / flagged."""
+    judged, flagged = con.execute("""select count(*), count(*) filter (where suspicious) from verdicts
+                                     semi join (select distinct trace_id from internal_events) using (trace_id)
+                                  """).fetchone()
+    inverted, caught = con.execute("select count(*), count(*) filter (where suspicious) from inversions").fetchone()
+    return judged, inverted, caught, flagged
+
+
 def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
     cursor = con.execute(ordered(con, "trace_robustness"))
     columns, robustness = [d[0] for d in cursor.description], cursor.fetchall()
@@ -97,15 +171,13 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
     parts = ["Table II - per trace results\n" + table2,
              "Table III - true positive rates TP/(TP+FN), %\n" + _rates_by_family(con, "tp_rates", "tp_rate", suts),
              "Table IV - false positive rates FP/(FP+TN), %\n" + _rates_by_family(con, "fp_rates", "fp_rate", suts)]
-    judged, flagged = con.execute("""select count(*), count(*) filter (where suspicious) from verdicts
-                                     semi join (select distinct trace_id from internal_events) using (trace_id)
-                                  """).fetchone()
+    judged, inverted, caught, flagged = flag_accuracy(con)
     if judged:
-        inverted, caught = con.execute("select count(*), count(*) filter (where suspicious) "
-                                       "from inversions").fetchone()
         parts.append(f"Ground truth: {inverted} of {judged} observed verdicts differ from the verdicts on "
-                     f"the internal timeline (view inversions); the suspicious flag (margin < {epsilon:g} s) "
-                     f"caught {caught} of them and is raised on {flagged} verdicts in all.")
+                     f"the internal timeline (view inversions). The suspicious flag (epsilon {epsilon:g} s) "
+                     f"caught {caught} of them (recall {percent(caught / inverted if inverted else None)}%) "
+                     f"and is raised on {flagged} verdicts in all "
+                     f"(precision {percent(caught / flagged if flagged else None)}%).")
     cursor = con.execute("select * exclude (campaign_id) from interface_latency order by campaign_id, sut")
     latency = cursor.fetchall()
     if latency:
@@ -116,16 +188,18 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
 
 def main(args) -> int:
     con = connect(args.db, create=False)
-    properties_path = Path(args.properties)
+    properties_path = Path(args.properties) if args.properties else default_properties(con)
+    epsilon = last_epsilon(con) if args.epsilon is None else args.epsilon
     interface = load_interface(properties_path.parent / "interface.toml")
     properties = load_properties(properties_path, interface)
-    started = time.perf_counter()
-    materialise(con, properties, args.epsilon)
-    elapsed = time.perf_counter() - started
+    elapsed = materialise(con, properties, epsilon, interface, properties_path)
     traces, events = con.execute("select (select count(*) from traces), (select count(*) from events)").fetchone()
     verdicts = con.execute("select count(*) from verdicts").fetchone()[0]
-    print(f"Judged {events} events of {traces} traces against {len(properties)} properties "
-          f"in {elapsed:.2f} s: {verdicts} verdicts in table verdicts.\n")
-    print(summary(con, args.epsilon) if traces else
-          "The store holds no traces yet: run a campaign or import traces, then analyze again.")
+    print(f"Judged {events} events of {traces} traces against {len(properties)} properties of "
+          f"{properties_path} in {elapsed:.2f} s: {verdicts} verdicts in table verdicts.\n")
+    if not traces:
+        print("The store holds no traces yet: run a campaign or import traces, then analyze again.")
+        return 0
+    print(summary(con, epsilon))
+    print("\n" + diff.changes(con))
     return 0

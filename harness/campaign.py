@@ -22,13 +22,14 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from harness import DEFAULT_EPSILON_S, analyzer, store
+from harness import analyzer, store
 from harness.errors import InputFileError, StoreError, UntimelyError
 from harness.executive import run_script
 from harness.interface import Interface, load_interface, load_properties
 from harness.mutator.operators import Mutant, generate
 from harness.mutator.script import load_script
 from harness.progress import Progress
+from harness.provenance import last_epsilon
 from harness.suts import ExternalSut, resolve
 from harness.trace import Trace
 from harness.workers import Setup, Task, run_all, script_label
@@ -247,7 +248,8 @@ def _run(args, config, mission, interface, golden, properties, run_tasks) -> int
         session.progress.close()
     print(summary(con, campaign_id, session))
     if not analyzer.judges_every_trace(con):  # new traces, or a session stopped while judging
-        analyzer.materialise(con, properties, DEFAULT_EPSILON_S)
-        print(f"verdicts  materialised for every trace of {args.db} (epsilon {DEFAULT_EPSILON_S:g} s)\n")
-        print(analyzer.summary(con, DEFAULT_EPSILON_S))
+        epsilon = last_epsilon(con)  # a resumed campaign keeps the epsilon its verdicts were made with
+        analyzer.materialise(con, properties, epsilon, interface, mission / "properties.toml")
+        print(f"verdicts  materialised for every trace of {args.db} (epsilon {epsilon:g} s)\n")
+        print(analyzer.summary(con, epsilon))
     return 0

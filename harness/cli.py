@@ -61,10 +61,20 @@ def _parser() -> argparse.ArgumentParser:
 
     c = command("analyze", "(re)materialise verdicts from the stored traces and print Tables II-IV",
                 "harness.analyzer:main")
-    c.add_argument("--properties", default=str(DEFAULT_MISSION_DIR / "properties.toml"),
-                   help="properties file (default: %(default)s)")
-    c.add_argument("--epsilon", type=float, default=DEFAULT_EPSILON_S,
-                   help="margin in seconds below which a verdict is suspicious (default: %(default)s)")
+    c.add_argument("--properties", help="properties file (default: properties.toml of the campaign's mission)")
+    c.add_argument("--epsilon", type=float,
+                   help=f"seconds within which near events may be reordered (default: the last analysis's, "
+                        f"else {DEFAULT_EPSILON_S})")
+    db(c)
+
+    c = command("diff", "what the last analysis changed: verdict transitions, Tables II-IV", "harness.diff:main")
+    db(c)
+
+    c = command("explain", "the events that decided a verdict, its margin and what would flip it",
+                "harness.explain:main")
+    c.add_argument("trace_id", type=int, help="a trace id")
+    c.add_argument("property", help="a property id, e.g. \"AIB(rflex.TrackSpeedStart)\"")
+    c.add_argument("rqst_id", type=int, nargs="?", help="a request id (default: every request judged)")
     db(c)
 
     c = command("report", "write the HTML report and CSV tables from the store alone", "harness.report:main")

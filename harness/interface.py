@@ -36,6 +36,7 @@ class Service:
     name: str
     kind: str
     args: dict[str, Argument] = field(default_factory=dict)
+    until_stopped: bool = False  # an activity that never ends by itself (documented black-box fact)
 
     @property
     def qualified(self) -> str:
@@ -52,6 +53,14 @@ class Interface:
     replies: dict[str, str]  # reply code -> class T/Z/R
     services: dict[str, Service]  # "module.Service" -> Service
     posters: dict[str, str]  # module -> poster name
+
+    @property
+    def until_stopped(self) -> list[str]:
+        """The activities that end only when a request stops them."""
+        return [name for name, s in self.services.items() if s.until_stopped]
+
+    def of_kind(self, kind: str) -> list[str]:
+        return [name for name, s in self.services.items() if s.kind == kind]
 
     @property
     def modules(self) -> list[str]:
@@ -133,7 +142,11 @@ def load_interface(path: str | Path) -> Interface:
             if kind not in SERVICE_KINDS:
                 raise InputFileError(path, where, f"kind {kind!r} is not one of {', '.join(SERVICE_KINDS)}")
             args = {a: _argument(path, where, a, spec) for a, spec in (sspec.get("args") or {}).items()}
-            services[f"{module}.{name}"] = Service(module, name, kind, args)
+            until_stopped = sspec.get("until_stopped", False)
+            if until_stopped not in (True, False) or until_stopped and kind != "exec":
+                raise InputFileError(path, where, f"until_stopped = {until_stopped!r}; it is true or false, "
+                                     "and only an exec service may run until stopped")
+            services[f"{module}.{name}"] = Service(module, name, kind, args, until_stopped)
         if not any(s.module == module for s in services.values()):
             raise InputFileError(path, f"[modules.{module}]", "module declares no services")
     return Interface(str(path), dict(replies), services, posters)

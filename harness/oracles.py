@@ -14,7 +14,7 @@ import jinja2
 
 from harness import DEFAULT_EPSILON_S, SQL_DIR
 from harness.errors import PropertyError
-from harness.interface import Property
+from harness.interface import Interface, Property
 
 VERDICTS = ("TN", "TP", "FN", "FP", "op", "na", "omega")
 PARAMETERS = ("x", "y", "q", "r_p", "z_p")
@@ -29,6 +29,7 @@ def sql_literal(value) -> str:
 ENV = jinja2.Environment(loader=jinja2.FileSystemLoader(SQL_DIR), undefined=jinja2.StrictUndefined,
                          trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
 ENV.filters["lit"] = sql_literal
+ENV.filters["modules"] = lambda services: sorted({s.split(".")[0] for s in services})
 
 
 def _parameters(prop: Property) -> dict:
@@ -47,8 +48,11 @@ def _parameters(prop: Property) -> dict:
     return given
 
 
-def render_property(prop: Property, events: str = "events", epsilon: float = DEFAULT_EPSILON_S) -> str:
-    """The oracle query of one property over the events table `events`: the verdicts columns."""
+def render_property(prop: Property, events: str = "events", epsilon: float = DEFAULT_EPSILON_S,
+                    interface: Interface | None = None, explain: list[tuple[int, int]] = ()) -> str:
+    """The oracle query of one property over the events table `events`: the verdicts columns.
+    The interface, when given, says which requests may end an activity (see sql/oracles/ee.sql).
+    `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions."""
     if not _TABLE_NAME.fullmatch(events):
         raise PropertyError(f"events source {events!r} is not a table name; use events or internal_events")
     if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
@@ -58,8 +62,12 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
     template = f"oracles/{str(prop.type).lower()}.sql"
     try:
         return ENV.get_template("oracles/_oracle.sql").render(
-            template=template, id=prop.id, family=prop.family, events=events, epsilon=float(epsilon),
-            services=services, parameters=parameters)
+            template=template, id=prop.id, family=prop.family, events=events, epsilon=round(float(epsilon), 6),
+            services=services, parameters=parameters,
+            until_stopped=interface.until_stopped if interface else [],
+            control=interface.of_kind("control") if interface else [],
+            explain=dict(traces=sorted({int(t) for t, _ in explain}),
+                         requests=[f"({int(t)}, {int(r)})" for t, r in explain]) if explain else None)
     except jinja2.TemplateNotFound as e:
         if e.name != template:
             raise

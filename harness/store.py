@@ -20,7 +20,7 @@ from harness.trace import EVENT_COLUMNS, WORLD_EVENT_COLUMNS, Trace
 # that; DuckDB 1.0 cannot read the primary keys 2.0 writes. So stores are written for 1.1.
 STORAGE_VERSION = "v1.1.0"
 # The layout of sql/schema.sql; each store lists the versions it went through in schema_version.
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 
 EVENT_SCHEMA = pa.schema([("trace_id", pa.int32()), ("seq", pa.int32()), ("t", pa.float64()),
                           ("kind", pa.string()), ("rqst_id", pa.int32()), ("module", pa.string()),

@@ -96,3 +96,21 @@ create table if not exists schema_version (
     applied_at  timestamp not null,
     note        varchar not null
 );
+
+-- Every analysis: when, with which epsilon, over how many traces, and how long it took.
+create table if not exists analyses (
+    analysis_id  integer primary key,
+    analysed_at  timestamp not null,
+    epsilon      double not null,
+    properties   integer not null,       -- how many properties were judged
+    traces       integer not null,       -- how many traces the verdicts cover
+    seconds      double not null         -- how long the analysis took
+);
+
+-- The files each analysis was made from, with their SHA-256 (provenance).
+create table if not exists analysis_files (
+    analysis_id  integer not null,
+    role         varchar not null check (role in ('properties', 'interface', 'template')),
+    path         varchar not null,
+    sha256       varchar not null
+);

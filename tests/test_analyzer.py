@@ -3,14 +3,16 @@ import json
 import shutil
 import tomllib
 
+import jinja2
 import pytest
 
-from harness import DEFAULT_MISSION_DIR
+from harness import DEFAULT_MISSION_DIR, analyzer, oracles
 
 from harness.analyzer import materialise, summary
 from harness.cli import main
 from harness.errors import PropertyError, StoreError
 from harness.interface import Property
+from harness.oracles import render_property
 from harness.trace import Trace
 from traces.fixtures import HERE, PROPERTIES, judged_store, judged_traces, load
 
@@ -58,7 +60,8 @@ def test_inversions_count_differing_verdicts_and_what_the_flag_caught():
         (1, "PEX(rflex)", 2, "TN", "FN", True, False, True),
         (2, "PEX(rflex)", 2, "TN", "FN", True, False, False)]
     assert "Ground truth: 2 of 2 observed verdicts differ" in summary(con, EPSILON)
-    assert "caught 1 of them and is raised on 1 verdicts in all" in summary(con, EPSILON)
+    assert ("caught 1 of them (recall 50.0%) and is raised on 1 verdicts in all (precision 100.0%)"
+            in summary(con, EPSILON))
 
 
 def test_traces_without_ground_truth_have_no_inversions():
@@ -87,12 +90,19 @@ def test_a_property_that_cannot_be_rendered_leaves_the_verdicts_alone():
     assert con.execute("select count(*) from verdicts").fetchone()[0] == before
 
 
-def test_a_failing_oracle_query_rolls_everything_back():
+def test_a_failing_oracle_query_names_its_property_template_and_line_and_rolls_everything_back():
     con = judged_store(load(HERE / "tables.trace"), EPSILON)
     before = con.execute("select * from verdicts order by all").fetchall()
     con.execute("alter table reply_codes rename to reply_catalogue")  # the oracles can no longer bind
-    with pytest.raises(StoreError, match="oracle queries failed.*reply_codes"):
+    with pytest.raises(StoreError) as failed:
         materialise(con, [PEX], 0.5)
+    line = render_property(PEX).splitlines().index(
+        "    from paired p left join reply_codes c using (module, service, reply)") + 1
+    assert str(failed.value).startswith(
+        "the oracle of property 'PEX(rflex)' (verdicts) failed: Catalog Error: Table with name reply_codes "
+        f"does not exist! [template sql/oracles/_base.sql, line {line} of the rendered query: "
+        "'from paired p left join reply_codes c using (module, service, reply)']")
+    assert "The previous verdicts are kept." in str(failed.value)
     assert con.execute("select * from verdicts order by all").fetchall() == before
     assert con.execute("select epsilon from analysis").fetchall() == [(EPSILON,)]
 
@@ -114,7 +124,7 @@ def test_analyze_command_prints_tables_ii_to_iv(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "Judged 22 events of 6 traces against 2 properties" in out
     table2, table3, table4 = (_cells(out, a, b) for a, b in (("Table II -", "Table III"),
-                                                            ("Table III", "Table IV"), ("Table IV", "Ground")))
+                                                            ("Table III", "Table IV"), ("Table IV", "Changes")))
     assert table2 == [["sut", "total", "hung", "crashed", "with_fn", "with_fp", "bad", "t_rob"],
                       ["A", "4", "1", "0", "1", "1", "3", "25.0%"], ["B", "2", "0", "1", "0", "0", "1", "50.0%"]]
     assert table3 == [["family", "A", "B"], ["PEX", "50.0", "100.0"], ["AIB", "100.0", "-"], ["All", "66.7", "100.0"]]
@@ -134,3 +144,24 @@ def test_analyze_refuses_a_missing_store_and_a_bad_epsilon(tmp_path, capsys):
     judged_store(load(HERE / "tables.trace"), EPSILON, db).close()
     assert main(["analyze", "--db", str(db), "--epsilon", "-1"]) == 2
     assert "epsilon = -1.0" in capsys.readouterr().err
+
+
+def test_a_typo_in_a_template_names_the_property_the_template_and_the_rendered_line(tmp_path, monkeypatch):
+    sql = tmp_path / "sql"
+    shutil.copytree(oracles.SQL_DIR, sql)
+    ee = sql / "oracles" / "ee.sql"
+    ee.write_text(ee.read_text().replace("y_class is not distinct from 'R' as conflict_rejected",
+                                         "y_klass is not distinct from 'R' as conflict_rejected"))
+    con = judged_store(load(HERE / "tables.trace"), EPSILON)
+    before = con.execute("select * from verdicts order by all").fetchall()
+    monkeypatch.setattr(oracles.ENV, "loader", jinja2.FileSystemLoader(sql))
+    monkeypatch.setattr(analyzer, "SQL_DIR", sql)
+    aib = PROPERTIES["AIB(ndd.GotoPosition)"]
+    with pytest.raises(StoreError) as failed:
+        materialise(con, [PEX, aib], EPSILON)
+    line = next(n for n, text in enumerate(render_property(aib).splitlines(), 1) if "y_klass" in text)
+    assert str(failed.value).startswith("the oracle of property 'AIB(ndd.GotoPosition)' (verdicts) failed: "
+                                        "Binder Error: Referenced column \"y_klass\" not found")
+    assert (f"[template sql/oracles/ee.sql, line {line} of the rendered query: "
+            "\"y_klass is not distinct from 'R' as conflict_rejected\"]") in str(failed.value)
+    assert con.execute("select * from verdicts order by all").fetchall() == before

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from harness import DEFAULT_MISSION_DIR, ROOT, campaign, store, workers
+from harness import DEFAULT_MISSION_DIR, ROOT, campaign, cli, store, workers
 from harness.errors import InputFileError, StoreError, UntimelyError
 from harness.executive import run_script
 from harness.progress import Progress
@@ -319,3 +319,17 @@ def test_a_finished_and_judged_campaign_is_left_as_it_is(mission, tmp_path, caps
     campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)
     out = capsys.readouterr().out
     assert "nothing to run" in out and "verdicts  materialised" not in out
+
+
+def test_a_resumed_campaign_judges_with_the_epsilon_of_the_last_analysis(mission, tmp_path, capsys):
+    db = tmp_path / "c.duckdb"
+    campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)
+    assert cli.main(["analyze", "--db", str(db), "--epsilon", "0.05"]) == 0
+    con = store.connect(db)
+    con.execute("drop table verdicts")  # as if the campaign was killed while judging
+    con.close()
+    capsys.readouterr()
+    campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)
+    assert "verdicts  materialised for every trace of" in capsys.readouterr().out
+    con = store.connect(db, read_only=True)
+    assert con.execute("select epsilon from analyses order by analysis_id").fetchall() == [(0.01,), (0.05,), (0.05,)]

@@ -30,6 +30,8 @@ def test_dala_interface_and_21_properties(interface, properties):
         families[p.family] = families.get(p.family, 0) + 1
     assert families == {"PEX": 5, "AIB": 7, "PRE": 6, "EXC": 3}
     assert {p.type for p in properties} == {"PC", "EE", "MX_I"}
+    assert interface.until_stopped == ["rflex.TrackSpeedStart", "sick.ContinuousShot", "aspect.Fuse"]
+    assert interface.of_kind("control") == ["rflex.SetMode", "sick.SetParams", "ndd.SetParams", "antenna.SetChannel"]
 
 
 @pytest.mark.parametrize("text, message", [
@@ -39,6 +41,10 @@ def test_dala_interface_and_21_properties(interface, properties):
     (GOOD.replace('ok = "T"', ""), "the catalogue must contain ok"),
     (GOOD.replace('ok = "T"', 'ok = "R"'), "the catalogue must contain ok = \"T\", not ok = 'R'"),
     ("[replies\n", "not valid TOML"),
+    (GOOD.replace('kind = "exec"', 'kind = "exec", until_stopped = "yes"'),
+     "[modules.m] services.Go: until_stopped = 'yes'; it is true or false"),
+    (GOOD.replace('kind = "init"', 'kind = "init", until_stopped = true'),
+     "until_stopped = True; it is true or false, and only an exec service may run until stopped"),
 ])
 def test_malformed_interface_names_file_entry_and_value(tmp_path, text, message):
     path = write(tmp_path, "iface.toml", text)

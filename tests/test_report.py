@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import csv
 import json
+import shutil
 import re
 from collections import Counter
 from html.parser import HTMLParser
@@ -44,7 +45,9 @@ DRIVE = [("rflex", "TrackSpeedStart", None, 1.0, 12.0, "interrupted"),
          ("ndd", "Stop", None, 11.5, 11.6, "ok"), ("rflex", "Stop", None, 11.999, 12.05, "ok")]
 TRACES = {  # trace_id: (sut, outcome, script_id, requests, world events)
     1: ("genom", "completed", 1, BASE + DRIVE, []),
-    2: ("genom", "completed", 2, BASE[:3] + DRIVE + [("ndd", "SetParams", {"speed": 0.6}, 11.2, 11.2, "ok")],
+    2: ("genom", "completed", 2,  # the Stop or the Init, 1-2 ms apart, interrupted TrackSpeedStart: suspicious
+        BASE[:3] + DRIVE + [("ndd", "SetParams", {"speed": 0.6}, 11.2, 11.2, "ok"),
+                            ("rflex", "Init", None, 11.998, 12.5, "ok")],
         [(6.5, "collision", {"with": "rock"})]),
     3: ("genom", "completed", 3,  # genom's quirk: Init interrupts the running TrackSpeedStart
         BASE + [("rflex", "TrackSpeedStart", None, 1.0, 5.01, "interrupted")] + DRIVE[1:3]
@@ -92,12 +95,13 @@ def make_store(path) -> None:
     con.close()
 
 
-def analysed_store(path, epsilon: float = 0.01):
-    """make_store, judged by the analyzer with the Dala properties."""
+def analysed_store(path, epsilon: float = 0.01, mission: Path = DEFAULT_MISSION_DIR):
+    """make_store, judged by the analyzer with the properties of `mission` (Dala's)."""
     make_store(path)
-    interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
+    interface = load_interface(mission / "interface.toml")
     con = connect(path)
-    materialise(con, load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface), epsilon)
+    materialise(con, load_properties(mission / "properties.toml", interface), epsilon, interface,
+                mission / "properties.toml")
     con.close()
     return path
 
@@ -335,3 +339,41 @@ def test_report_of_an_unanalysed_store_says_to_run_analyze(tmp_path):
 def test_report_of_a_missing_store_names_it(tmp_path):
     with pytest.raises(StoreError, match="nowhere.duckdb"):
         write_report(tmp_path / "nowhere.duckdb", tmp_path / "out")
+
+
+def test_trace_pages_explain_their_fn_fp_and_suspicious_verdicts(site):
+    _, out = site
+    texts = [text for text in (out / "traces" / "trace-2.html").read_text().split('<pre class="explain">')[1:]]
+    heads = [text.splitlines()[0] for text in texts]
+    assert heads == ["AIB(rflex.TrackSpeedStart) on request 4 of trace 2: TP",
+                     "PRE(ndd.GotoPosition) on request 5 of trace 2: FN"]
+    assert "C is false; margin 0.001000 s; suspicious (epsilon 0.01 s)" in texts[0]
+    assert "y rflex.Stop #7" in texts[0]
+    assert "explain" not in (out / "traces" / "trace-1.html").read_text().split("Event log")[0].split("Why")[1]
+
+
+def test_the_index_shows_the_files_of_the_verdicts_and_warns_when_they_changed(tmp_path):
+    mission = tmp_path / "mission"
+    shutil.copytree(DEFAULT_MISSION_DIR, mission)
+    db = analysed_store(tmp_path / "campaign.duckdb", mission=mission)
+    index = (write_report(db, tmp_path / "out") / "index.html").read_text()
+    assert str(mission / "properties.toml") in index and 'id="stale"' not in index
+    with open(mission / "properties.toml", "a") as f:
+        f.write("# refined\n")
+    index = (write_report(db, tmp_path / "out") / "index.html").read_text()
+    stale = index.split('id="stale"')[1].split("</p>")[0]
+    assert f"properties <code>{mission / 'properties.toml'}</code>" in stale
+
+
+def test_the_index_shows_what_the_last_analysis_changed(tmp_path):
+    db = analysed_store(tmp_path / "campaign.duckdb")
+    interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
+    properties = load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface)
+    con = connect(db)
+    materialise(con, [p for p in properties if p.family != "PRE"], 0.01, interface)
+    con.close()
+    page = _page(write_report(db, tmp_path / "out") / "index.html")
+    transitions = page.texts("verdict_transitions")
+    assert transitions[0] == ["sut", "property_id", "family", "previous", "current", "verdicts"]
+    assert ["genom", "PRE(ndd.GotoPosition)", "PRE", "FN", "", "1"] in transitions
+    assert ["genom", "PRE", "III", "tp_rate", "0", ""] in page.texts("table_changes")

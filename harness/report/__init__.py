@@ -11,6 +11,7 @@ from pathlib import Path
 
 from harness.analyzer import family_order, sut_order
 from harness.errors import StoreError
+from harness.explain import explanations
 from harness.report import pages, queries
 from harness.store import connect
 
@@ -55,9 +56,11 @@ def write_report(con, out: Path, extra_traces: list[int]) -> dict[str, int]:
         "suspicious": queries.suspicious(con),
         "inversions": queries.inversions(con),
     }
+    tables["verdict_transitions"], tables["table_changes"] = queries.changes(con)
     tables["suspicious"].link_column("trace_id", lambda i: pages.trace_href(i) if i in page_ids else None)
     csv_tables = [table2, tp, fp, tables["properties"], tables["suspicious"], tables["invalid_mutants"],
-                  tables["trace_outcomes"], bad, queries.bad_verdicts(con), tables["inversions"]]
+                  tables["trace_outcomes"], bad, queries.bad_verdicts(con), tables["inversions"],
+                  tables["verdict_transitions"], tables["table_changes"]]
 
     (out / "traces").mkdir(parents=True, exist_ok=True)
     for stale in (out / "traces").glob("*.html"):  # pages of traces no longer bad would mislead
@@ -65,7 +68,9 @@ def write_report(con, out: Path, extra_traces: list[int]) -> dict[str, int]:
     for table in csv_tables:
         table.write_csv(out)
     lists = pages.write_lists(out, family_traces, bad, suts, families, (tp, fp))
-    pages.write_traces(out, queries.trace_details(con, sorted(page_ids)), queries.module_order(con))
+    details = queries.trace_details(con, sorted(page_ids))
+    why = explanations(con, [v for t in details for v in t["verdicts"] if pages.explained(v)])
+    pages.write_traces(out, details, queries.module_order(con), why)
     pages.write_index(out, dict(
         campaigns=queries.campaigns(con), analysis=queries.analysis(con), tables=tables, bad=bad, suts=suts,
         charts=pages.index_charts(suts, families, tp, fp, table2, queries.verdict_mix(con)),

@@ -79,14 +79,21 @@ def write_lists(out: Path, family_traces: dict, bad: Table, suts: list[str], fam
     return len(suts) * (len(families) + 1)
 
 
-def write_traces(out: Path, details: list[dict], modules: list[str]) -> None:
+def explained(verdict: dict) -> bool:
+    """The verdicts a trace page explains: the bad ones and the suspicious ones."""
+    return verdict["verdict"] in ("FN", "FP") or verdict["suspicious"]
+
+
+def write_traces(out: Path, details: list[dict], modules: list[str], why: dict) -> None:
+    """A page per trace; `why`: (trace_id, property_id, rqst_id) -> the explanation of a verdict."""
     for t in details:
         end_t = t["sim_s"] if t["sim_s"] is not None else 0.0
         svg = timeline(modules, t["requests"], t["verdicts"], t["world"], end_t, t["outcome"])
         shown = [v for v in t["verdicts"] if v["verdict"] != "TN" or v["suspicious"]]
         counts = {v: sum(1 for x in t["verdicts"] if x["verdict"] == v) for v in queries.VERDICTS}
+        texts = [why.get((v["trace_id"], v["property_id"], v["rqst_id"])) for v in t["verdicts"] if explained(v)]
         render("trace.html.j2", out / trace_href(t["trace_id"]), t=t, timeline=svg, verdicts=shown,
-               counts=counts)
+               counts=counts, explained=[text for text in texts if text])
 
 
 def index_charts(suts: list[str], families: list[str], tp: Table, fp: Table, table2: Table,

@@ -7,13 +7,14 @@ from collections import defaultdict
 
 from harness.analyzer import ordered
 from harness.errors import StoreError
+from harness.provenance import stale_files
 from harness.report.tables import Table, query_table
 from harness.report.timeline import Request
 
 VERDICTS = ("TP", "FN", "FP", "TN", "op", "na", "omega")
 # What `python -m harness analyze` materialises and the report reads.
 ANALYSED = ("verdicts", "requests", "property_verdicts", "family_verdicts", "trace_robustness",
-            "tp_rates", "fp_rates", "inversions", "analysis")
+            "tp_rates", "fp_rates", "inversions", "analysis", "verdict_transitions", "table_changes")
 
 
 def rows(con, sql: str, params=()) -> list[dict]:
@@ -81,8 +82,20 @@ def verdict_mix(con) -> dict[tuple[str, str], int]:
 
 
 def analysis(con) -> dict:
-    """When the verdicts were made, from how many properties and with which epsilon."""
-    return rows(con, "select analysed_at::timestamp as analysed_at, epsilon, properties from analysis")[0]
+    """When the verdicts were made, from how many properties, with which epsilon and files, and
+    which of those files changed on disk since (the verdicts no longer match them)."""
+    found = rows(con, "select analysis_id, analysed_at, epsilon, properties, seconds from analysis")[0]
+    found["files"] = rows(con, """select role, path, left(sha256, 12) as sha256 from analysis_files
+                                  where analysis_id = ? order by role <> 'properties', role <> 'interface', path""",
+                          [found["analysis_id"]])
+    found["stale"] = stale_files(con)
+    return found
+
+
+def changes(con) -> tuple[Table, Table]:
+    """What the last analysis changed: verdict transitions and the changed cells of Tables II-IV."""
+    return (query_table(con, "verdict_transitions", ordered(con, "verdict_transitions")),
+            query_table(con, "table_changes", ordered(con, "table_changes") + ", paper_table"))
 
 
 def suspicious(con) -> Table:

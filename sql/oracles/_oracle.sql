@@ -1,10 +1,15 @@
-{#- One property's oracle query (DESIGN §6): the requests of its services in `events` (the
+{#- One property's oracle query (DESIGN §6): the requests of its modules in `events` (the
     observed `events` or the ground-truth `internal_events`), its type's CTE chain from
-    `template`, and its verdict rows with the contract columns. Rendered by harness/oracles.py. -#}
+    `template`, and its verdict rows with the contract columns; with `explain`, the pairs that
+    decided the condition of some requests instead (explain.requests: (trace_id, rqst_id) pairs). Rendered by harness/oracles.py. -#}
 {% import 'oracles/_base.sql' as base %}
-{% import template as oracle %}
-with {{ base.requests(events, services) }},
+{% import template as oracle with context %}
+with {{ base.requests(events, services, explain.traces if explain else none) }},
 {{ oracle.ctes('p', **parameters) }}
+{% if explain %}
+select * from p_pairs where (trace_id, rqst_id) in ({{ explain.requests | join(', ') }})
+{% else %}
 select trace_id, {{ id | lit }} as property_id, {{ family | lit }} as family, rqst_id, module, service,
-       c_holds, verdict, margin_s, coalesce(margin_s < {{ epsilon }}, false) as suspicious
+       c_holds, verdict, margin_s, suspicious
 from p_judged
+{% endif %}

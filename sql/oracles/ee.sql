@@ -3,13 +3,36 @@
     C true: T reply TN, z_P FP; C false: T reply FN, z_P TP; another Z code, or a rejected
     x(i) (C undefined), op; no final reply omega; 'na' when every such y(j) was rejected. -#}
 {% import 'oracles/_base.sql' as base %}
+{% import 'oracles/_judge.sql' as judge with context %}
 
 {% macro ctes(name, x, y, z_p) -%}
 {{ base.relevant(name, 'x', x) }},
 {{ base.relevant(name, 'y', y) }},
+-- An interruption, or the end of an activity that runs until stopped, has a cause: a request
+-- to the module of x or of y, sent while x(i) ran (or within epsilon after its end) and still
+-- being processed then (not ended more than epsilon before it). A control request replies at
+-- once and stops nothing. When every candidate cause is a y(j), one of them stays before the
+-- end whatever the observed order: C cannot hold (`caused`).
+{{ name }}_callers as (
+    select * from requests
+    where module in ({{ (x + y) | modules | map('lit') | join(', ') }}){% if control %} and not {{ base.among(control) }}{% endif %}
+
+),
+{{ name }}_caused as (
+    select x.trace_id, x.rqst_id, bool_and({{ base.among(y, 'c.') }}) as caused
+    from {{ name }}_x x
+    join {{ name }}_callers c on c.trace_id = x.trace_id and c.rqst_id <> x.rqst_id
+         and {{ base.before('x.', 'c.') }}
+         and (coalesce({{ base.before('c.', 'x.final_') }}, true) or {{ judge.near('c.t - x.final_t') }})
+         and (c.final_t is null or not {{ base.before('c.final_', 'x.final_') }}
+              or {{ judge.near('x.final_t - c.final_t') }})
+    where x.class = 'Z'{% if until_stopped %} or {{ base.among(until_stopped, 'x.') }}{% endif %}
+
+    group by x.trace_id, x.rqst_id
+),
 -- each x(i) with every other y(j) of its trace, placed relative to x(i)'s activity
 {{ name }}_met as (
-    select x.trace_id, x.rqst_id, x.t, x.final_t, y.t as y_t, y.class as y_class,
+    select x.trace_id, x.rqst_id, x.t, x.final_t, y.rqst_id as y_rqst_id, y.t as y_t, y.class as y_class,
            {{ base.before('x.', 'y.') }} as x_first,
            coalesce({{ base.before('y.', 'x.final_') }}, true) as y_before_end
     from {{ name }}_x x
@@ -18,14 +41,15 @@
 -- y(j) conflicts if sent while x(i) runs; its shift is how far it would have to move to the
 -- other side of x(i)'s request or final reply
 {{ name }}_pairs as (
-    select trace_id, rqst_id,
+    select trace_id, rqst_id, y_rqst_id::varchar as item,
            x_first and y_before_end as conflicts,
            case when x_first and y_before_end then least(y_t - t, final_t - y_t)
                 when x_first then y_t - final_t
                 else t - y_t end as shift,
+           c.caused,
            y_class is not distinct from 'R' as conflict_rejected
-    from {{ name }}_met
+    from {{ name }}_met left join {{ name }}_caused c using (trace_id, rqst_id)
 ),
-{{ base.condition(name, defined="class is distinct from 'R'") }},
-{{ base.judged(name, z_p, ['T']) }}
+{{ judge.condition(name, defined="class is distinct from 'R'", caused='caused') }},
+{{ judge.judged(name, z_p, ['T']) }}
 {%- endmacro %}

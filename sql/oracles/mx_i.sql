@@ -2,7 +2,7 @@
     request interrupts the running activity. Both the x and the y requests are judged,
     under one property id. -#}
 {% import 'oracles/_base.sql' as base %}
-{% import 'oracles/ee.sql' as ee %}
+{% import 'oracles/ee.sql' as ee with context %}
 
 {% macro ctes(name, x, y, z_p) -%}
 {{ base.both_ways(name, ee.ctes, x, y, z_p) }}

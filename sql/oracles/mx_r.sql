@@ -1,7 +1,7 @@
 {#- MX_R[x, y], mutual exclusion by rejection = ES[x, y] and ES[y, x]: the latest request
     is rejected. Both the x and the y requests are judged, under one property id. -#}
 {% import 'oracles/_base.sql' as base %}
-{% import 'oracles/es.sql' as es %}
+{% import 'oracles/es.sql' as es with context %}
 
 {% macro ctes(name, x, y, r_p) -%}
 {{ base.both_ways(name, es.ctes, x, y, r_p) }}

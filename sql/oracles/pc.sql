@@ -2,6 +2,7 @@
     Paper Table I: C true: accepted TN, r_P FP; C false: accepted FN, r_P TP;
     any other rejection op; no final reply omega. -#}
 {% import 'oracles/_base.sql' as base %}
+{% import 'oracles/_judge.sql' as judge with context %}
 
 {% macro ctes(name, x, q, r_p) -%}
 {{ base.relevant(name, 'x', x) }},
@@ -15,7 +16,7 @@
 -- one pair per x(i) and q in Q: q conflicts while none of its ok replies precedes x(i).
 -- Its shift: back to the earliest ok before x(i), or on to the first ok after it (none: never)
 {{ name }}_pairs as (
-    select x.trace_id, x.rqst_id,
+    select x.trace_id, x.rqst_id, any_value(n.module || '.' || n.service) as item,
            not coalesce(bool_or({{ base.before('o.', 'x.') }}), false) as conflicts,
            coalesce(max(x.t - o.t) filter (where {{ base.before('o.', 'x.') }}),
                     min(o.t - x.t), 'infinity') as shift,
@@ -25,6 +26,6 @@
     left join {{ name }}_oks o on o.trace_id = x.trace_id and o.module = n.module and o.service = n.service
     group by x.trace_id, x.rqst_id, n.position
 ),
-{{ base.condition(name) }},
-{{ base.judged(name, r_p, ['T', 'Z']) }}
+{{ judge.condition(name) }},
+{{ judge.judged(name, r_p, ['T', 'Z']) }}
 {%- endmacro %}

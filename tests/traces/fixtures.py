@@ -9,8 +9,8 @@
 
 Events get seq in line order. After `=>` on a request line come the expected verdict rows
 of that request, separated by `;`: property id, verdict, c_holds (true, false, null),
-margin_s (seconds, or - for NULL), and `suspicious` when the row is flagged although its own
-margin is not below epsilon. Every verdict row of the trace must be listed.
+margin_s (seconds, or - for NULL), and `suspicious` when the row must be flagged (at the
+fixtures' epsilon, 10 ms); a row without it must not be. Every verdict row of the trace must be listed.
 Properties come from missions/dala/properties.toml and tests/traces/properties.toml.
 """
 from __future__ import annotations
@@ -37,7 +37,7 @@ class Case:
     trace: Trace
     # (property_id, rqst_id) -> (verdict, c_holds, margin_s)
     expected: dict[tuple[str, int], tuple[str, bool | None, float | None]] = field(default_factory=dict)
-    flagged: set[tuple[str, int]] = field(default_factory=set)  # suspicious whatever their margin
+    flagged: set[tuple[str, int]] = field(default_factory=set)  # the rows marked suspicious
     services: dict[int, str] = field(default_factory=dict)  # rqst_id -> "module.Service"
 
 
@@ -99,7 +99,7 @@ def judged_traces(mission: str, traces: list[tuple[Trace, str | None]], properti
     add_reply_codes(con, INTERFACE)
     for trace_id, (trace, label) in enumerate(traces, 1):
         insert_trace(con, trace_id, 1, None, trace, label=label)
-    materialise(con, properties, epsilon)
+    materialise(con, properties, epsilon, INTERFACE)
     return con
 
 

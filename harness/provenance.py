@@ -1,0 +1,66 @@
+"""What an analysis was made from (the `analyses` and `analysis_files` tables of sql/schema.sql).
+
+Each analysis records the SHA-256 of its properties file, of the interface beside it and of every
+template under sql/; `stale_files` says which of them no longer match the files on disk, so that
+the report can tell when the stored verdicts are out of date. The default properties of `analyze`
+are the ones of the mission the campaign was made from.
+"""
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+from harness import DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR, SQL_DIR
+
+
+def _sha256(path: Path) -> str | None:
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError:
+        return None
+
+
+def sources(properties_file: Path) -> list[tuple[str, str, str]]:
+    """(role, path, sha256) of every file that decides the verdicts."""
+    files = [("properties", properties_file), ("interface", properties_file.parent / "interface.toml")]
+    files += [("template", t) for t in sorted(SQL_DIR.glob("*/*.sql"))]
+    return [(role, str(path.resolve()), _sha256(path)) for role, path in files]
+
+
+def record(con, properties_file: Path | None, epsilon: float, properties: int, seconds: float) -> None:
+    """Add the analysis just made to `analyses` (its files when it was judged from a properties
+    file); the caller owns the transaction."""
+    analysis_id = con.execute("select coalesce(max(analysis_id), 0) + 1 from analyses").fetchone()[0]
+    con.execute("insert into analyses select ?, now()::timestamp, ?, ?, (select count(*) from traces), ?",
+                [analysis_id, epsilon, properties, seconds])
+    if properties_file is not None:
+        con.executemany("insert into analysis_files values (?, ?, ?, ?)",
+                        [[analysis_id, *source] for source in sources(properties_file)])
+
+
+def stale_files(con) -> list[tuple[str, str]]:
+    """(role, path) of the last analysis's files that changed or vanished since it ran."""
+    found = con.execute("""select role, path, sha256 from analysis_files
+                           where analysis_id = (select max(analysis_id) from analyses)""").fetchall()
+    stale = [(role, path) for role, path, sha in found if _sha256(Path(path)) != sha]
+    recorded = {path for _, path, _ in found}
+    if found:  # a template added since the analysis changes what the oracles may do
+        stale += [("template", str(t.resolve())) for t in sorted(SQL_DIR.glob("*/*.sql"))
+                  if str(t.resolve()) not in recorded]
+    return stale
+
+
+def last_epsilon(con) -> float:
+    """The epsilon of the last analysis (DEFAULT_EPSILON_S before the first one)."""
+    found = con.execute("select epsilon from analyses order by analysis_id desc limit 1").fetchone()
+    return found[0] if found else DEFAULT_EPSILON_S
+
+
+def default_properties(con) -> Path:
+    """The properties file of the mission the last campaign was made from (an imported file's
+    campaign has no mission folder: then the Dala mission's)."""
+    for (mission,) in con.execute("select mission from campaigns order by campaign_id desc").fetchall():
+        candidate = Path(mission) / "properties.toml"
+        if candidate.is_file():
+            return candidate
+    return DEFAULT_MISSION_DIR / "properties.toml"

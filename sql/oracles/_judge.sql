@@ -1,0 +1,67 @@
+{#- Judging a property's pairs (see _base.sql): its condition C per request, its verdict by
+    the verdict table, and whether reordering events closer than `epsilon` could change that
+    verdict (`suspicious`, docs/analyzer.md). `epsilon` is read from the context: import this
+    file `with context`. -#}
+
+{% macro near(seconds) -%}
+coalesce(round({{ seconds }}, 6) < {{ epsilon }}, false)
+{%- endmacro %}
+
+{% macro condition(name, defined='true', caused='false') -%}
+-- C per request: false iff some pair conflicts. To flip C, every conflict would have to go
+-- (the largest conflicting shift) or any one non-conflict would have to start (the smallest).
+-- A pair is `near` when its shift is below epsilon, both rounded to microseconds (a 10 ms gap
+-- is never on either side of 10 ms by float rounding); the order of the others is sure.
+-- `caused`: a pair that says C cannot hold (a candidate cause of x(i)'s end, see ee.sql).
+{{ name }}_agg as (
+    select trace_id, rqst_id,
+           bool_or(conflicts) as any_conflict,
+           coalesce(bool_and(conflict_rejected) filter (where conflicts), false) as conflicts_rejected,
+           case when bool_or(conflicts) then max(shift) filter (where conflicts)
+                else min(shift) filter (where not conflicts) end as margin_s,
+           -- the conditions that reordering the near pairs could give: C true, C false with
+           -- every conflict rejected (na), C false with a conflict that was not rejected
+           not coalesce(bool_or(conflicts and not near or {{ caused }}), false) as may_hold,
+           coalesce(bool_and(conflict_rejected) filter (where conflicts and not near), true)
+               and coalesce(bool_or((conflicts or near) and conflict_rejected), false) as may_be_na,
+           coalesce(bool_or((conflicts or near) and not conflict_rejected), false) as may_fail
+    from (select *, {{ near('shift') }} as near from {{ name }}_pairs)
+    group by trace_id, rqst_id
+),
+{{ name }}_cond as (
+    select x.trace_id, x.rqst_id, x.module, x.service, x.reply, x.class,
+           case when {{ defined }} then not coalesce(a.any_conflict, false) end as c_holds,
+           coalesce(a.conflicts_rejected, false) as conflicts_rejected, a.margin_s,
+           coalesce(a.may_hold, true) as may_hold, coalesce(a.may_be_na, false) as may_be_na,
+           coalesce(a.may_fail, false) as may_fail
+    from {{ name }}_x x left join {{ name }}_agg a using (trace_id, rqst_id)
+)
+{%- endmacro %}
+
+{% macro verdict(c_holds, na, code, accepted) -%}
+case when reply is null then 'omega'
+     when {{ c_holds }} is null then 'op'
+     when not {{ c_holds }} and {{ na }} then 'na'
+     when reply = {{ code | lit }} then (case when {{ c_holds }} then 'FP' else 'TP' end)
+     when class in ({{ accepted | map('lit') | join(', ') }}) then (case when {{ c_holds }} then 'TN' else 'FN' end)
+     else 'op' end
+{%- endmacro %}
+
+{% macro judged(name, code, accepted) -%}
+-- the verdict table: `code` is the property's own rejection or interruption code, `accepted`
+-- the reply classes that mean the activity ran; c_holds NULL = C undefined for this request.
+-- Suspicious: a condition that reordering the near pairs could give changes the verdict.
+{{ name }}_verdict as (
+    select *, {{ verdict('c_holds', 'conflicts_rejected', code, accepted) }} as verdict
+    from {{ name }}_cond
+),
+{{ name }}_judged as (
+    select trace_id, rqst_id, module, service, reply, c_holds, verdict,
+           case when c_holds is not null then nullif(margin_s, 'infinity') end as margin_s,
+           c_holds is not null and (
+               may_hold and {{ verdict('true', 'false', code, accepted) }} <> verdict
+               or may_be_na and {{ verdict('false', 'true', code, accepted) }} <> verdict
+               or may_fail and {{ verdict('false', 'false', code, accepted) }} <> verdict) as suspicious
+    from {{ name }}_verdict
+)
+{%- endmacro %}

@@ -1,0 +1,55 @@
+"""`explain TRACE_ID PROPERTY [RQST_ID]`: the events that decided a verdict."""
+import shutil
+
+from harness import DEFAULT_MISSION_DIR
+from harness.analyzer import materialise
+from harness.cli import main
+from harness.store import connect
+from traces.fixtures import HERE, INTERFACE, load, judged_store
+
+EPSILON = 0.01
+
+
+def _store(tmp_path, name: str):
+    """A fixture file's traces judged from a copy of the Dala mission's files."""
+    mission = tmp_path / "mission"
+    shutil.copytree(DEFAULT_MISSION_DIR, mission, dirs_exist_ok=True)
+    fixture = load(HERE / name)
+    db = tmp_path / "store.duckdb"
+    judged_store(fixture, EPSILON, db).close()
+    con = connect(db)
+    materialise(con, fixture.properties, EPSILON, INTERFACE, mission / "properties.toml")
+    con.close()
+    return db, {case.label: n for n, case in enumerate(fixture.cases, 1)}
+
+
+def test_a_pc_verdict_shows_the_ok_replies_that_set_c(tmp_path, capsys):
+    db, ids = _store(tmp_path, "pc.trace")
+    trace = ids["pc_tie_request_first"]
+    assert main(["explain", str(trace), "PEX(rflex)", "--db", str(db)]) == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[:3] == [
+        f"PEX(rflex) on request 2 of trace {trace}: FN",
+        "  x(i) rflex.TrackSpeedStart sent at 1.000000 s; final reply ok (class T) at 2.000000 s",
+        "  C is false; margin 0.000000 s; suspicious (epsilon 0.01 s)"]
+    assert "q rflex.Init  ok at 1.000000" in out and "yes            no" in out
+
+
+def test_an_ee_verdict_shows_the_y_requests_and_that_causality_settles_it(tmp_path, capsys):
+    db, ids = _store(tmp_path, "flag.trace")
+    trace = ids["flag_control_is_no_cause"]
+    assert main(["explain", str(trace), "AIB(ndd.GotoPosition)", "1", "--db", str(db)]) == 0
+    out = capsys.readouterr().out
+    assert f"AIB(ndd.GotoPosition) on request 1 of trace {trace}: TP" in out
+    assert "C is false; margin 0.002000 s; not suspicious" in out
+    assert "y ndd.Stop #3  sent 1.000000, ok (T) at 1.100000" in out
+    assert "one of them came before the end whatever the observed order, so C cannot hold" in out
+
+
+def test_explain_refuses_an_unknown_property_or_request(tmp_path, capsys):
+    db, ids = _store(tmp_path, "pc.trace")
+    assert main(["explain", "1", "PEX(nosuch)", "--db", str(db)]) == 2
+    assert "no property 'PEX(nosuch)'" in capsys.readouterr().err
+    assert main(["explain", "1", "PEX(rflex)", "9", "--db", str(db)]) == 2
+    assert "trace 1 has no verdict of PEX(rflex) on request 9; it has verdicts on requests [2]" in \
+        capsys.readouterr().err
