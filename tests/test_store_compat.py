@@ -91,8 +91,8 @@ def test_a_new_store_records_its_schema_version_once(tmp_path):
     path = tmp_path / "new.duckdb"
     store.connect(path).close()
     con = store.connect(path)
-    assert store.schema_version(con) == store.SCHEMA_VERSION == 1
-    assert con.execute("select version, note from schema_version").fetchall() == [(1, "created")]
+    assert store.schema_version(con) == store.SCHEMA_VERSION == 2
+    assert con.execute("select version, note from schema_version").fetchall() == [(2, "created")]
 
 
 def test_a_store_from_before_schema_versions_is_read_as_is_without_writing_it(schema0_store, tmp_path):
@@ -115,13 +115,13 @@ def test_writing_to_it_migrates_it_for_1x_clients_and_keeps_the_original(schema0
     store.connect(schema0_store).close()
     backup = schema0_store.with_name("old.schema0.duckdb")
     assert capsys.readouterr().err == (
-        f"migrated the store {str(schema0_store)!r} from schema version 0 to 1: rewritten in the storage "
+        f"migrated the store {str(schema0_store)!r} from schema version 0 to 2: rewritten in the storage "
         f"format of DuckDB v1.1.0, which DuckDB clients from v1.1.0 on open; the original is kept as "
         f"{str(backup)!r} (delete it when you no longer need it)\n")
     assert digest(backup) == before
     migrated = contents(schema0_store)
     versions = migrated.pop("schema_version").select(["version", "note"]).to_pylist()
-    assert versions == [{"version": 1, "note": "migrated from schema version 0"}]
+    assert versions == [{"version": 2, "note": "migrated from schema version 0"}]
     added = {name: migrated.pop(name) for name in set(migrated) - set(original)}
     fresh = {r[0] for r in store.connect().execute("select table_name from duckdb_tables()").fetchall()}
     assert set(added) <= fresh and all(t.num_rows == 0 for t in added.values()), "new tables of the schema"
@@ -145,10 +145,23 @@ def test_migration_never_overwrites_a_kept_original(schema0_store):
 def test_a_store_from_a_newer_bench_is_refused_not_misread(tmp_path):
     path = tmp_path / "future.duckdb"
     con = store.connect(path)
-    con.execute("insert into schema_version values (2, now()::timestamp, 'a later layout')")
+    con.execute("insert into schema_version values (3, now()::timestamp, 'a later layout')")
     con.close()
     for read_only in (True, False):
-        with pytest.raises(StoreError, match=r"the store '.*future.duckdb' has schema version 2, written by a "
-                                             r"newer Untimely than this one \(schema version 1\); update the bench"):
+        with pytest.raises(StoreError, match=r"the store '.*future.duckdb' has schema version 3, written by a "
+                                             r"newer Untimely than this one \(schema version 2\); update the bench"):
             store.connect(path, read_only=read_only)
 
+
+
+def test_a_schema_1_store_gains_the_analyses_tables_when_written(tmp_path):
+    path = tmp_path / "v1.duckdb"
+    con = store.connect(path)
+    con.execute("drop table analyses; drop table analysis_files; delete from schema_version")
+    con.execute("insert into schema_version values (1, now()::timestamp, 'created')")
+    con.close()
+    con = store.connect(path)
+    assert con.execute("select version, note from schema_version order by version").fetchall() == [
+        (1, "created"), (2, "migrated from schema version 1")]
+    assert con.execute("select count(*) from analyses").fetchone()[0] == 0
+    assert con.execute("select count(*) from analysis_files").fetchone()[0] == 0

@@ -14,7 +14,10 @@ from harness.report.timeline import Request
 VERDICTS = ("TP", "FN", "FP", "TN", "op", "na", "omega")
 # What `python -m harness analyze` materialises and the report reads.
 ANALYSED = ("verdicts", "requests", "property_verdicts", "family_verdicts", "trace_robustness",
-            "tp_rates", "fp_rates", "inversions", "analysis", "verdict_transitions", "table_changes")
+            "tp_rates", "fp_rates", "inversions", "analysis")
+# What an analysis by a bench with provenance (schema version 2) adds; a store judged before is
+# read as is, without them.
+CHANGES = ("verdict_transitions", "table_changes")
 
 
 def rows(con, sql: str, params=()) -> list[dict]:
@@ -25,7 +28,7 @@ def rows(con, sql: str, params=()) -> list[dict]:
 
 def check_analysed(con, db: str) -> None:
     """Refuse a store whose verdicts were never materialised: the report would be empty."""
-    have = {r["table_name"] for r in rows(con, "select table_name from information_schema.tables")}
+    have = _names(con)
     missing = [name for name in ("traces", *ANALYSED) if name not in have]
     if "traces" in missing:
         raise StoreError(f"{db!r} is not an Untimely store (no traces table); pass the campaign's --db")
@@ -81,9 +84,17 @@ def verdict_mix(con) -> dict[tuple[str, str], int]:
     return {(r["sut"], v): r[v.lower()] for r in found for v in VERDICTS}
 
 
+def _names(con) -> set[str]:
+    return {r[0] for r in con.execute("select table_name from information_schema.tables").fetchall()}
+
+
 def analysis(con) -> dict:
     """When the verdicts were made, from how many properties, with which epsilon and files, and
     which of those files changed on disk since (the verdicts no longer match them)."""
+    columns = [d[0] for d in con.execute("select * from analysis limit 0").description]
+    if "analysis_id" not in columns:  # judged before analyses were recorded: no provenance
+        found = rows(con, "select analysed_at::timestamp as analysed_at, epsilon, properties from analysis")[0]
+        return dict(found, analysis_id=None, seconds=None, files=[], stale=[])
     found = rows(con, "select analysis_id, analysed_at, epsilon, properties, seconds from analysis")[0]
     found["files"] = rows(con, """select role, path, left(sha256, 12) as sha256 from analysis_files
                                   where analysis_id = ? order by role <> 'properties', role <> 'interface', path""",
@@ -92,8 +103,11 @@ def analysis(con) -> dict:
     return found
 
 
-def changes(con) -> tuple[Table, Table]:
-    """What the last analysis changed: verdict transitions and the changed cells of Tables II-IV."""
+def changes(con) -> tuple[Table, ...]:
+    """What the last analysis changed: verdict transitions and the changed cells of Tables II-IV
+    (empty for a store judged before they were kept)."""
+    if not set(CHANGES) <= _names(con):
+        return tuple(Table(name, [], []) for name in CHANGES)
     return (query_table(con, "verdict_transitions", ordered(con, "verdict_transitions")),
             query_table(con, "table_changes", ordered(con, "table_changes") + ", paper_table"))
 
