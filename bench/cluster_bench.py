@@ -11,10 +11,10 @@ import tempfile
 import time
 from pathlib import Path
 
-from harness import DEFAULT_MISSION_DIR, ROOT, store
+from realtime_bench import golden_runs, timed
+
+from harness import ROOT, store
 from harness.cluster import connect
-from harness.suts import resolve
-from harness.workers import Setup, Task
 
 MUTANTS = 100
 TIME_SCALE = 20.0
@@ -36,17 +36,9 @@ def campaign_runs_per_second(*options: str) -> float:
 
 
 def realtime_wall(workers: int) -> float:
-    _, external = resolve("sim-reference", DEFAULT_MISSION_DIR, TIME_SCALE)
-    setup = Setup(None, DEFAULT_MISSION_DIR / "interface.toml", DEFAULT_MISSION_DIR / "world.toml", 0.0, external)
-    body = (DEFAULT_MISSION_DIR / "golden.mission").read_text()
-    tasks = [Task(n, 1, "sim-reference", n, body) for n in range(1, RUNS + 1)]
-    traces = []
+    setup, tasks = golden_runs(RUNS, TIME_SCALE)
     with connect(f"local:{workers}", setup, workers) as cluster:
-        start = time.perf_counter()
-        cluster.run_all(tasks, lambda task, trace: traces.append(trace))
-        wall = time.perf_counter() - start
-    assert all(t.outcome == "completed" for t in traces), [t.error for t in traces]
-    return wall
+        return timed(cluster.run_all, tasks)[0]
 
 
 def main() -> int:

@@ -13,22 +13,33 @@ TIME_SCALE = 10.0
 ROUNDS = 2  # runs per slot
 
 
-def runs_per_second(slots: int, setup: Setup, body: str) -> tuple[float, float]:
-    tasks = [Task(n, 1, "sim-reference", n, body) for n in range(1, slots * ROUNDS + 1)]
+def golden_runs(count: int, time_scale: float) -> tuple[Setup, list[Task]]:
+    """`count` runs of the golden mission through `sim-reference` at `time_scale`."""
+    _, external = resolve("sim-reference", DEFAULT_MISSION_DIR, time_scale)
+    setup = Setup(None, DEFAULT_MISSION_DIR / "interface.toml", DEFAULT_MISSION_DIR / "world.toml", 0.0, external)
+    body = (DEFAULT_MISSION_DIR / "golden.mission").read_text()
+    return setup, [Task(n, 1, "sim-reference", n, body) for n in range(1, count + 1)]
+
+
+def timed(run_tasks, tasks: list[Task]) -> tuple[float, list]:
+    """Wall seconds of `run_tasks(tasks, on_trace)`, and the traces (all must complete)."""
     traces = []
     start = time.perf_counter()
-    run_all(tasks, setup, slots, lambda task, trace: traces.append(trace))
+    run_tasks(tasks, lambda task, trace: traces.append(trace))
     wall = time.perf_counter() - start
     assert all(t.outcome == "completed" for t in traces), [t.error for t in traces]
+    return wall, traces
+
+
+def runs_per_second(slots: int) -> tuple[float, float]:
+    setup, tasks = golden_runs(slots * ROUNDS, TIME_SCALE)
+    wall, traces = timed(lambda tasks, on_trace: run_all(tasks, setup, slots, on_trace), tasks)
     return len(traces) / wall, sum(t.sim_s for t in traces) / wall
 
 
 def main() -> int:
-    _, external = resolve("sim-reference", DEFAULT_MISSION_DIR, TIME_SCALE)
-    setup = Setup(None, DEFAULT_MISSION_DIR / "interface.toml", DEFAULT_MISSION_DIR / "world.toml", 0.0, external)
-    body = (DEFAULT_MISSION_DIR / "golden.mission").read_text()
-    one, one_sim = runs_per_second(1, setup, body)
-    eight, eight_sim = runs_per_second(8, setup, body)
+    one, one_sim = runs_per_second(1)
+    eight, eight_sim = runs_per_second(8)
     print(f"golden mission at {TIME_SCALE:g}x real time through untimely/1, {ROUNDS} runs per slot "
           "(each run starts its own adapter process)")
     print(f"1 slot           {one:.3f} runs/s, {one_sim:.1f} mission s per wall s")
