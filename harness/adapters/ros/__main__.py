@@ -1,0 +1,119 @@
+"""One run of a ROS 1 SUT on stdio: a rosmaster of its own, the SUT's node, and the adapter.
+
+    python -m harness.adapters.ros --mapping missions/dala/ros.toml -- NODE COMMAND ...
+
+Order: the master starts on a free loopback port; the bench's hello gives the time scale, passed
+to the node as $UNTIMELY_TIME_SCALE (with $ROS_MASTER_URI); once every mapped action server
+answers, the hello is answered and requests flow. On `bye`, end of input or SIGTERM, the node and
+the master are stopped and the ROS log folder removed. A failure before that is an `error` line.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import signal
+import sys
+import tempfile
+import threading
+
+from harness.adapters.ros.mapping import load_mapping
+from harness.adapters.ros.processes import Child, free_port, ros_environment, start_master
+from harness.errors import UntimelyError
+
+PROTOCOL = "untimely/1"
+
+
+class LineWriter:
+    """One JSON object per line on stdout, whole lines only, whichever thread writes."""
+
+    def __init__(self, stream):
+        self.stream, self.lock = stream, threading.Lock()
+
+    def write(self, message: dict) -> None:
+        line = json.dumps(message, separators=(",", ":")) + "\n"
+        with self.lock:
+            self.stream.write(line)
+            self.stream.flush()
+
+
+def read_message(stream) -> dict | None:
+    """The next line as a JSON object; None at end of input."""
+    line = stream.readline()
+    if not line:
+        return None
+    try:
+        message = json.loads(line)
+    except ValueError:
+        message = None
+    if not isinstance(message, dict):
+        raise UntimelyError(f"the bench sent {line.strip()[:200]!r}, which is not a JSON object")
+    return message
+
+
+def serve(adapter, stream) -> None:
+    """Requests and pings until `bye` or end of input; unknown ops are skipped (room to grow)."""
+    handlers = {"request": adapter.request, "ping": adapter.ping}
+    while (message := read_message(stream)) is not None and message.get("op") != "bye":
+        handler = handlers.get(message.get("op"))
+        if handler:
+            handler(message)
+        else:
+            print(f"ros adapter: ignoring op {message.get('op')!r}", file=sys.stderr, flush=True)
+
+
+def run(args, out: LineWriter) -> None:
+    mapping = load_mapping(args.mapping)
+    children: list[Child] = []
+    home = tempfile.mkdtemp(prefix="untimely-ros-")
+    port = free_port()
+    env = ros_environment(port, home)
+    ros_up = False
+    try:
+        children.append(start_master(port, env, args.startup_timeout))
+        hello = read_message(sys.stdin)
+        if hello is None:
+            return
+        if hello.get("op") != "hello" or hello.get("proto") != PROTOCOL:
+            raise UntimelyError(f"the bench's first line must be a hello of {PROTOCOL}, got {json.dumps(hello)[:200]}")
+        time_scale = float(hello.get("time_scale", 1.0))
+        node = Child("node", args.node, {**env, "UNTIMELY_TIME_SCALE": repr(time_scale)})
+        children.append(node)
+        os.environ.update(env)
+        import rospy  # only now: rospy reads the master's address from the environment
+
+        from harness.adapters.ros.adapter import Adapter
+        rospy.init_node("untimely_adapter", disable_signals=True, disable_rosout=True)
+        ros_up = True
+        adapter = Adapter(mapping, hello.get("interface") or {}, time_scale, out.write)
+        adapter.wait_for_servers(args.startup_timeout, node.failure)
+        adapter.hello(PROTOCOL, f"ROS 1 actionlib adapter (master :{port}; node: {' '.join(args.node)})")
+        serve(adapter, sys.stdin)
+    finally:
+        if ros_up:
+            rospy.signal_shutdown("bye")
+        for child in reversed(children):
+            child.stop()
+        shutil.rmtree(home, ignore_errors=True)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m harness.adapters.ros", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--mapping", required=True, help="the ros.toml beside the interface")
+    parser.add_argument("--startup-timeout", type=float, default=60.0,
+                        help="seconds for the master and every action server to come up (default 60)")
+    parser.add_argument("node", nargs="+", help="the SUT node's command, after --")
+    args = parser.parse_args(argv)
+    out = LineWriter(sys.stdout)
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # tear down as on bye
+    try:
+        run(args, out)
+    except UntimelyError as e:
+        out.write({"op": "error", "message": str(e)})
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

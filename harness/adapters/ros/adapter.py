@@ -1,0 +1,163 @@
+"""The generic ROS 1 adapter: `untimely/1` requests become actionlib goals, goal statuses become replies.
+
+Nothing here knows Dala: the services come from the bench's hello, the action names and the
+status codes from the mapping file. Rules (docs/ros.md):
+
+- a request is a goal `untimely_msgs/Request` (service name, JSON arguments) to its mapped action;
+- the first feedback before the result is the intermediate reply; ACTIVE alone is none (a short
+  goal's result may come without ACTIVE ever being seen), and feedback after the result is dropped;
+- the result gives the final reply: SUCCEEDED -> `ok`; any other terminal status -> the result's
+  code, or else its status text, when the catalogue knows it, else the mapping's code for that status;
+- LOST (the client's verdict when a server's status list forgets a goal) is no reply: the adapter
+  never invents a final;
+- a ping is answered once every action server's status heartbeat is fresh; a dead or deadlocked
+  server leaves its goals ACTIVE forever and its pings unanswered, so the bench records `hung`.
+"""
+from __future__ import annotations
+
+import json
+import sys
+import threading
+import time
+from typing import Callable
+
+import actionlib
+import rospy
+from actionlib_msgs.msg import GoalStatus, GoalStatusArray
+from std_msgs.msg import String
+
+from harness.adapters.ros.mapping import Mapping
+from harness.adapters.ros.messages import RequestAction, RequestGoal
+from harness.errors import UntimelyError
+
+STATUS_NAMES = {getattr(GoalStatus, name): name for name in
+                ("PENDING", "ACTIVE", "PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED",
+                 "PREEMPTING", "RECALLING", "RECALLED", "LOST")}
+
+
+def interface_services(interface: dict) -> list[tuple[str, str]]:
+    """(module, service) pairs of the hello's interface: {"modules": {module: {service: kind}}, ...}."""
+    modules = interface.get("modules")
+    if not isinstance(modules, dict) or not modules:
+        raise UntimelyError(f"the bench's hello has no interface modules: {json.dumps(interface)[:200]}")
+    return [(module, service) for module, services in modules.items() for service in services]
+
+
+class Adapter:
+    def __init__(self, mapping: Mapping, interface: dict, time_scale: float, write: Callable[[dict], None]):
+        self.mapping, self.write, self.time_scale = mapping, write, time_scale
+        self.replies: dict[str, str] = dict(interface.get("replies") or {})
+        services = interface_services(interface)
+        unmapped = mapping.unmapped([f"{m}.{s}" for m, s in services])
+        if unmapped:
+            raise UntimelyError(f"{mapping.path}: no action for {', '.join(unmapped)}; add them under [services] "
+                                "or make `action` a template with {module}")
+        self.actions = {f"{m}.{s}": mapping.action_of(m, s) for m, s in services}
+        self.lock = threading.Lock()  # guards the state below and keeps each reply's lines in order
+        self.clients = {name: actionlib.ActionClient(name, RequestAction) for name in set(self.actions.values())}
+        self.heartbeats: dict[str, float] = {}  # action -> monotonic time of its last status
+        self.pending_pings: list = []
+        self.goals: dict[int, actionlib.ClientGoalHandle] = {}  # kept: actionlib holds only weak references
+        self.goal_ids: dict[str, int] = {}  # ROS goal id -> request id
+        self.replied: dict[int, str] = {}  # request id -> "intermediate" or "final"
+        self.hello_epoch = time.time()  # reset when the hello is answered: the SUT's clock starts there
+        for name in self.clients:
+            rospy.Subscriber(f"{name}/status", GoalStatusArray, self._heartbeat, callback_args=name)
+        if mapping.world_topic:
+            rospy.Subscriber(mapping.world_topic, String, self._world)
+        if mapping.internal_topic:
+            rospy.Subscriber(mapping.internal_topic, String, self._internal)
+
+    def hello(self, proto: str, sut: str) -> None:
+        """Answer the bench's hello; `internal` and `world` times count from here."""
+        caps = [cap for cap, topic in (("internal", self.mapping.internal_topic),
+                                       ("world", self.mapping.world_topic)) if topic]
+        with self.lock:
+            self.hello_epoch = time.time()
+            self.write({"op": "hello", "proto": proto, "sut": sut, "caps": caps})
+
+    def wait_for_servers(self, timeout_s: float, alive: Callable[[], str | None]) -> None:
+        """Block until every action server is connected; `alive()` names a reason to give up."""
+        deadline = time.monotonic() + timeout_s
+        for name, client in self.clients.items():
+            while not client.wait_for_server(rospy.Duration(0.1)):
+                problem = alive()
+                if problem or time.monotonic() > deadline:
+                    raise UntimelyError(problem or f"the action server {name} did not come up within {timeout_s:g} s")
+
+    # -- bench -> ROS --------------------------------------------------------------------------
+    def request(self, message: dict) -> None:
+        rqst_id, module, service = message["id"], message["module"], message["service"]
+        action = self.actions.get(f"{module}.{service}")
+        if action is None:
+            raise UntimelyError(f"request {rqst_id} names {module}.{service}, which the hello's interface does not declare")
+        args = {name: str(value) for name, value in (message.get("args") or {}).items()}
+        goal = RequestGoal(service=service, args_json=json.dumps(args))
+        with self.lock:
+            handle = self.clients[action].send_goal(goal, transition_cb=lambda gh: self._transition(rqst_id, gh),
+                                                    feedback_cb=lambda gh, fb: self._feedback(rqst_id))
+            self.goals[rqst_id] = handle
+            self.goal_ids[handle.comm_state_machine.action_goal.goal_id.id] = rqst_id
+
+    def ping(self, message: dict) -> None:
+        with self.lock:
+            self.pending_pings.append(message["id"])
+            self._answer_pings()
+
+    # -- ROS -> bench (ROS threads) ------------------------------------------------------------
+    def _feedback(self, rqst_id: int) -> None:
+        with self.lock:
+            if rqst_id not in self.replied:
+                self.replied[rqst_id] = "intermediate"
+                self.write({"op": "reply", "id": rqst_id, "kind": "intermediate", "code": None})
+
+    def _transition(self, rqst_id: int, handle) -> None:
+        if handle.get_comm_state() != actionlib.CommState.DONE:
+            return
+        status = STATUS_NAMES.get(handle.get_goal_status())
+        if status not in self.mapping.status_codes:  # LOST, or DONE in a state no terminal status names
+            print(f"ros adapter: request {rqst_id} ended {status} without a result: no final reply",
+                  file=sys.stderr, flush=True)
+            return
+        code = self._code(status, handle)
+        with self.lock:
+            if self.replied.get(rqst_id) != "final":
+                self.replied[rqst_id] = "final"
+                self.write({"op": "reply", "id": rqst_id, "kind": "final", "code": code})
+
+    def _code(self, status: str, handle) -> str:
+        if status == "SUCCEEDED":
+            return self.mapping.status_codes[status]
+        for text in (getattr(handle.get_result(), "code", None), handle.get_goal_status_text()):
+            if text in self.replies:
+                return text
+        return self.mapping.status_codes[status]
+
+    def _heartbeat(self, _statuses, action: str) -> None:
+        with self.lock:
+            self.heartbeats[action] = time.monotonic()
+            self._answer_pings()
+
+    def _answer_pings(self) -> None:
+        now = time.monotonic()
+        fresh = all(now - self.heartbeats.get(name, -1e9) <= self.mapping.heartbeat_stale_s for name in self.clients)
+        if fresh:
+            for ping_id in self.pending_pings:
+                self.write({"op": "pong", "id": ping_id})
+            self.pending_pings.clear()
+
+    def _t(self, stamp: float) -> float:
+        """Seconds on the SUT's clock since hello, in mission seconds."""
+        return round((stamp - self.hello_epoch) * self.time_scale, 6)
+
+    def _internal(self, message: String) -> None:
+        data = json.loads(message.data)
+        with self.lock:
+            rqst_id = self.goal_ids.get(data["goal_id"])
+            if rqst_id is not None:
+                self.write({"op": "internal", "id": rqst_id, "kind": data["kind"], "t": self._t(data["stamp"])})
+
+    def _world(self, message: String) -> None:
+        data = json.loads(message.data)
+        with self.lock:
+            self.write({"op": "world", "t": self._t(data["stamp"]), "kind": data["kind"], "detail": data["detail"]})

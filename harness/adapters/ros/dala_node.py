@@ -1,0 +1,169 @@
+"""The simulated Dala layer as a ROS node: one actionlib server per module on a real rosmaster.
+
+The layer's logic runs on a LayerHost (harness/sut/host.py) in wall-clock or scaled time; this
+node is only its ROS face. A goal is a request; the layer's replies drive the goal's status:
+
+- intermediate (the activity started) -> ACTIVE, plus one feedback `running` (the adapter's
+  intermediate reply);
+- final: a rejection (class R) of a goal still PENDING -> REJECTED; `ok` -> SUCCEEDED;
+  an interruption (class Z) -> PREEMPTED; any other ending -> ABORTED. The result's `code` and
+  the status text carry the reply code. A final to a PENDING goal that was not rejected goes
+  through ACTIVE first, as actionlib requires (the adapter may see ACTIVE or not).
+
+Status heartbeats are this node's own, not actionlib's timer: each period the node pings the
+layer and publishes every server's status only when the layer answers, which it never does while
+a module is deadlocked. So a deadlock (or a dead node) silences the heartbeat, and the adapter's
+pings go unanswered: the trace hangs, as in-process.
+
+    python -m harness.adapters.ros.dala_node --variant reference [--time-scale 10] [--mission DIR]
+"""
+from __future__ import annotations
+
+import argparse
+import itertools
+import json
+import os
+import sys
+import threading
+import time
+from pathlib import Path
+
+import actionlib
+import rospy
+from actionlib_msgs.msg import GoalStatus
+from std_msgs.msg import String
+
+from harness import DEFAULT_MISSION_DIR
+from harness.adapters.ros.mapping import load_mapping
+from harness.adapters.ros.messages import RequestAction, RequestFeedback, RequestResult
+from harness.errors import UntimelyError
+from harness.interface import load_interface
+from harness.sut.host import LayerHost
+
+HEARTBEAT_HZ = 5.0  # actionlib's default status rate
+
+
+class DalaNode:
+    def __init__(self, variant: str, mission: Path, time_scale: float):
+        self.interface = load_interface(mission / "interface.toml")
+        self.mapping = load_mapping(mission / "ros.toml")
+        self.time_scale = time_scale
+        self.world_pub = rospy.Publisher(self.mapping.world_topic, String, queue_size=100) \
+            if self.mapping.world_topic else None
+        self.internal_pub = rospy.Publisher(self.mapping.internal_topic, String, queue_size=1000) \
+            if self.mapping.internal_topic else None
+        self.host = LayerHost(variant, self.interface, mission / "world.toml", time_scale,
+                              on_world=self._world, on_error=self._failed)
+        self.origin = time.time()  # wall-clock epoch of the host's t = 0 (to within the constructor)
+        self.ids = itertools.count(1)
+        self.goals: dict[int, actionlib.ServerGoalHandle] = {}
+        # action name -> {goal's service name -> "module.Service"}
+        self.routes: dict[str, dict[str, str]] = {}
+        for service in self.interface.services.values():
+            action = self.mapping.action_of(service.module, service.name)
+            self.routes.setdefault(action, {})[service.name] = service.qualified
+        # Heartbeats are ours (see the module doc): actionlib's own status timer stays off.
+        rospy.set_param("actionlib_status_frequency", 0.0)
+        self.servers = {action: actionlib.ActionServer(action, RequestAction, self._goal_for(action),
+                                                       auto_start=False) for action in self.routes}
+
+    def start(self) -> None:
+        self.host.start()
+        for server in self.servers.values():
+            server.start()
+        threading.Thread(target=self._heartbeat, name="heartbeat", daemon=True).start()
+
+    def _stamp(self, t: float) -> float:
+        """The wall-clock epoch of host time t (mission seconds)."""
+        return self.origin + t / self.time_scale
+
+    # -- goals -> layer requests (ROS threads) -------------------------------------------------
+    def _goal_for(self, action: str):
+        def receive(handle) -> None:
+            goal = handle.get_goal()
+            qualified = self.routes[action].get(goal.service)
+            try:
+                args = json.loads(goal.args_json or "{}")
+            except ValueError:
+                args = None
+            if qualified is None or not isinstance(args, dict) or not all(isinstance(v, str) for v in args.values()):
+                problem = f"{action} serves {sorted(self.routes[action])}; goal {goal.service!r} {goal.args_json!r}"
+                handle.set_rejected(RequestResult(code=problem), problem)
+                return
+            rqst_id = next(self.ids)
+            self.goals[rqst_id] = handle
+            self.host.request(rqst_id, qualified, args, self._reply)
+        return receive
+
+    # -- layer replies -> goal statuses (the host's thread) ------------------------------------
+    def _reply(self, rqst_id: int, kind: str, code: str | None, t: float) -> None:
+        handle = self.goals[rqst_id]
+        if self.internal_pub:
+            self.internal_pub.publish(json.dumps({"goal_id": handle.get_goal_id().id, "kind": kind,
+                                                  "stamp": self._stamp(t)}))
+        if kind == "intermediate":
+            handle.set_accepted()
+            handle.publish_feedback(RequestFeedback(phase="running"))
+        elif kind == "final":
+            del self.goals[rqst_id]
+            self._end(handle, code)
+
+    def _end(self, handle, code: str) -> None:
+        result, cls = RequestResult(code=code), self.interface.replies.get(code)
+        pending = handle.get_goal_status().status == GoalStatus.PENDING
+        if cls == "R" and pending:
+            handle.set_rejected(result, code)
+            return
+        if pending:
+            handle.set_accepted()
+        if code == "ok":
+            handle.set_succeeded(result, code)
+        elif cls == "Z":
+            handle.set_canceled(result, code)
+        else:
+            handle.set_aborted(result, code)
+
+    def _world(self, t: float, kind: str, detail: str) -> None:
+        if self.world_pub:
+            self.world_pub.publish(json.dumps({"stamp": self._stamp(t), "kind": kind, "detail": json.loads(detail)}))
+
+    def _failed(self, message: str) -> None:
+        print(f"dala_node: the simulated layer failed: {message}", file=sys.stderr, flush=True)
+        rospy.signal_shutdown(message)
+
+    # -- liveness ------------------------------------------------------------------------------
+    def _heartbeat(self) -> None:
+        while not rospy.is_shutdown():
+            self.host.ping(self._publish_status)
+            time.sleep(1.0 / HEARTBEAT_HZ)
+
+    def _publish_status(self) -> None:
+        for server in self.servers.values():
+            server.publish_status()
+
+    def stop(self) -> None:
+        self.host.stop()
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="dala_node", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--variant", required=True, help="genom, bip-a, bip-b, bare or reference")
+    parser.add_argument("--time-scale", type=float, default=float(os.environ.get("UNTIMELY_TIME_SCALE", "1")),
+                        help="mission seconds per wall second (default: $UNTIMELY_TIME_SCALE, else 1)")
+    parser.add_argument("--mission", type=Path, default=DEFAULT_MISSION_DIR,
+                        help="folder of interface.toml, world.toml and ros.toml")
+    args = parser.parse_args(argv)
+    rospy.init_node("dala", disable_rosout=True)
+    try:
+        node = DalaNode(args.variant, args.mission, args.time_scale)
+    except (UntimelyError, ValueError) as e:
+        print(f"dala_node: {e}", file=sys.stderr, flush=True)
+        return 2
+    node.start()
+    rospy.spin()
+    node.stop()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

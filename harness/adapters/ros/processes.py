@@ -1,0 +1,94 @@
+"""The child processes of one run: a rosmaster on a free loopback port, and the SUT's node.
+
+Children die with the launcher even when it is killed outright (PR_SET_PDEATHSIG), and a
+normal teardown ends them with SIGTERM, then SIGKILL after a grace period: no orphans.
+"""
+from __future__ import annotations
+
+import collections
+import ctypes
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+import xmlrpc.client
+
+from harness.errors import UntimelyError
+
+PR_SET_PDEATHSIG = 1
+_libc = ctypes.CDLL(None, use_errno=True)  # loaded before any fork: the child only calls into it
+
+
+def _die_with_parent() -> None:
+    _libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+
+
+class ChildError(UntimelyError):
+    """A child process could not start or died during start-up (the launcher reports it as `error`)."""
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def ros_environment(master_port: int, home: str) -> dict[str, str]:
+    """The environment of every ROS process of a run: its own master, loopback only, logs in `home`."""
+    return {**os.environ, "ROS_MASTER_URI": f"http://127.0.0.1:{master_port}", "ROS_HOSTNAME": "127.0.0.1",
+            "ROS_HOME": home, "ROS_LOG_DIR": os.path.join(home, "log")}
+
+
+class Child:
+    """A process whose stderr is forwarded to ours, keeping its last lines for error messages."""
+
+    def __init__(self, name: str, argv: list[str], env: dict[str, str]):
+        self.name, self.argv = name, argv
+        try:
+            self.process = subprocess.Popen(argv, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                            stderr=subprocess.PIPE, text=True, errors="replace",
+                                            preexec_fn=_die_with_parent)
+        except OSError as e:
+            raise ChildError(f"cannot start the {name} ({' '.join(argv)!r}): {e}; check the command") from None
+        self.last_lines: collections.deque[str] = collections.deque(maxlen=20)
+        threading.Thread(target=self._forward, name=f"{name} stderr", daemon=True).start()
+
+    def _forward(self) -> None:
+        for line in self.process.stderr:
+            self.last_lines.append(line.rstrip("\n"))
+            print(f"[{self.name}] {line}", end="", file=sys.stderr, flush=True)
+
+    def failure(self) -> str | None:
+        """Why the child is no longer running, with its last stderr lines; None while it runs."""
+        status = self.process.poll()
+        if status is None:
+            return None
+        return f"the {self.name} exited with status {status}; its last lines: " + " | ".join(self.last_lines)
+
+    def stop(self, grace_s: float = 5.0) -> None:
+        if self.process.poll() is None:
+            self.process.terminate()
+            try:
+                self.process.wait(grace_s)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+
+
+def start_master(port: int, env: dict[str, str], timeout_s: float) -> Child:
+    master = Child("rosmaster", ["rosmaster", "--core", "-p", str(port)], env)
+    proxy = xmlrpc.client.ServerProxy(env["ROS_MASTER_URI"])
+    deadline = time.monotonic() + timeout_s
+    while True:
+        try:
+            proxy.getPid("/untimely")
+            return master
+        except OSError:
+            if master.failure() or time.monotonic() > deadline:
+                master.stop()
+                raise ChildError(master.failure() or f"the rosmaster on port {port} did not answer within "
+                                 f"{timeout_s:g} s; the machine may be overloaded") from None
+            time.sleep(0.05)
