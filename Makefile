@@ -3,6 +3,10 @@ PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
+# The ROS side runs under the system Python that Debian's ROS 1 packages import under.
+ROS_PYTHON ?= /usr/bin/python3
+VENV_ROS   := .venv-ros
+ROS_STAMP  := $(VENV_ROS)/.installed
 
 DB      ?= reports/campaign.duckdb
 OUT     ?= reports
@@ -11,7 +15,7 @@ SUTS    ?= genom,bip-a,bip-b
 SEED    ?= 2012
 JOBS    ?= 0
 
-.PHONY: venv test bench campaign analyze report clean
+.PHONY: venv ros test bench campaign analyze report clean
 
 venv: $(STAMP)
 
@@ -21,7 +25,18 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install --quiet -e '.[dev]'
 	touch $(STAMP)
 
-test: $(STAMP)
+# .venv-ros only where ROS is installed; elsewhere the ROS tests skip, saying why.
+ros:
+	@if $(ROS_PYTHON) -c 'import rospy, actionlib, genpy, rosmaster' 2>/dev/null; then \
+		$(MAKE) --no-print-directory $(ROS_STAMP); \
+	else echo "make ros: $(ROS_PYTHON) cannot import rospy/actionlib; ROS tests will skip (.ci/run installs them)"; fi
+
+$(ROS_STAMP): pyproject.toml
+	$(ROS_PYTHON) -m venv --system-site-packages $(VENV_ROS)
+	$(VENV_ROS)/bin/python -m pip install --quiet -e .
+	touch $(ROS_STAMP)
+
+test: $(STAMP) ros
 	$(PY) -m pytest
 
 bench: $(STAMP)
@@ -37,4 +52,4 @@ report: $(STAMP)
 	$(PY) -m harness report --db $(DB) --out $(OUT)
 
 clean:
-	rm -rf $(VENV) reports/*.duckdb reports/*.html reports/*.csv reports/traces
+	rm -rf $(VENV) $(VENV_ROS) reports/*.duckdb reports/*.html reports/*.csv reports/traces

@@ -6,10 +6,8 @@ status codes from the mapping file. Rules (docs/ros.md):
 - a request is a goal `untimely_msgs/Request` (service name, JSON arguments) to its mapped action;
 - the first feedback before the result is the intermediate reply; ACTIVE alone is none (a short
   goal's result may come without ACTIVE ever being seen), and feedback after the result is dropped;
-- the result gives the final reply: SUCCEEDED -> `ok`; any other terminal status -> the result's
-  code, or else its status text, when the catalogue knows it, else the mapping's code for that status;
-- LOST (the client's verdict when a server's status list forgets a goal) is no reply: the adapter
-  never invents a final;
+- the result gives the final reply (Mapping.final_code); LOST, the client's verdict when a
+  server's status list forgets a goal, gives none: the adapter never invents a final;
 - a ping is answered once every action server's status heartbeat is fresh; a dead or deadlocked
   server leaves its goals ACTIVE forever and its pings unanswered, so the bench records `hung`.
 """
@@ -63,10 +61,8 @@ class Adapter:
         self.hello_epoch = time.time()  # reset when the hello is answered: the SUT's clock starts there
         for name in self.clients:
             rospy.Subscriber(f"{name}/status", GoalStatusArray, self._heartbeat, callback_args=name)
-        if mapping.world_topic:
-            rospy.Subscriber(mapping.world_topic, String, self._world)
-        if mapping.internal_topic:
-            rospy.Subscriber(mapping.internal_topic, String, self._internal)
+        self.topics = [rospy.Subscriber(topic, String, handler) for topic, handler in
+                       ((mapping.world_topic, self._world), (mapping.internal_topic, self._internal)) if topic]
 
     def hello(self, proto: str, sut: str) -> None:
         """Answer the bench's hello; `internal` and `world` times count from here."""
@@ -77,13 +73,16 @@ class Adapter:
             self.write({"op": "hello", "proto": proto, "sut": sut, "caps": caps})
 
     def wait_for_servers(self, timeout_s: float, alive: Callable[[], str | None]) -> None:
-        """Block until every action server is connected; `alive()` names a reason to give up."""
+        """Block until every action server and topic is connected (a message published before its
+        subscriber connects is lost); `alive()` names a reason to give up."""
         deadline = time.monotonic() + timeout_s
-        for name, client in self.clients.items():
-            while not client.wait_for_server(rospy.Duration(0.1)):
+        waits = [(name, lambda c=client: c.wait_for_server(rospy.Duration(0.1))) for name, client in self.clients.items()]
+        waits += [(topic.name, lambda t=topic: t.get_num_connections() > 0 or time.sleep(0.1)) for topic in self.topics]
+        for name, connected in waits:
+            while not connected():
                 problem = alive()
                 if problem or time.monotonic() > deadline:
-                    raise UntimelyError(problem or f"the action server {name} did not come up within {timeout_s:g} s")
+                    raise UntimelyError(problem or f"{name} did not come up within {timeout_s:g} s")
 
     # -- bench -> ROS --------------------------------------------------------------------------
     def request(self, message: dict) -> None:
@@ -115,23 +114,16 @@ class Adapter:
         if handle.get_comm_state() != actionlib.CommState.DONE:
             return
         status = STATUS_NAMES.get(handle.get_goal_status())
-        if status not in self.mapping.status_codes:  # LOST, or DONE in a state no terminal status names
+        code = self.mapping.final_code(status, (getattr(handle.get_result(), "code", None),
+                                                handle.get_goal_status_text()), self.replies)
+        if code is None:
             print(f"ros adapter: request {rqst_id} ended {status} without a result: no final reply",
                   file=sys.stderr, flush=True)
             return
-        code = self._code(status, handle)
         with self.lock:
             if self.replied.get(rqst_id) != "final":
                 self.replied[rqst_id] = "final"
                 self.write({"op": "reply", "id": rqst_id, "kind": "final", "code": code})
-
-    def _code(self, status: str, handle) -> str:
-        if status == "SUCCEEDED":
-            return self.mapping.status_codes[status]
-        for text in (getattr(handle.get_result(), "code", None), handle.get_goal_status_text()):
-            if text in self.replies:
-                return text
-        return self.mapping.status_codes[status]
 
     def _heartbeat(self, _statuses, action: str) -> None:
         with self.lock:

@@ -29,6 +29,18 @@ class Mapping:
     def action_of(self, module: str, service: str) -> str:
         return self.overrides.get(f"{module}.{service}") or self.action.format(module=module, service=service)
 
+    def final_code(self, status: str, texts: tuple[str | None, ...], catalogue: dict[str, str]) -> str | None:
+        """The final reply of a goal that ended in `status` (a GoalStatus name) with the result's and the
+        status's `texts`; None when the status is no ending the server declared (LOST), as no reply may
+        be invented."""
+        if status not in self.status_codes:
+            return None
+        if status != "SUCCEEDED":
+            for text in texts:
+                if text in catalogue:
+                    return text
+        return self.status_codes[status]
+
     def unmapped(self, services: list[str]) -> list[str]:
         """The services (of an interface) this mapping names no action for; empty for a template."""
         return [] if "{module}" in self.action else [s for s in services if s not in self.overrides]

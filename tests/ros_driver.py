@@ -1,0 +1,179 @@
+"""Drives the ROS launcher over stdio with `untimely/1` lines, as the bench would, for the ROS tests.
+
+The launcher runs in .venv-ros (Debian's ROS 1 under /usr/bin/python3); `make ros` builds it.
+Where /usr/bin/python3 cannot import rospy the tests skip, saying so (.ci/run installs ROS).
+"""
+from __future__ import annotations
+
+import functools
+import json
+import queue
+import subprocess
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from harness import DEFAULT_MISSION_DIR, ROOT
+from harness.interface import load_interface
+
+ROS_PYTHON = "/usr/bin/python3"
+VENV_PYTHON = ROOT / ".venv-ros" / "bin" / "python"
+MAPPING = DEFAULT_MISSION_DIR / "ros.toml"
+
+
+@functools.cache
+def ros_missing() -> str | None:
+    """Why the ROS tests cannot run here, or None."""
+    probe = subprocess.run([ROS_PYTHON, "-c", "import rospy, actionlib, genpy, rosmaster"], capture_output=True)
+    if probe.returncode:
+        return f"{ROS_PYTHON} cannot import Debian's ROS 1 packages (apt-get install python3-rospy python3-actionlib)"
+    return None
+
+
+requires_ros = pytest.mark.skipif(ros_missing() is not None, reason=ros_missing() or "")
+
+
+def ensure_ros_venv() -> Path:
+    """.venv-ros, built by `make ros` if a test run starts without it."""
+    if not VENV_PYTHON.exists():
+        subprocess.run(["make", "--no-print-directory", "ros"], cwd=ROOT, check=True, capture_output=True)
+    return VENV_PYTHON
+
+
+def launcher_command(variant: str) -> list[str]:
+    python = str(ensure_ros_venv())
+    return [python, "-m", "harness.adapters.ros", "--mapping", str(MAPPING), "--",
+            python, "-m", "harness.adapters.ros.dala_node", "--variant", variant]
+
+
+def hello(time_scale: float) -> dict:
+    interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
+    modules: dict[str, dict[str, str]] = {}
+    for service in interface.services.values():
+        modules.setdefault(service.module, {})[service.name] = service.kind
+    return {"op": "hello", "proto": "untimely/1", "run": 1, "seed": 1, "time_scale": time_scale,
+            "interface": {"modules": modules, "replies": interface.replies}}
+
+
+def descendants(pid: int) -> set[int]:
+    """Every living process below `pid` (zombies are dead)."""
+    children: dict[int, list[int]] = {}
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if fields[0] != "Z":
+                children.setdefault(int(fields[1]), []).append(int(entry.name))
+    found, todo = set(), [pid]
+    while todo:
+        for child in children.get(todo.pop(), []):
+            found.add(child)
+            todo.append(child)
+    return found
+
+
+def alive(pids: set[int]) -> set[int]:
+    living = set()
+    for pid in pids:
+        try:
+            state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        except OSError:
+            continue
+        if state != "Z":
+            living.add(pid)
+    return living
+
+
+class Launcher:
+    """One launcher process; `lines` collects what it writes, each with its monotonic arrival time."""
+
+    def __init__(self, variant: str = "reference"):
+        self.process = subprocess.Popen(launcher_command(variant), cwd=ROOT, stdin=subprocess.PIPE,
+                                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self.started = time.monotonic()
+        self.lines: list[tuple[float, dict]] = []
+        self._inbox: queue.Queue = queue.Queue()
+        self.stderr: list[str] = []
+        threading.Thread(target=self._read, daemon=True).start()
+        threading.Thread(target=lambda: self.stderr.extend(self.process.stderr), daemon=True).start()
+
+    def _read(self) -> None:
+        for line in self.process.stdout:
+            self._inbox.put((time.monotonic(), json.loads(line)))
+        self._inbox.put(None)
+
+    def send(self, message: dict) -> float:
+        self.process.stdin.write(json.dumps(message) + "\n")
+        self.process.stdin.flush()
+        return time.monotonic()
+
+    def expect(self, predicate, timeout: float = 60.0) -> dict:
+        """The first new line matching `predicate`, waiting at most `timeout` seconds."""
+        found = self.wait(predicate, timeout)
+        if found is None:
+            raise AssertionError(f"no matching line within {timeout} s; got {[m for _, m in self.lines]}\n"
+                                 f"stderr: {''.join(self.stderr[-20:])}")
+        return found
+
+    def wait(self, predicate, timeout: float) -> dict | None:
+        """Like expect, but None when nothing matches in time (or the output ends)."""
+        for _, message in self.lines:
+            if predicate(message):
+                return message
+        deadline = time.monotonic() + timeout
+        while (left := deadline - time.monotonic()) > 0:
+            try:
+                item = self._inbox.get(timeout=left)
+            except queue.Empty:
+                return None
+            if item is None:
+                return None
+            self.lines.append(item)
+            if predicate(item[1]):
+                return item[1]
+        return None
+
+    def start(self, time_scale: float = 1.0) -> dict:
+        self.send(hello(time_scale))
+        return self.expect(lambda m: m["op"] in ("hello", "error"))
+
+    def final(self, rqst_id: int, timeout: float = 60.0) -> str:
+        return self.expect(lambda m: m["op"] == "reply" and m["id"] == rqst_id and m["kind"] == "final",
+                           timeout)["code"]
+
+    def replies(self, rqst_id: int) -> list[dict]:
+        return [m for _, m in self.lines if m["op"] == "reply" and m["id"] == rqst_id]
+
+    def node_pid(self) -> int:
+        for pid in descendants(self.process.pid):
+            if b"dala_node" in Path(f"/proc/{pid}/cmdline").read_bytes():
+                return pid
+        raise AssertionError("no dala_node process below the launcher")
+
+    def bye(self, timeout: float = 60.0) -> int:
+        self.send({"op": "bye"})
+        return self.process.wait(timeout)
+
+    def kill(self) -> None:
+        if self.process.poll() is None:
+            self.process.kill()
+            self.process.wait()
+
+
+def request(rqst_id: int, qualified: str, **args) -> dict:
+    module, service = qualified.split(".")
+    return {"op": "request", "id": rqst_id, "module": module, "service": service,
+            "args": {k: str(v) for k, v in args.items()}}
+
+
+def wait_gone(pids: set[int], timeout: float = 30.0) -> set[int]:
+    """The pids still alive after waiting up to `timeout` seconds for them to end."""
+    deadline = time.monotonic() + timeout
+    while alive(pids) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    return alive(pids)
+
