@@ -19,7 +19,7 @@ import tempfile
 import threading
 
 from harness.adapters.ros.mapping import load_mapping
-from harness.adapters.ros.processes import Child, free_port, ros_environment, start_master
+from harness.adapters.ros.processes import Child, free_port, ros_environment, start_master, stop_all
 from harness.errors import UntimelyError
 
 PROTOCOL = "untimely/1"
@@ -91,10 +91,9 @@ def run(args, out: LineWriter) -> None:
         adapter.hello(PROTOCOL, f"ROS 1 actionlib adapter (master :{port}; node: {' '.join(args.node)})")
         serve(adapter, sys.stdin)
     finally:
+        stop_all(children)
         if ros_up:
             rospy.signal_shutdown("bye")
-        for child in reversed(children):
-            child.stop()
         shutil.rmtree(home, ignore_errors=True)
 
 

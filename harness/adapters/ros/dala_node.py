@@ -159,8 +159,10 @@ def main(argv: list[str] | None = None) -> int:
     except (UntimelyError, ValueError) as e:
         print(f"dala_node: {e}", file=sys.stderr, flush=True)
         return 2
+    stopped = threading.Event()
+    rospy.on_shutdown(stopped.set)  # rospy.spin() would notice only within half a second
     node.start()
-    rospy.spin()
+    stopped.wait()
     node.stop()
     return 0
 

@@ -69,13 +69,21 @@ class Child:
         return f"the {self.name} exited with status {status}; its last lines: " + " | ".join(self.last_lines)
 
     def stop(self, grace_s: float = 5.0) -> None:
-        if self.process.poll() is None:
-            self.process.terminate()
-            try:
-                self.process.wait(grace_s)
-            except subprocess.TimeoutExpired:
-                self.process.kill()
-                self.process.wait()
+        stop_all([self], grace_s)
+
+
+def stop_all(children: list[Child], grace_s: float = 5.0) -> None:
+    """SIGTERM to all at once (their shutdowns overlap), SIGKILL to whoever outlives the grace period."""
+    for child in children:
+        if child.process.poll() is None:
+            child.process.terminate()
+    deadline = time.monotonic() + grace_s
+    for child in children:
+        try:
+            child.process.wait(max(0.0, deadline - time.monotonic()))
+        except subprocess.TimeoutExpired:
+            child.process.kill()
+            child.process.wait()
 
 
 def start_master(port: int, env: dict[str, str], timeout_s: float) -> Child:
