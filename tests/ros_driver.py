@@ -50,11 +50,8 @@ def launcher_command(variant: str) -> list[str]:
 
 def hello(time_scale: float) -> dict:
     interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
-    modules: dict[str, dict[str, str]] = {}
-    for service in interface.services.values():
-        modules.setdefault(service.module, {})[service.name] = service.kind
     return {"op": "hello", "proto": "untimely/1", "run": 1, "seed": 1, "time_scale": time_scale,
-            "interface": {"modules": modules, "replies": interface.replies}}
+            "interface": interface.describe()}
 
 
 def descendants(pid: int) -> set[int]:
@@ -167,7 +164,7 @@ class Launcher:
 def request(rqst_id: int, qualified: str, **args) -> dict:
     module, service = qualified.split(".")
     return {"op": "request", "id": rqst_id, "module": module, "service": service,
-            "args": {k: str(v) for k, v in args.items()}}
+            "args": args}
 
 
 def wait_gone(pids: set[int], timeout: float = 30.0) -> set[int]:

@@ -15,58 +15,50 @@ import os
 import shutil
 import signal
 import sys
-import tempfile
 import threading
 
 from harness.adapters.ros.mapping import load_mapping
-from harness.adapters.ros.processes import Child, free_port, ros_environment, start_master, stop_all
+from harness.adapters.ros.processes import Child, free_port, ros_environment, ros_home, start_master, stop_all
 from harness.errors import UntimelyError
-
-PROTOCOL = "untimely/1"
-
+from harness.protocol import BENCH_MESSAGES, PROTO, ProtocolViolation, decode, encode
 
 class LineWriter:
-    """One JSON object per line on stdout, whole lines only, whichever thread writes."""
+    """One message per line on stdout (the shared codec), whole lines only, whichever thread writes."""
 
     def __init__(self, stream):
         self.stream, self.lock = stream, threading.Lock()
 
     def write(self, message: dict) -> None:
-        line = json.dumps(message, separators=(",", ":")) + "\n"
+        line = encode(**message)
         with self.lock:
             self.stream.write(line)
             self.stream.flush()
 
 
 def read_message(stream) -> dict | None:
-    """The next line as a JSON object; None at end of input."""
+    """The bench's next message; None at end of input."""
     line = stream.readline()
     if not line:
         return None
     try:
-        message = json.loads(line)
-    except ValueError:
-        message = None
-    if not isinstance(message, dict):
-        raise UntimelyError(f"the bench sent {line.strip()[:200]!r}, which is not a JSON object")
-    return message
+        return decode(line, BENCH_MESSAGES)
+    except ProtocolViolation as e:
+        raise UntimelyError(f"the bench sent {line.strip()[:200]!r}: {e}") from None
 
 
 def serve(adapter, stream) -> None:
-    """Requests and pings until `bye` or end of input; unknown ops are skipped (room to grow)."""
+    """Requests and pings until `bye` or end of input."""
     handlers = {"request": adapter.request, "ping": adapter.ping}
-    while (message := read_message(stream)) is not None and message.get("op") != "bye":
-        handler = handlers.get(message.get("op"))
-        if handler:
-            handler(message)
-        else:
-            print(f"ros adapter: ignoring op {message.get('op')!r}", file=sys.stderr, flush=True)
+    while (message := read_message(stream)) is not None and message["op"] != "bye":
+        if message["op"] not in handlers:
+            raise UntimelyError(f"the bench sent a second {message['op']!r}")
+        handlers[message["op"]](message)
 
 
 def run(args, out: LineWriter) -> None:
     mapping = load_mapping(args.mapping)
     children: list[Child] = []
-    home = tempfile.mkdtemp(prefix="untimely-ros-")
+    home = ros_home()
     port = free_port()
     env = ros_environment(port, home)
     ros_up = False
@@ -75,9 +67,9 @@ def run(args, out: LineWriter) -> None:
         hello = read_message(sys.stdin)
         if hello is None:
             return
-        if hello.get("op") != "hello" or hello.get("proto") != PROTOCOL:
-            raise UntimelyError(f"the bench's first line must be a hello of {PROTOCOL}, got {json.dumps(hello)[:200]}")
-        time_scale = float(hello.get("time_scale", 1.0))
+        if hello["op"] != "hello" or hello["proto"] != PROTO:
+            raise UntimelyError(f"the bench's first line must be a hello of {PROTO}, got {json.dumps(hello)[:200]}")
+        time_scale = hello["time_scale"]
         node = Child("node", args.node, {**env, "UNTIMELY_TIME_SCALE": repr(time_scale)})
         children.append(node)
         os.environ.update(env)
@@ -86,9 +78,9 @@ def run(args, out: LineWriter) -> None:
         from harness.adapters.ros.adapter import Adapter
         rospy.init_node("untimely_adapter", disable_signals=True, disable_rosout=True)
         ros_up = True
-        adapter = Adapter(mapping, hello.get("interface") or {}, time_scale, out.write)
+        adapter = Adapter(mapping, hello["interface"], time_scale, out.write)
         adapter.wait_for_servers(args.startup_timeout, node.failure)
-        adapter.hello(PROTOCOL, f"ROS 1 actionlib adapter (master :{port}; node: {' '.join(args.node)})")
+        adapter.hello(PROTO, f"ROS 1 actionlib adapter (master :{port}; node: {' '.join(args.node)})")
         serve(adapter, sys.stdin)
     finally:
         stop_all(children)

@@ -90,8 +90,7 @@ class Adapter:
         action = self.actions.get(f"{module}.{service}")
         if action is None:
             raise UntimelyError(f"request {rqst_id} names {module}.{service}, which the hello's interface does not declare")
-        args = {name: str(value) for name, value in (message.get("args") or {}).items()}
-        goal = RequestGoal(service=service, args_json=json.dumps(args))
+        goal = RequestGoal(service=service, args_json=json.dumps(message["args"]))
         with self.lock:
             handle = self.clients[action].send_goal(goal, transition_cb=lambda gh: self._transition(rqst_id, gh),
                                                     feedback_cb=lambda gh, fb: self._feedback(rqst_id))
@@ -108,7 +107,7 @@ class Adapter:
         with self.lock:
             if rqst_id not in self.replied:
                 self.replied[rqst_id] = "intermediate"
-                self.write({"op": "reply", "id": rqst_id, "kind": "intermediate", "code": None})
+                self.write({"op": "reply", "id": rqst_id, "kind": "intermediate"})
 
     def _transition(self, rqst_id: int, handle) -> None:
         if handle.get_comm_state() != actionlib.CommState.DONE:
@@ -147,7 +146,8 @@ class Adapter:
         with self.lock:
             rqst_id = self.goal_ids.get(data["goal_id"])
             if rqst_id is not None:
-                self.write({"op": "internal", "id": rqst_id, "kind": data["kind"], "t": self._t(data["stamp"])})
+                self.write({"op": "internal", "id": rqst_id, "kind": data["kind"], "t": self._t(data["stamp"]),
+                            **({"code": data["code"]} if data.get("code") else {})})
 
     def _world(self, message: String) -> None:
         data = json.loads(message.data)

@@ -86,13 +86,14 @@ class DalaNode:
                 args = json.loads(goal.args_json or "{}")
             except ValueError:
                 args = None
-            if qualified is None or not isinstance(args, dict) or not all(isinstance(v, str) for v in args.values()):
+            if qualified is None or not isinstance(args, dict):
                 problem = f"{action} serves {sorted(self.routes[action])}; goal {goal.service!r} {goal.args_json!r}"
                 handle.set_rejected(RequestResult(code=problem), problem)
                 return
             rqst_id = next(self.ids)
             self.goals[rqst_id] = handle
-            self.host.request(rqst_id, qualified, args, self._reply)
+            # The layer reads argument values as text, whatever their JSON type (as the simulator adapter).
+            self.host.request(rqst_id, qualified, {k: str(v) for k, v in args.items()}, self._reply)
         return receive
 
     # -- layer replies -> goal statuses (the host's thread) ------------------------------------
@@ -100,7 +101,7 @@ class DalaNode:
         handle = self.goals[rqst_id]
         if self.internal_pub:
             self.internal_pub.publish(json.dumps({"goal_id": handle.get_goal_id().id, "kind": kind,
-                                                  "stamp": self._stamp(t)}))
+                                                  "code": code, "stamp": self._stamp(t)}))
         if kind == "intermediate":
             handle.set_accepted()
             handle.publish_feedback(RequestFeedback(phase="running"))

@@ -8,10 +8,12 @@ from __future__ import annotations
 import collections
 import ctypes
 import os
+import shutil
 import signal
 import socket
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 import xmlrpc.client
@@ -34,6 +36,20 @@ def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+HOME_PREFIX = "untimely-ros-"
+
+
+def ros_home() -> str:
+    """A fresh folder for a run's ROS logs, named after this process; folders left behind by
+    launchers that were killed before their teardown are removed."""
+    tmp = tempfile.gettempdir()
+    for name in os.listdir(tmp):
+        owner = name[len(HOME_PREFIX):].split("-")[0]
+        if name.startswith(HOME_PREFIX) and owner.isdigit() and not os.path.exists(f"/proc/{owner}"):
+            shutil.rmtree(os.path.join(tmp, name), ignore_errors=True)
+    return tempfile.mkdtemp(prefix=f"{HOME_PREFIX}{os.getpid()}-")
 
 
 def ros_environment(master_port: int, home: str) -> dict[str, str]:
