@@ -45,12 +45,7 @@ class Adapter:
     def __init__(self, mapping: Mapping, interface: dict, time_scale: float, write: Callable[[dict], None]):
         self.mapping, self.write, self.time_scale = mapping, write, time_scale
         self.replies: dict[str, str] = dict(interface.get("replies") or {})
-        services = interface_services(interface)
-        unmapped = mapping.unmapped([f"{m}.{s}" for m, s in services])
-        if unmapped:
-            raise UntimelyError(f"{mapping.path}: no action for {', '.join(unmapped)}; add them under [services] "
-                                "or make `action` a template with {module}")
-        self.actions = {f"{m}.{s}": mapping.action_of(m, s) for m, s in services}
+        self.actions = mapping.actions(interface_services(interface))
         self.lock = threading.Lock()  # guards the state below and keeps each reply's lines in order
         self.clients = {name: actionlib.ActionClient(name, RequestAction) for name in set(self.actions.values())}
         self.heartbeats: dict[str, float] = {}  # action -> monotonic time of its last status

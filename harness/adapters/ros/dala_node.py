@@ -59,9 +59,9 @@ class DalaNode:
         self.goals: dict[int, actionlib.ServerGoalHandle] = {}
         # action name -> {goal's service name -> "module.Service"}
         self.routes: dict[str, dict[str, str]] = {}
-        for service in self.interface.services.values():
-            action = self.mapping.action_of(service.module, service.name)
-            self.routes.setdefault(action, {})[service.name] = service.qualified
+        actions = self.mapping.actions([(s.module, s.name) for s in self.interface.services.values()])
+        for qualified, action in actions.items():
+            self.routes.setdefault(action, {})[self.interface.services[qualified].name] = qualified
         # Heartbeats are ours (see the module doc): actionlib's own status timer stays off.
         rospy.set_param("actionlib_status_frequency", 0.0)
         self.servers = {action: actionlib.ActionServer(action, RequestAction, self._goal_for(action),

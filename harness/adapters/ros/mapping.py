@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from harness.errors import InputFileError
+from harness.errors import InputFileError, UntimelyError
 from harness.interface import read_toml
 
 # Terminal goal statuses that carry a reply (actionlib_msgs/GoalStatus names). LOST is not one:
@@ -23,11 +23,29 @@ class Mapping:
     overrides: dict[str, str]  # "module.Service" -> action name
     status_codes: dict[str, str]  # terminal status -> code when the result names none the catalogue knows
     heartbeat_stale_s: float  # a server whose last status is older than this (wall seconds) is not alive
-    world_topic: str | None  # std_msgs/String of JSON {t, kind, detail}: virtual damage, if the SUT has any
-    internal_topic: str | None  # std_msgs/String of JSON {goal_id, kind, t}: ground truth, if the SUT has any
+    # Topics of std_msgs/String JSON, if the SUT has them; `stamp` is the instant's wall-clock epoch (time.time()).
+    world_topic: str | None  # {stamp, kind, detail}: virtual damage
+    internal_topic: str | None  # {goal_id, kind, code, stamp}: ground truth of each goal
 
-    def action_of(self, module: str, service: str) -> str:
-        return self.overrides.get(f"{module}.{service}") or self.action.format(module=module, service=service)
+    def actions(self, services: list[tuple[str, str]]) -> dict[str, str]:
+        """The action of each (module, service), by "module.Service". A goal names its service, not its
+        module, so two services of one name may not share an action; every service needs one."""
+        actions, served = {}, {}
+        for module, service in services:
+            qualified = f"{module}.{service}"
+            if qualified in self.overrides:
+                action = self.overrides[qualified]
+            elif "{module}" in self.action:
+                action = self.action.format(module=module, service=service)
+            else:
+                raise UntimelyError(f"{self.path}: no action for {qualified}; add it under [services], "
+                                    "or make `action` a template with {module}")
+            clash = served.setdefault((action, service), qualified)
+            if clash != qualified:
+                raise UntimelyError(f"{self.path}: {clash} and {qualified} both map to {action}, where a goal "
+                                    "names only its service; give one of them another action")
+            actions[qualified] = action
+        return actions
 
     def final_code(self, status: str, texts: tuple[str | None, ...], catalogue: dict[str, str]) -> str | None:
         """The final reply of a goal that ended in `status` (a GoalStatus name) with the result's and the
@@ -41,9 +59,6 @@ class Mapping:
                     return text
         return self.status_codes[status]
 
-    def unmapped(self, services: list[str]) -> list[str]:
-        """The services (of an interface) this mapping names no action for; empty for a template."""
-        return [] if "{module}" in self.action else [s for s in services if s not in self.overrides]
 
 
 def _text(path, key, value) -> str:

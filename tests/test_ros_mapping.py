@@ -1,0 +1,75 @@
+"""The ROS mapping file (missions/dala/ros.toml): actions of services, codes of goal statuses. No ROS needed."""
+import pytest
+
+from harness import DEFAULT_MISSION_DIR
+from harness.adapters.ros.mapping import load_mapping
+from harness.errors import InputFileError, UntimelyError
+
+DALA = load_mapping(DEFAULT_MISSION_DIR / "ros.toml")
+
+
+def write(tmp_path, text):
+    path = tmp_path / "ros.toml"
+    path.write_text(text)
+    return path
+
+
+def test_every_dala_service_goes_to_its_module_server(interface):
+    actions = DALA.actions([(s.module, s.name) for s in interface.services.values()])
+    assert set(actions) == set(interface.services)
+    assert actions["ndd.GotoPosition"] == actions["ndd.Stop"] == "/dala/ndd"
+    assert sorted(set(actions.values())) == [f"/dala/{m}" for m in sorted(interface.modules)]
+
+
+@pytest.mark.parametrize("status, texts, code", [
+    ("SUCCEEDED", ("interrupted", "interrupted"), "ok"),  # SUCCEEDED is ok whatever its text
+    ("ABORTED", ("goal_unreachable", ""), "goal_unreachable"),
+    ("ABORTED", ("", "link_lost"), "link_lost"),  # no result code: the status text, when catalogued
+    ("ABORTED", ("segfault", "segfault"), "aborted"),  # unknown to the catalogue: the fallback
+    ("PREEMPTED", ("", ""), "interrupted"),
+    ("PREEMPTED", ("interrupted_excl", "interrupted_excl"), "interrupted_excl"),
+    ("REJECTED", ("wait_init", "wait_init"), "wait_init"),
+    ("REJECTED", (None, ""), "rejected"),
+    ("RECALLED", ("", ""), "rejected"),
+    ("LOST", ("", ""), None),  # the client gave up on the goal: no final may be invented
+    ("ACTIVE", ("", ""), None),
+])
+def test_a_goal_status_gives_a_catalogue_code_or_none(interface, status, texts, code):
+    assert DALA.final_code(status, texts, interface.replies) == code
+
+
+def test_fallback_codes_and_single_actions_come_from_the_file(tmp_path):
+    mapping = load_mapping(write(tmp_path, 'action = "/robot/{module}/{service}"\n'
+                                           '[services]\n"nav.Go" = "/move_base"\n'
+                                           '[status_codes]\nABORTED = "failed"\n'))
+    assert mapping.actions([("nav", "Go"), ("nav", "Stop")]) == {"nav.Go": "/move_base", "nav.Stop": "/robot/nav/Stop"}
+    assert mapping.final_code("ABORTED", ("boom",), {"ok": "T", "failed": "T"}) == "failed"
+    assert mapping.world_topic is None and mapping.internal_topic is None
+
+
+@pytest.mark.parametrize("text, message", [
+    ('actions = "/x"\n', "unknown key(s) ['actions']"),
+    ('action = "/{robot}"\n', "may only use {module} and {service}"),
+    ('[status_codes]\nLOST = "lost"\n', "'LOST' is not a terminal goal status"),
+    ('[status_codes]\nABORTED = ""\n', "give a non-empty string"),
+    ('heartbeat_stale_s = 0\n', "heartbeat_stale_s = 0; give a positive number"),
+    ('[services]\nGotoPosition = "/x"\n', "'GotoPosition' is not \"module.Service\""),
+])
+def test_a_bad_mapping_file_is_named_with_its_value(tmp_path, text, message):
+    with pytest.raises(InputFileError, match="ros.toml") as e:
+        load_mapping(write(tmp_path, text))
+    assert message in str(e.value)
+
+
+def test_services_a_mapping_cannot_tell_apart_are_refused(tmp_path):
+    fixed = load_mapping(write(tmp_path, 'action = "/all"\n'))
+    with pytest.raises(UntimelyError, match=r"no action for rflex.Init; add it under \[services\]"):
+        fixed.actions([("rflex", "Init")])
+    by_service = load_mapping(write(tmp_path, 'action = "/{service}"\n[services]\n"sick.Init" = "/Init"\n"rflex.Init" = "/Init"\n'))
+    with pytest.raises(UntimelyError, match="sick.Init and rflex.Init both map to /Init"):
+        by_service.actions([("sick", "Init"), ("rflex", "Init")])
+
+
+def test_a_missing_mapping_file_says_what_to_pass(tmp_path):
+    with pytest.raises(InputFileError, match="mapping file not found; pass the ros.toml beside the interface"):
+        load_mapping(tmp_path / "nope.toml")
