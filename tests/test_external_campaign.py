@@ -19,6 +19,24 @@ def campaign(db, *options):
     return cli(["campaign", "--db", str(db), "--seed", "5", *options])
 
 
+def verdict_pairs(con, here: str, there: str) -> tuple[int, int, int]:
+    """Verdicts of the same script, property and request on two SUTs: how many pairs, how many
+    differ, and how many of those differ with neither side flagged suspicious."""
+    return con.execute("""
+        with judged as (
+            select t.sut, t.script_id, v.property_id, v.rqst_id, v.verdict, v.suspicious
+            from verdicts v join traces t using (trace_id)
+        ),
+        paired as (
+            select i.verdict as here, o.verdict as there, i.suspicious or o.suspicious as suspicious
+            from judged i join judged o using (script_id, property_id, rqst_id)
+            where i.sut = $here and o.sut = $there
+        )
+        select count(*), count(*) filter (where here <> there),
+               count(*) filter (where here <> there and not suspicious)
+        from paired""", {"here": here, "there": there}).fetchone()
+
+
 def test_the_simulator_through_the_protocol_judges_like_the_simulator_in_process(tmp_path, capsys):
     """Golden + 20 mutants on `reference` in process and on `sim-reference` (missions/dala/suts.toml:
     the same layer out of process, 10x real time) on 8 slots: every verdict that differs is flagged
@@ -31,19 +49,7 @@ def test_the_simulator_through_the_protocol_judges_like_the_simulator_in_process
     outcomes = con.execute("select sut, outcome, count(*) from traces group by all order by all").fetchall()
     runs = outcomes[0][2]
     assert outcomes == [("reference", "completed", runs), ("sim-reference", "completed", runs)] and runs > 15
-    pairs, differ, unflagged = con.execute("""
-        with judged as (
-            select t.sut, t.script_id, v.property_id, v.rqst_id, v.verdict, v.suspicious
-            from verdicts v join traces t using (trace_id)
-        ),
-        paired as (
-            select i.verdict as here, o.verdict as there, i.suspicious or o.suspicious as suspicious
-            from judged i join judged o using (script_id, property_id, rqst_id)
-            where i.sut = 'reference' and o.sut = 'sim-reference'
-        )
-        select count(*), count(*) filter (where here <> there),
-               count(*) filter (where here <> there and not suspicious)
-        from paired""").fetchone()
+    pairs, differ, unflagged = verdict_pairs(con, "reference", "sim-reference")
     assert pairs > 500 and unflagged == 0, f"{differ} of {pairs} verdicts differ, {unflagged} not suspicious"
     provenance = con.execute("select count(*), min(pings), count(distinct host) from trace_runs").fetchone()
     assert provenance[0] == runs and provenance[1] >= 1 and provenance[2] == 1

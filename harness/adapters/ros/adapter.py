@@ -5,7 +5,8 @@ status codes from the mapping file. Rules (docs/ros.md):
 
 - a request is a goal `untimely_msgs/Request` (service name, JSON arguments) to its mapped action;
 - the first feedback before the result is the intermediate reply; ACTIVE alone is none (a short
-  goal's result may come without ACTIVE ever being seen), and feedback after the result is dropped;
+  goal's result may come without ACTIVE ever being seen); feedback after the result is dropped
+  (replies.py);
 - the result gives the final reply (Mapping.final_code); LOST, the client's verdict when a
   server's status list forgets a goal, gives none: the adapter never invents a final;
 - a ping is answered once every action server's status heartbeat is fresh; a dead or deadlocked
@@ -14,7 +15,6 @@ status codes from the mapping file. Rules (docs/ros.md):
 from __future__ import annotations
 
 import json
-import sys
 import threading
 import time
 from typing import Callable
@@ -26,6 +26,7 @@ from std_msgs.msg import String
 
 from harness.adapters.ros.mapping import Mapping
 from harness.adapters.ros.messages import RequestAction, RequestGoal
+from harness.adapters.ros.replies import Replies
 from harness.errors import UntimelyError
 
 STATUS_NAMES = {getattr(GoalStatus, name): name for name in
@@ -44,15 +45,15 @@ def interface_services(interface: dict) -> list[tuple[str, str]]:
 class Adapter:
     def __init__(self, mapping: Mapping, interface: dict, time_scale: float, write: Callable[[dict], None]):
         self.mapping, self.write, self.time_scale = mapping, write, time_scale
-        self.replies: dict[str, str] = dict(interface.get("replies") or {})
+        self.catalogue: dict[str, str] = dict(interface.get("replies") or {})
         self.actions = mapping.actions(interface_services(interface))
-        self.lock = threading.Lock()  # guards the state below and keeps each reply's lines in order
+        self.lock = threading.Lock()  # guards the state below
         self.clients = {name: actionlib.ActionClient(name, RequestAction) for name in set(self.actions.values())}
         self.heartbeats: dict[str, float] = {}  # action -> monotonic time of its last status
         self.pending_pings: list = []
         self.goals: dict[int, actionlib.ClientGoalHandle] = {}  # kept: actionlib holds only weak references
         self.goal_ids: dict[str, int] = {}  # ROS goal id -> request id
-        self.replied: dict[int, str] = {}  # request id -> "intermediate" or "final"
+        self.replies = Replies(write)
         self.hello_epoch = time.time()  # reset when the hello is answered: the SUT's clock starts there
         for name in self.clients:
             rospy.Subscriber(f"{name}/status", GoalStatusArray, self._heartbeat, callback_args=name)
@@ -88,7 +89,7 @@ class Adapter:
         goal = RequestGoal(service=service, args_json=json.dumps(message["args"]))
         with self.lock:
             handle = self.clients[action].send_goal(goal, transition_cb=lambda gh: self._transition(rqst_id, gh),
-                                                    feedback_cb=lambda gh, fb: self._feedback(rqst_id))
+                                                    feedback_cb=lambda gh, fb: self.replies.feedback(rqst_id))
             self.goals[rqst_id] = handle
             self.goal_ids[handle.comm_state_machine.action_goal.goal_id.id] = rqst_id
 
@@ -98,26 +99,11 @@ class Adapter:
             self._answer_pings()
 
     # -- ROS -> bench (ROS threads) ------------------------------------------------------------
-    def _feedback(self, rqst_id: int) -> None:
-        with self.lock:
-            if rqst_id not in self.replied:
-                self.replied[rqst_id] = "intermediate"
-                self.write({"op": "reply", "id": rqst_id, "kind": "intermediate"})
-
     def _transition(self, rqst_id: int, handle) -> None:
-        if handle.get_comm_state() != actionlib.CommState.DONE:
-            return
-        status = STATUS_NAMES.get(handle.get_goal_status())
-        code = self.mapping.final_code(status, (getattr(handle.get_result(), "code", None),
-                                                handle.get_goal_status_text()), self.replies)
-        if code is None:
-            print(f"ros adapter: request {rqst_id} ended {status} without a result: no final reply",
-                  file=sys.stderr, flush=True)
-            return
-        with self.lock:
-            if self.replied.get(rqst_id) != "final":
-                self.replied[rqst_id] = "final"
-                self.write({"op": "reply", "id": rqst_id, "kind": "final", "code": code})
+        if handle.get_comm_state() == actionlib.CommState.DONE:
+            status = STATUS_NAMES.get(handle.get_goal_status())
+            texts = (getattr(handle.get_result(), "code", None), handle.get_goal_status_text())
+            self.replies.ended(rqst_id, status, self.mapping.final_code(status, texts, self.catalogue))
 
     def _heartbeat(self, _statuses, action: str) -> None:
         with self.lock:
