@@ -54,6 +54,7 @@ def test_fallback_codes_and_single_actions_come_from_the_file(tmp_path):
     ('[status_codes]\nABORTED = ""\n', "give a non-empty string"),
     ('heartbeat_stale_s = 0\n', "heartbeat_stale_s = 0; give a positive number"),
     ('[services]\nGotoPosition = "/x"\n', "'GotoPosition' is not \"module.Service\""),
+    ('ping_topic = "/ping"\n', "give both ping_topic and pong_topic, or neither"),
 ])
 def test_a_bad_mapping_file_is_named_with_its_value(tmp_path, text, message):
     with pytest.raises(InputFileError, match="ros.toml") as e:

@@ -9,8 +9,9 @@ status codes from the mapping file. Rules (docs/ros.md):
   (replies.py);
 - the result gives the final reply (Mapping.final_code); LOST, the client's verdict when a
   server's status list forgets a goal, gives none: the adapter never invents a final;
-- a ping is answered once every action server's status heartbeat is fresh; a dead or deadlocked
-  server leaves its goals ACTIVE forever and its pings unanswered, so the bench records `hung`.
+- a ping is answered once every action server's status heartbeat is fresh and, if the mapping
+  has a ping topic, the SUT has echoed it; a dead or deadlocked server leaves its goals ACTIVE
+  forever and its pings unanswered, so the bench records `hung`.
 """
 from __future__ import annotations
 
@@ -50,7 +51,7 @@ class Adapter:
         self.lock = threading.Lock()  # guards the state below
         self.clients = {name: actionlib.ActionClient(name, RequestAction) for name in set(self.actions.values())}
         self.heartbeats: dict[str, float] = {}  # action -> monotonic time of its last status
-        self.pending_pings: list = []
+        self.pending_pings: dict[int, bool] = {}  # ping id -> echoed through ROS (or no ping topic)
         self.goals: dict[int, actionlib.ClientGoalHandle] = {}  # kept: actionlib holds only weak references
         self.goal_ids: dict[str, int] = {}  # ROS goal id -> request id
         self.replies = Replies(write)
@@ -58,7 +59,11 @@ class Adapter:
         for name in self.clients:
             rospy.Subscriber(f"{name}/status", GoalStatusArray, self._heartbeat, callback_args=name)
         self.topics = [rospy.Subscriber(topic, String, handler) for topic, handler in
-                       ((mapping.world_topic, self._world), (mapping.internal_topic, self._internal)) if topic]
+                       ((mapping.world_topic, self._world), (mapping.internal_topic, self._internal),
+                        (mapping.pong_topic, self._pong)) if topic]
+        self.pinger = rospy.Publisher(mapping.ping_topic, String, queue_size=100) if mapping.ping_topic else None
+        if self.pinger:
+            self.topics.append(self.pinger)
 
     def hello(self, proto: str, sut: str) -> None:
         """Answer the bench's hello; `internal` and `world` times count from here."""
@@ -95,7 +100,9 @@ class Adapter:
 
     def ping(self, message: dict) -> None:
         with self.lock:
-            self.pending_pings.append(message["id"])
+            self.pending_pings[message["id"]] = self.pinger is None
+            if self.pinger:
+                self.pinger.publish(json.dumps({"id": message["id"]}))
             self._answer_pings()
 
     # -- ROS -> bench (ROS threads) ------------------------------------------------------------
@@ -110,13 +117,20 @@ class Adapter:
             self.heartbeats[action] = time.monotonic()
             self._answer_pings()
 
+    def _pong(self, message: String) -> None:
+        ping_id = json.loads(message.data)["id"]
+        with self.lock:
+            if ping_id in self.pending_pings:
+                self.pending_pings[ping_id] = True
+                self._answer_pings()
+
     def _answer_pings(self) -> None:
+        """Pong the pings echoed through ROS (if there is a ping topic), while every heartbeat is fresh."""
         now = time.monotonic()
-        fresh = all(now - self.heartbeats.get(name, -1e9) <= self.mapping.heartbeat_stale_s for name in self.clients)
-        if fresh:
-            for ping_id in self.pending_pings:
+        if all(now - self.heartbeats.get(name, -1e9) <= self.mapping.heartbeat_stale_s for name in self.clients):
+            for ping_id in [p for p, echoed in self.pending_pings.items() if echoed]:
+                del self.pending_pings[ping_id]
                 self.write({"op": "pong", "id": ping_id})
-            self.pending_pings.clear()
 
     def _t(self, stamp: float) -> float:
         """Seconds on the SUT's clock since hello, in mission seconds."""

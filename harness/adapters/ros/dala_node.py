@@ -13,7 +13,9 @@ node is only its ROS face. A goal is a request; the layer's replies drive the go
 Status heartbeats are this node's own, not actionlib's timer: each period the node pings the
 layer and publishes every server's status only when the layer answers, which it never does while
 a module is deadlocked. So a deadlock (or a dead node) silences the heartbeat, and the adapter's
-pings go unanswered: the trace hangs, as in-process.
+pings go unanswered: the trace hangs, as in-process. The adapter's pings also cross ROS: the node
+echoes each (ros.toml's ping_topic) once the layer answers it, so the bench's measured round trip
+includes the ROS transport.
 
     python -m harness.adapters.ros.dala_node --variant reference [--time-scale 10] [--mission DIR]
 """
@@ -55,6 +57,10 @@ class DalaNode:
         self.host = LayerHost(variant, self.interface, mission / "world.toml", time_scale,
                               on_world=self._world, on_error=self._failed)
         self.origin = time.time()  # wall-clock epoch of the host's t = 0 (to within the constructor)
+        if self.mapping.ping_topic:  # echoed once the layer answers: never while a module is deadlocked
+            pong = rospy.Publisher(self.mapping.pong_topic, String, queue_size=100)
+            rospy.Subscriber(self.mapping.ping_topic, String,
+                             lambda ping: self.host.ping(lambda: pong.publish(ping.data)))
         self.ids = itertools.count(1)
         self.goals: dict[int, actionlib.ServerGoalHandle] = {}
         # action name -> {goal's service name -> "module.Service"}

@@ -26,6 +26,9 @@ class Mapping:
     # Topics of std_msgs/String JSON, if the SUT has them; `stamp` is the instant's wall-clock epoch (time.time()).
     world_topic: str | None  # {stamp, kind, detail}: virtual damage
     internal_topic: str | None  # {goal_id, kind, code, stamp}: ground truth of each goal
+    # {id}: the adapter publishes each ping on ping_topic; the SUT echoes it on pong_topic when alive
+    ping_topic: str | None
+    pong_topic: str | None
 
     def actions(self, services: list[tuple[str, str]]) -> dict[str, str]:
         """The action of each (module, service), by "module.Service". A goal names its service, not its
@@ -70,7 +73,8 @@ def _text(path, key, value) -> str:
 def load_mapping(path: str | Path) -> Mapping:
     path = Path(path)
     data = read_toml(path, "mapping file not found; pass the ros.toml beside the interface")
-    known = {"action", "services", "status_codes", "heartbeat_stale_s", "world_topic", "internal_topic"}
+    topic_keys = ("world_topic", "internal_topic", "ping_topic", "pong_topic")
+    known = {"action", "services", "status_codes", "heartbeat_stale_s", *topic_keys}
     if set(data) - known:
         raise InputFileError(path, "", f"unknown key(s) {sorted(set(data) - known)}; it takes {', '.join(sorted(known))}")
     action = _text(path, "action", data.get("action", DEFAULT_ACTION))
@@ -92,5 +96,7 @@ def load_mapping(path: str | Path) -> Mapping:
     stale = data.get("heartbeat_stale_s", 1.0)
     if not isinstance(stale, (int, float)) or stale <= 0:
         raise InputFileError(path, "heartbeat_stale_s", f"heartbeat_stale_s = {stale!r}; give a positive number of seconds")
-    topics = {key: _text(path, key, data[key]) if key in data else None for key in ("world_topic", "internal_topic")}
+    topics = {key: _text(path, key, data[key]) if key in data else None for key in topic_keys}
+    if (topics["ping_topic"] is None) != (topics["pong_topic"] is None):
+        raise InputFileError(path, "ping_topic", "give both ping_topic and pong_topic, or neither")
     return Mapping(str(path), action, overrides, codes, float(stale), **topics)
