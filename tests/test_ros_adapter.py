@@ -152,3 +152,25 @@ def test_a_node_that_cannot_start_is_an_error_line():
         assert descendants(launcher.process.pid) == set()
     finally:
         launcher.kill()
+
+
+def test_virtual_damage_reaches_the_bench():
+    """Driving to site 1 without the map: the rover hits the rock on the way, reported as `world`."""
+    launcher = Launcher("reference")
+    try:
+        assert launcher.start(time_scale=10.0)["op"] == "hello"
+        steps = [request(1, "rflex.Init"), request(2, "ndd.Init"), request(3, "rflex.SetMode", mode="velocity"),
+                 request(4, "ndd.SetParams", speed=0.6)]
+        for step in steps:
+            launcher.send(step)
+        assert [launcher.final(n) for n in (1, 2, 3, 4)] == ["ok"] * 4
+        launcher.send(request(5, "rflex.TrackSpeedStart"))
+        launcher.expect(lambda m: m["op"] == "reply" and m["id"] == 5)  # tracking
+        launcher.send(request(6, "ndd.GotoPosition", x=9, y=4))
+        hit = launcher.expect(lambda m: m["op"] == "world" and m["kind"] == "collision", timeout=60)
+        assert hit["detail"]["with"].startswith("rock"), hit
+        went = next(m["t"] for _, m in launcher.lines if m["op"] == "internal" and m["id"] == 6)
+        assert went < hit["t"] < went + 30  # mission seconds on the SUT's clock, since the hello
+        assert finished(launcher) == set()
+    finally:
+        launcher.kill()
