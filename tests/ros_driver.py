@@ -21,6 +21,7 @@ from harness.interface import load_interface
 ROS_PYTHON = "/usr/bin/python3"
 VENV_PYTHON = ROOT / ".venv-ros" / "bin" / "python"
 MAPPING = DEFAULT_MISSION_DIR / "ros.toml"
+LAUNCHER, NODE = "harness.adapters.ros", "harness.adapters.ros.dala_node"
 
 
 @functools.cache
@@ -44,8 +45,7 @@ def ensure_ros_venv() -> Path:
 
 def launcher_command(variant: str) -> list[str]:
     python = str(ensure_ros_venv())
-    return [python, "-m", "harness.adapters.ros", "--mapping", str(MAPPING), "--",
-            python, "-m", "harness.adapters.ros.dala_node", "--variant", variant]
+    return [python, "-m", LAUNCHER, "--mapping", str(MAPPING), "--", python, "-m", NODE, "--variant", variant]
 
 
 def hello(time_scale: float) -> dict:
@@ -71,6 +71,15 @@ def descendants(pid: int) -> set[int]:
             found.add(child)
             todo.append(child)
     return found
+
+
+def running_module(pid: int) -> str | None:
+    """The module a `python -m MODULE ...` process runs, if it is one."""
+    try:
+        argv = Path(f"/proc/{pid}/cmdline").read_bytes().split(b"\0")
+    except OSError:
+        return None
+    return argv[2].decode() if len(argv) > 2 and argv[1] == b"-m" else None
 
 
 def alive(pids: set[int]) -> set[int]:
@@ -147,7 +156,7 @@ class Launcher:
 
     def node_pid(self) -> int:
         for pid in descendants(self.process.pid):
-            if b"dala_node" in Path(f"/proc/{pid}/cmdline").read_bytes():
+            if running_module(pid) == NODE:
                 return pid
         raise AssertionError("no dala_node process below the launcher")
 

@@ -1,8 +1,17 @@
-"""A campaign on the Dala layer behind real ROS 1 middleware judges like the simulator in process."""
+"""The Dala layer behind real ROS 1 middleware, through the bench: a campaign judges like the simulator
+in process; a node killed mid-run hangs its trace."""
+import os
 import re
+import signal
+import threading
+import time
 
-from harness import store
-from tests.ros_driver import ensure_ros_venv, requires_ros
+from harness import DEFAULT_MISSION_DIR, store
+from harness.external import run_external
+from harness.interface import load_interface
+from harness.mutator.script import load_script
+from harness.suts import load_suts_file
+from tests.ros_driver import LAUNCHER, NODE, descendants, ensure_ros_venv, requires_ros, running_module, wait_gone
 from tests.test_external_campaign import campaign, verdict_pairs
 
 pytestmark = requires_ros
@@ -31,3 +40,30 @@ def test_ros_campaign_judges_like_the_simulator_in_process(tmp_path, capsys):
         assert con.execute(table, ["ros-reference"]).fetchall() == con.execute(table, ["reference"]).fetchall()
     latency = con.execute("select pings, rtt_p95_s from interface_latency where sut = 'ros-reference'").fetchone()
     assert latency[0] >= runs and 0 < latency[1] < 1.0
+
+
+def test_a_ros_server_killed_mid_run_hangs_the_trace_without_invented_finals():
+    """The golden mission on ros-reference through the bench; the Dala node is SIGKILLed while the
+    rover drives to site 1: the pings go unanswered (hung), the drive never gets a final, and the
+    launcher leaves no process behind."""
+    sut = load_suts_file(DEFAULT_MISSION_DIR / "suts.toml")["ros-reference"]
+    interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
+    script = load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
+    ensure_ros_venv()
+    traces = []
+    bench = threading.Thread(target=lambda: traces.append(run_external(script, sut, 0, interface)))
+    bench.start()
+    deadline = time.monotonic() + 120
+    while not (started := {running_module(p): p for p in descendants(os.getpid())}).keys() >= {LAUNCHER, NODE}:
+        assert time.monotonic() < deadline, "the launcher and the Dala node never started"
+        time.sleep(0.2)
+    children = descendants(started[LAUNCHER])
+    time.sleep(10.0)  # start-up, the Inits, settings, map and some seconds of the 15 s drive to site 1
+    os.kill(started[NODE], signal.SIGKILL)
+    bench.join(120)
+    trace = traces[0]
+    assert trace.outcome == "hung", trace.error
+    drives = [e[3] for e in trace.events if e[2] == "request" and e[5] == "GotoPosition"]
+    assert len(drives) == 1, f"the node was killed before or after the drive to site 1: {trace.events}"
+    assert [e for e in trace.events if e[3] == drives[0] and e[2] == "final"] == []
+    assert wait_gone(children, timeout=30) == set()
