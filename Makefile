@@ -39,7 +39,7 @@ $(ROS_STAMP): pyproject.toml
 test: $(STAMP) ros
 	$(PY) -m pytest
 
-bench: $(STAMP)
+bench: $(STAMP) ros
 	$(PY) bench/run.py
 
 campaign: $(STAMP)
