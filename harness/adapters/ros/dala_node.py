@@ -50,13 +50,14 @@ class DalaNode:
         self.interface = load_interface(mission / "interface.toml")
         self.mapping = load_mapping(mission / "ros.toml")
         self.time_scale = time_scale
+        self.failure: str | None = None
         self.world_pub = rospy.Publisher(self.mapping.world_topic, String, queue_size=100) \
             if self.mapping.world_topic else None
         self.internal_pub = rospy.Publisher(self.mapping.internal_topic, String, queue_size=1000) \
             if self.mapping.internal_topic else None
         self.host = LayerHost(variant, self.interface, mission / "world.toml", time_scale,
                               on_world=self._world, on_error=self._failed)
-        self.origin = time.time()  # wall-clock epoch of the host's t = 0 (to within the constructor)
+        self.origin = time.time() - self.host.env.clock() / time_scale  # wall-clock epoch of the host's t = 0
         if self.mapping.ping_topic:  # echoed once the layer answers: never while a module is deadlocked
             pong = rospy.Publisher(self.mapping.pong_topic, String, queue_size=100)
             rospy.Subscriber(self.mapping.ping_topic, String,
@@ -135,6 +136,7 @@ class DalaNode:
             self.world_pub.publish(json.dumps({"stamp": self._stamp(t), "kind": kind, "detail": json.loads(detail)}))
 
     def _failed(self, message: str) -> None:
+        self.failure = message
         print(f"dala_node: the simulated layer failed: {message}", file=sys.stderr, flush=True)
         rospy.signal_shutdown(message)
 
@@ -171,7 +173,7 @@ def main(argv: list[str] | None = None) -> int:
     node.start()
     stopped.wait()
     node.stop()
-    return 0
+    return 1 if node.failure else 0
 
 
 if __name__ == "__main__":
