@@ -25,6 +25,7 @@ import argparse
 import itertools
 import json
 import os
+import signal
 import sys
 import threading
 import time
@@ -162,18 +163,23 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--mission", type=Path, default=DEFAULT_MISSION_DIR,
                         help="folder of interface.toml, world.toml and ros.toml")
     args = parser.parse_args(argv)
-    rospy.init_node("dala", disable_rosout=True)
+    stopped = threading.Event()
+    for signum in (signal.SIGTERM, signal.SIGINT):
+        signal.signal(signum, lambda *_: stopped.set())
+    rospy.init_node("dala", disable_rosout=True, disable_signals=True)
     try:
         node = DalaNode(args.variant, args.mission, args.time_scale)
     except (UntimelyError, ValueError) as e:
         print(f"dala_node: {e}", file=sys.stderr, flush=True)
         return 2
-    stopped = threading.Event()
-    rospy.on_shutdown(stopped.set)  # rospy.spin() would notice only within half a second
+    rospy.on_shutdown(stopped.set)  # a layer failure
     node.start()
     stopped.wait()
     node.stop()
-    return 1 if node.failure else 0
+    # Not rospy's shutdown: it unregisters every topic, one call at a time, from a master that the
+    # launcher is stopping too (most of a second); there is nothing else to save.
+    sys.stderr.flush()
+    os._exit(1 if node.failure else 0)
 
 
 if __name__ == "__main__":
