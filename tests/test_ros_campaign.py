@@ -38,6 +38,13 @@ def test_ros_campaign_judges_like_the_simulator_in_process(tmp_path, capsys):
     if differ == 0:  # then Table III is the same, row for row
         table = "select * exclude (sut) from tp_rates where sut = ? order by all"
         assert con.execute(table, ["ros-reference"]).fetchall() == con.execute(table, ["reference"]).fetchall()
+    # The ground truth is whole: the node's internal instant of every request reached the bench.
+    untold = con.execute("""
+        select count(*) from events e join traces t using (trace_id)
+        where t.sut = 'ros-reference' and e.kind = 'request' and not exists (
+            select 1 from internal_events i
+            where i.trace_id = e.trace_id and i.rqst_id = e.rqst_id and i.kind = 'request')""").fetchone()[0]
+    assert untold == 0
     latency = con.execute("select pings, rtt_p95_s from interface_latency where sut = 'ros-reference'").fetchone()
     assert latency[0] >= runs and 0 < latency[1] < 1.0
 

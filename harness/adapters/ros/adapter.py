@@ -79,11 +79,22 @@ class Adapter:
         deadline = time.monotonic() + timeout_s
         waits = [(name, lambda c=client: c.wait_for_server(rospy.Duration(0.1))) for name, client in self.clients.items()]
         waits += [(topic.name, lambda t=topic: t.get_num_connections() > 0 or time.sleep(0.1)) for topic in self.topics]
+        if self.pinger:  # the SUT echoes once its side of every topic is connected too
+            waits.append((f"an echo on {self.mapping.pong_topic}", self._echoed))
         for name, connected in waits:
             while not connected():
                 problem = alive()
                 if problem or time.monotonic() > deadline:
                     raise UntimelyError(problem or f"{name} did not come up within {timeout_s:g} s")
+
+    def _echoed(self) -> bool:
+        """One start-up ping (id 0; the bench's count from 1) through the SUT and back."""
+        with self.lock:
+            self.pending_pings[0] = False
+            self.pinger.publish(json.dumps({"id": 0}))
+        time.sleep(0.1)
+        with self.lock:
+            return self.pending_pings.pop(0)
 
     # -- bench -> ROS --------------------------------------------------------------------------
     def request(self, message: dict) -> None:
@@ -128,7 +139,7 @@ class Adapter:
         """Pong the pings echoed through ROS (if there is a ping topic), while every heartbeat is fresh."""
         now = time.monotonic()
         if all(now - self.heartbeats.get(name, -1e9) <= self.mapping.heartbeat_stale_s for name in self.clients):
-            for ping_id in [p for p, echoed in self.pending_pings.items() if echoed]:
+            for ping_id in [p for p, echoed in self.pending_pings.items() if echoed and p != 0]:
                 del self.pending_pings[ping_id]
                 self.write({"op": "pong", "id": ping_id})
 

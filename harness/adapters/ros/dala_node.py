@@ -59,10 +59,8 @@ class DalaNode:
         self.host = LayerHost(variant, self.interface, mission / "world.toml", time_scale,
                               on_world=self._world, on_error=self._failed)
         self.origin = time.time() - self.host.env.clock() / time_scale  # wall-clock epoch of the host's t = 0
-        if self.mapping.ping_topic:  # echoed once the layer answers: never while a module is deadlocked
-            pong = rospy.Publisher(self.mapping.pong_topic, String, queue_size=100)
-            rospy.Subscriber(self.mapping.ping_topic, String,
-                             lambda ping: self.host.ping(lambda: pong.publish(ping.data)))
+        self.pong = rospy.Publisher(self.mapping.pong_topic, String, queue_size=100) \
+            if self.mapping.ping_topic else None
         self.ids = itertools.count(1)
         self.goals: dict[int, actionlib.ServerGoalHandle] = {}
         # action name -> {goal's service name -> "module.Service"}
@@ -79,6 +77,8 @@ class DalaNode:
         self.host.start()
         for server in self.servers.values():
             server.start()
+        if self.pong:
+            rospy.Subscriber(self.mapping.ping_topic, String, self._ping)
         threading.Thread(target=self._heartbeat, name="heartbeat", daemon=True).start()
 
     def _stamp(self, t: float) -> float:
@@ -142,6 +142,17 @@ class DalaNode:
         rospy.signal_shutdown(message)
 
     # -- liveness ------------------------------------------------------------------------------
+    def _ping(self, ping: String) -> None:
+        """Echoed once the layer answers (never while a module is deadlocked), and only once every
+        topic this node publishes has its subscriber: a subscriber may count a connection before
+        the publisher does, and what is published in between is lost, so the adapter answers the
+        bench's hello only after a first echo."""
+        publishers = [p for p in (self.pong, self.world_pub, self.internal_pub) if p]
+        publishers += [p for server in self.servers.values()
+                       for p in (server.status_pub, server.result_pub, server.feedback_pub)]
+        if all(p.get_num_connections() > 0 for p in publishers):
+            self.host.ping(lambda: self.pong.publish(ping.data))
+
     def _heartbeat(self) -> None:
         while not rospy.is_shutdown():
             self.host.ping(self._publish_status)
