@@ -2,6 +2,9 @@
 import os
 import signal
 import time
+import xmlrpc.client
+
+from harness.adapters.ros import processes
 
 from tests.ros_driver import Launcher, descendants, request, requires_ros, wait_gone
 
@@ -174,3 +177,19 @@ def test_virtual_damage_reaches_the_bench():
         assert finished(launcher) == set()
     finally:
         launcher.kill()
+
+
+def test_a_master_whose_port_was_taken_meanwhile_is_replaced(monkeypatch, tmp_path):
+    """The other run's master on that port would answer in its place: ours must, on a port of its own."""
+    first, env = processes.start_master(str(tmp_path), 30)
+    taken = int(env["ROS_MASTER_URI"].rsplit(":", 1)[1])
+    offers = iter([taken])
+    free_port = processes.free_port
+    monkeypatch.setattr(processes, "free_port", lambda: next(offers, None) or free_port())
+    second = None
+    try:
+        second, env2 = processes.start_master(str(tmp_path), 30)
+        assert env2["ROS_MASTER_URI"] != env["ROS_MASTER_URI"]
+        assert xmlrpc.client.ServerProxy(env2["ROS_MASTER_URI"]).getPid("/test")[2] == second.process.pid
+    finally:
+        processes.stop_all([first] + ([second] if second else []))

@@ -18,7 +18,7 @@ import sys
 import threading
 
 from harness.adapters.ros.mapping import load_mapping
-from harness.adapters.ros.processes import Child, free_port, ros_environment, ros_home, start_master, stop_all
+from harness.adapters.ros.processes import Child, ros_home, start_master, stop_all
 from harness.errors import UntimelyError
 from harness.protocol import BENCH_MESSAGES, PROTO, ProtocolViolation, decode, encode
 
@@ -59,11 +59,10 @@ def run(args, out: LineWriter) -> None:
     mapping = load_mapping(args.mapping)
     children: list[Child] = []
     home = ros_home()
-    port = free_port()
-    env = ros_environment(port, home)
     ros_up = False
     try:
-        children.append(start_master(port, env, args.startup_timeout))
+        master, env = start_master(home, args.startup_timeout)
+        children.append(master)
         hello = read_message(sys.stdin)
         if hello is None:
             return
@@ -80,7 +79,7 @@ def run(args, out: LineWriter) -> None:
         ros_up = True
         adapter = Adapter(mapping, hello["interface"], time_scale, out.write)
         adapter.wait_for_servers(args.startup_timeout, node.failure)
-        adapter.hello(PROTO, f"ROS 1 actionlib adapter (master :{port}; node: {' '.join(args.node)})")
+        adapter.hello(PROTO, f"ROS 1 actionlib adapter (master {env['ROS_MASTER_URI']}; node: {' '.join(args.node)})")
         serve(adapter, sys.stdin)
     finally:
         stop_all(children)

@@ -102,17 +102,38 @@ def stop_all(children: list[Child], grace_s: float = 5.0) -> None:
             child.process.wait()
 
 
-def start_master(port: int, env: dict[str, str], timeout_s: float) -> Child:
-    master = Child("rosmaster", ["rosmaster", "--core", "-p", str(port)], env)
-    proxy = xmlrpc.client.ServerProxy(env["ROS_MASTER_URI"])
+PORT_ATTEMPTS = 5
+
+
+def start_master(home: str, timeout_s: float) -> tuple[Child, dict[str, str]]:
+    """A rosmaster of our own and the environment that reaches it. The free port may be taken by
+    someone else before the master binds it, and a master that cannot bind does not exit: it says
+    so and stays, while the port's owner (maybe another run's master) answers in its place. So the
+    answer must come from our master's pid, or we try another port."""
+    for _ in range(PORT_ATTEMPTS):
+        port = free_port()
+        env = ros_environment(port, home)
+        master = Child("rosmaster", ["rosmaster", "--core", "-p", str(port)], env)
+        if _answers(master, xmlrpc.client.ServerProxy(env["ROS_MASTER_URI"]), timeout_s):
+            return master, env
+        exited = master.failure()  # by itself, before we stop it
+        master.stop()
+        if exited and "already in use" not in exited:
+            raise ChildError(exited)
+    raise ChildError(f"no free port for a rosmaster after {PORT_ATTEMPTS} attempts; the last: "
+                     f"{' | '.join(master.last_lines)}")
+
+
+def _answers(master: Child, proxy, timeout_s: float) -> bool:
+    """Whether `master` itself answers within `timeout_s`; False as soon as it cannot bind."""
     deadline = time.monotonic() + timeout_s
-    while True:
+    while time.monotonic() < deadline and master.process.poll() is None:
+        if any("already in use" in line for line in master.last_lines):
+            return False
         try:
-            proxy.getPid("/untimely")
-            return master
-        except OSError:
-            if master.failure() or time.monotonic() > deadline:
-                master.stop()
-                raise ChildError(master.failure() or f"the rosmaster on port {port} did not answer within "
-                                 f"{timeout_s:g} s; the machine may be overloaded") from None
+            return proxy.getPid("/untimely")[2] == master.process.pid
+        except (OSError, xmlrpc.client.Error):
             time.sleep(0.05)
+    if master.process.poll() is None:
+        raise ChildError(f"the rosmaster did not answer within {timeout_s:g} s; the machine may be overloaded")
+    return False
