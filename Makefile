@@ -14,6 +14,7 @@ MUTANTS ?= 300
 SUTS    ?= genom,bip-a,bip-b
 SEED    ?= 2012
 JOBS    ?= 0
+STRATEGY ?= random
 
 .PHONY: venv ros test bench campaign analyze report clean
 
@@ -43,7 +44,7 @@ bench: $(STAMP) ros
 	$(PY) bench/run.py
 
 campaign: $(STAMP)
-	$(PY) -m harness campaign --mutants $(MUTANTS) --sut $(SUTS) --seed $(SEED) --db $(DB) --jobs $(JOBS)
+	$(PY) -m harness campaign --mutants $(MUTANTS) --sut $(SUTS) --seed $(SEED) --strategy $(STRATEGY) --db $(DB) --jobs $(JOBS)
 
 analyze: $(STAMP)
 	$(PY) -m harness analyze --db $(DB)

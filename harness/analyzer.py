@@ -20,19 +20,22 @@ from harness.interface import Interface, Property, load_interface, load_properti
 from harness.oracles import render_property, render_view
 from harness.provenance import default_properties, last_epsilon, record
 from harness.store import connect, transaction
-from harness.textable import format_table, percent
+from harness.textable import format_table, percent, rate_interval
 
 # (events source, verdicts table): the observed timeline and the ground truth.
 SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
 # Creation order: each view reads only tables or views created before it.
-VIEWS = ("requests", "activities", "property_verdicts", "family_verdicts", "trace_robustness",
-         "tp_rates", "fp_rates", "inversions", "interface_latency", "table_values", "verdict_transitions",
-         "table_changes", "analysis")
+VIEWS = ("wilson", "requests", "activities", "property_verdicts", "family_verdicts", "trace_robustness",
+         "tp_rates", "fp_rates", "inversions", "interface_latency", "coverage", "bad_behaviours", "table_values",
+         "verdict_transitions", "table_changes", "analysis")
 # Rank queries ordering the views' rows: variants as they were run, properties and families in
 # the order of the properties file (the verdicts table is filled in that order); All comes last.
 RANKS = {"sut": "select sut, min(trace_id) as sut_rank from traces group by sut",
          "family": "select family, min(rowid) as family_rank from verdicts group by family",
          "property_id": "select property_id, min(rowid) as property_id_rank from verdicts group by property_id"}
+# Every property, also one without verdicts (coverage), in file order: stores analysed since the
+# properties table exists; older ones, read as they are, rank by their verdicts.
+PROPERTY_RANK = "select property_id, rowid as property_id_rank from properties"
 _LINE = re.compile(r"LINE (\d+):")
 
 
@@ -109,6 +112,7 @@ def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsi
                     raise oracle.failed(e) from None
             for _, target in SOURCES:
                 con.execute(render_view("shared_codes", target=target))
+            con.execute(render_view("properties", properties=properties))
             for name in VIEWS:
                 con.execute(render_view(name))
             seconds = time.perf_counter() - started
@@ -139,18 +143,22 @@ def family_order(con) -> list[str]:
 def ordered(con, view: str) -> str:
     """The query of a whole view (or table), its rows in the order of RANKS, ties by its columns."""
     columns = [d[0] for d in con.execute(f"select * from {view} limit 0").description]
-    ranked = [c for c in RANKS if c in columns]
-    joins = " ".join(f"left join ({RANKS[c]}) using ({c})" for c in ranked)
+    ranks = RANKS
+    if con.execute("select count(*) from information_schema.tables where table_name = 'properties'").fetchall()[0][0]:
+        ranks = {**RANKS, "property_id": PROPERTY_RANK}
+    ranked = [c for c in ranks if c in columns]
+    joins = " ".join(f"left join ({ranks[c]}) using ({c})" for c in ranked)
     order = [f"{c}_rank nulls last" for c in ranked] + [str(n) for n in range(1, len(columns) + 1)]
     return f"select v.* from {view} v {joins} order by {', '.join(order)}"
 
 
 def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
-    """Paper layout: one row per family (properties-file order, then All), one column per variant."""
-    rate = {(sut, family): value for sut, family, value
-            in con.execute(f"select sut, family, {column} from {view}").fetchall()}
+    """Paper layout: one row per family (properties-file order, then All), one column per variant;
+    each cell the rate, its 95% Wilson interval and n."""
+    cells = {(sut, family): rate_interval(*values) for sut, family, *values in con.execute(
+        f"select sut, family, {column}, {column}_low, {column}_high, n from {view}").fetchall()}
     return format_table(["family"] + suts,
-                        [[f] + [percent(rate.get((s, f))) for s in suts] for f in family_order(con)])
+                        [[f] + [cells.get((s, f), "-") for s in suts] for f in family_order(con)])
 
 
 def flag_accuracy(con) -> tuple[int, int, int, int]:
@@ -169,8 +177,10 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
     suts = [r[0] for r in robustness]
     table2 = format_table(columns, [r[:-1] + (percent(r[-1]) + "%",) for r in robustness])
     parts = ["Table II - per trace results\n" + table2,
-             "Table III - true positive rates TP/(TP+FN), %\n" + _rates_by_family(con, "tp_rates", "tp_rate", suts),
-             "Table IV - false positive rates FP/(FP+TN), %\n" + _rates_by_family(con, "fp_rates", "fp_rate", suts)]
+             "Table III - true positive rates TP/(TP+FN), % [95% Wilson interval] n=TP+FN\n"
+             + _rates_by_family(con, "tp_rates", "tp_rate", suts),
+             "Table IV - false positive rates FP/(FP+TN), % [95% Wilson interval] n=FP+TN\n"
+             + _rates_by_family(con, "fp_rates", "fp_rate", suts)]
     judged, inverted, caught, flagged = flag_accuracy(con)
     if judged:
         parts.append(f"Ground truth: {inverted} of {judged} observed verdicts differ from the verdicts on "
@@ -183,7 +193,19 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
     if latency:
         parts.append("Interface latency of the real-time runs (ping round trips, wall s; "
                      "suggested epsilon in mission s)\n" + format_table([d[0] for d in cursor.description], latency))
+    parts.append(least_covered(con))
     return "\n\n".join(parts)
+
+
+def least_covered(con: duckdb.DuckDBPyConnection, shown: int = 5) -> str:
+    """The properties whose condition was false on the fewest requests, on their worst variant."""
+    found = con.execute(f"""
+        select property_id, min(c_false) as c_false, arg_min(sut, c_false) as sut
+        from coverage left join ({PROPERTY_RANK}) using (property_id) group by property_id
+        order by c_false, min(property_id_rank) limit {int(shown)}""").fetchall()
+    listed = ", ".join(f"{p} {n} ({sut})" for p, n, sut in found)
+    return (f"Least covered (requests with C false, on the variant with fewest; view coverage): {listed}. "
+            "More cases: python -m harness campaign --strategy targeted")
 
 
 def main(args) -> int:

@@ -22,11 +22,12 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from harness import analyzer, store
+from harness import analyzer, shrink, store
 from harness.errors import InputFileError, StoreError, UntimelyError
 from harness.executive import run_script
 from harness.interface import Interface, load_interface, load_properties
-from harness.mutator.operators import Mutant, generate
+from harness.mutator import strategies
+from harness.mutator.operators import Mutant
 from harness.mutator.script import load_script
 from harness.progress import Progress
 from harness.provenance import last_epsilon
@@ -38,9 +39,10 @@ from harness.workers import Setup, Task, run_all, script_label
 # properties.toml is not among them: editing a property re-judges traces, it does not re-run them.
 TRACE_FILES = ("golden.mission", "interface.toml", "world.toml")
 # Arguments that decide what is run; --jobs, --cluster and --db do not.
-COMPARED = ("mutants", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "max_delay", "files")
+COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "max_delay",
+            "files")
 # What a config stored before a key existed means by its absence.
-ABSENT = {"external": {}}
+ABSENT = {"external": {}, "strategy": "random"}
 RUN_WALL_LIMIT_S = 600.0  # of a simulated run; a real-time one has the executive's watchdogs
 REALTIME_WALL_LIMIT_S = 3 * 3600.0
 
@@ -57,8 +59,9 @@ def campaign_config(args) -> dict:
     """The campaign's identity (stored in campaigns.config); refuses arguments that make no sense."""
     if args.mutants < 0:
         raise UntimelyError(f"--mutants {args.mutants}: give a number of mutants >= 0")
-    if args.ops_per_mutant < 1:
-        raise UntimelyError(f"--ops-per-mutant {args.ops_per_mutant}: give at least 1 operation per mutant")
+    ops_per_mutant = strategies.operations(args.strategy, args.ops_per_mutant, args.time_mutations)
+    if ops_per_mutant < 1:
+        raise UntimelyError(f"--ops-per-mutant {ops_per_mutant}: give at least 1 operation per mutant")
     if args.jobs < 0:
         raise UntimelyError(f"--jobs {args.jobs}: give a number of worker processes, or 0 for all cores")
     if not args.max_delay >= 0:
@@ -67,7 +70,8 @@ def campaign_config(args) -> dict:
     suts, external = resolve(args.sut, mission, args.time_scale)
     return {"kind": "campaign", "mission": str(mission.resolve()), "mutants": args.mutants, "sut": suts,
             "external": {name: sut.config() for name, sut in external.items()},
-            "seed": args.seed, "ops_per_mutant": args.ops_per_mutant, "time_mutations": args.time_mutations,
+            "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,
+            "time_mutations": args.time_mutations,
             "max_delay": args.max_delay, "jobs": args.jobs,
             "files": {name: _sha256(mission / name) for name in TRACE_FILES}}
 
@@ -81,10 +85,10 @@ def _difference(stored: dict, wanted: dict) -> str | None:
             return (f"--mission {stored['mission']} had other contents: {', '.join(changed)} "
                     f"differ from {wanted['mission']}")
         if key == "external":
-            return f"external SUTs {stored[key]}, not {wanted[key]}"
+            return f"external SUTs {stored.get(key, ABSENT[key])}, not {wanted[key]}"
         show = (lambda v: ",".join(v)) if key == "sut" else str
         flag = "--" + key.replace("_", "-")
-        return f"{flag} {show(stored.get(key))}, not {show(wanted[key])}"
+        return f"{flag} {show(stored.get(key, ABSENT.get(key)))}, not {show(wanted[key])}"
     return None
 
 
@@ -216,18 +220,20 @@ def main(args, runner=None) -> int:
     # A real-time run mostly waits: its slots may outnumber the cores.
     jobs = args.jobs or max([len(os.sched_getaffinity(0))] + [s.slots for s in external.values()])
     with _backend(args.cluster, setup, jobs) as run_tasks:
-        return _run(args, config, mission, interface, golden, properties, run_tasks)
+        return _run(args, config, mission, interface, golden, properties, setup, jobs, run_tasks)
 
 
-def _run(args, config, mission, interface, golden, properties, run_tasks) -> int:
+def _run(args, config, mission, interface, golden, properties, setup, jobs, run_tasks) -> int:
     con = store.connect(args.db)
     campaign_id = find_campaign(con, config, args.db)
     variants = len(config["sut"])
     start = time.monotonic()
     if campaign_id is None:
         golden_id = store.next_id(con, "scripts", "script_id")
-        mutants = generate(golden, interface, config["mutants"], config["seed"], config["ops_per_mutant"],
-                           config["time_mutations"], name=lambda n: script_label(golden_id + n))
+        golden_run = _tasks([(golden_id, golden.render())], golden_id, config)[0]  # on the first variant
+        mutants = strategies.generate(config, golden, interface, properties,
+                                      run_golden=lambda: setup.run(golden_run, interface, 0),
+                                      name=lambda n: script_label(golden_id + n))
         session = Session(Progress(variants * (1 + sum(m.valid for m in mutants))), start)
         campaign_id = _create(con, config, golden_id, (mission / "golden.mission").read_text(), mutants,
                               interface, run_tasks, session)
@@ -252,4 +258,9 @@ def _run(args, config, mission, interface, golden, properties, run_tasks) -> int
         analyzer.materialise(con, properties, epsilon, interface, mission / "properties.toml")
         print(f"verdicts  materialised for every trace of {args.db} (epsilon {epsilon:g} s)\n")
         print(analyzer.summary(con, epsilon))
+    if args.shrink:
+        print("\nshrunk reproducers, one per distinct bad behaviour (view bad_behaviours):")
+        for line in shrink.representatives(con, properties, shrink.default_out(args.db), setup.runner,
+                                           1 if setup.external else jobs):  # an external SUT: one run at a time
+            print(line, flush=True)
     return 0

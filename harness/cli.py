@@ -38,6 +38,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--sut", required=True, help=f"implementation variant: {VARIANTS_HELP}{EXTERNAL_HELP}")
     c.add_argument("--seed", type=int, default=0, help="seed of the observation delays (default: 0)")
     c.add_argument("--interface", help="interface description (default: interface.toml beside the script)")
+    c.add_argument("--world", help="world description (default: world.toml beside the script)")
     c.add_argument("--max-delay", type=float, default=0.003,
                    help="largest interface observation delay in seconds (default: %(default)s)")
     time_scale(c)
@@ -50,13 +51,29 @@ def _parser() -> argparse.ArgumentParser:
                    help=f"comma-separated SUTs (default: %(default)s): variants {VARIANTS_HELP}{EXTERNAL_HELP}")
     c.add_argument("--seed", type=int, default=2012, help="campaign seed (default: %(default)s)")
     c.add_argument("--jobs", type=int, default=0, help="worker processes, 0 = all cores (default: %(default)s)")
-    c.add_argument("--ops-per-mutant", type=int, default=1, help="mutation operations per mutant (default: 1)")
+    c.add_argument("--strategy", choices=("random", "targeted"), default="random",
+                   help="random: the paper's operators; targeted: mutants aimed at falsifying the "
+                        "least-covered properties' conditions (default: %(default)s)")
+    c.add_argument("--ops-per-mutant", type=int, default=None,
+                   help="mutation operations per mutant (default: 1 random, 3 targeted)")
+    c.add_argument("--shrink", action="store_true",
+                   help="then shrink one representative trace of each distinct bad behaviour")
     c.add_argument("--time-mutations", action="store_true", help="also drop waits and change sleeps")
     c.add_argument("--cluster", metavar="ADDRESS", help="run on a Dask cluster: a scheduler address "
                    "(tcp://HOST:8786) or local:N for N local workers; needs the cluster extra (docs/cluster.md)")
     c.add_argument("--max-delay", type=float, default=0.003,
                    help="largest interface observation delay in seconds (default: %(default)s)")
     time_scale(c)
+    db(c)
+
+    c = command("shrink", "reduce a bad trace's script to the smallest one showing the same bad behaviour",
+                "harness.shrink:main")
+    c.add_argument("trace_id", type=int, help="a hung trace, or one with an FN or FP verdict")
+    c.add_argument("--property", help="shrink the FN (else FP) on this property id (default: the hang, "
+                                      "else the trace's first FN or FP)")
+    c.add_argument("--verdict", choices=("FN", "FP"), help="with --property: keep this verdict (default: FN, else FP)")
+    c.add_argument("--mission", help="mission folder (default: the trace's campaign's)")
+    c.add_argument("--out", help="folder of the .mission file (default: shrunk/ beside the store)")
     db(c)
 
     c = command("analyze", "(re)materialise verdicts from the stored traces and print Tables II-IV",

@@ -19,10 +19,11 @@ from harness.suts import resolve
 from harness.trace import Trace
 
 
-def mission_files(script_path: Path, interface: str | None = None) -> tuple[Path, Path]:
-    """The interface and world descriptions that belong beside a mission script."""
+def mission_files(script_path: Path, interface: str | None = None, world: str | None = None) -> tuple[Path, Path]:
+    """The interface and world descriptions: those given, else those beside the mission script."""
     folder = script_path.resolve().parent
-    return Path(interface) if interface else folder / "interface.toml", folder / "world.toml"
+    return (Path(interface) if interface else folder / "interface.toml",
+            Path(world) if world else folder / "world.toml")
 
 
 def latency_line(provenance: dict) -> str:
@@ -58,7 +59,7 @@ def summary(trace: Trace, replies: dict[str, str]) -> str:
 
 def main(args) -> int:
     script_path = Path(args.mission)
-    interface_path, world_file = mission_files(script_path, args.interface)
+    interface_path, world_file = mission_files(script_path, args.interface, args.world)
     interface = load_interface(interface_path)
     script = load_script(script_path, interface)
     names, external = resolve(args.sut, world_file.parent, args.time_scale)

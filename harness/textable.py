@@ -10,6 +10,13 @@ def percent(rate: float | None) -> str:
     return "-" if rate is None else f"{100 * rate:.1f}"
 
 
+def rate_interval(rate: float | None, low: float | None, high: float | None, n: int | None) -> str:
+    """A rate with its 95% interval and count, e.g. "87.5 [61.7, 96.5] n=16"; "- n=0" without cases."""
+    if not n:
+        return "- n=0"
+    return f"{percent(rate)} [{percent(low)}, {percent(high)}] n={n}"
+
+
 def cell(value, null: str = "NULL") -> str:
     if value is None:
         return null

@@ -12,8 +12,8 @@ create table if not exists campaigns (
 create table if not exists scripts (
     script_id      integer primary key,
     campaign_id    integer not null,
-    kind           varchar not null check (kind in ('golden', 'mutant')),
-    parent         integer,             -- script_id of the script it was mutated from
+    kind           varchar not null check (kind in ('golden', 'mutant', 'shrunk')),
+    parent         integer,             -- script_id of the script it was mutated or shrunk from
     mutations      json not null,       -- list of operations, empty for golden
     body           varchar not null,    -- the script text as run
     valid          boolean not null,

@@ -1,5 +1,6 @@
 """The analyze command: materialisation in one transaction, ground-truth inversions, printed tables."""
 import json
+import re
 import shutil
 import tomllib
 
@@ -124,17 +125,24 @@ def test_analyze_command_prints_tables_ii_to_iv(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "Judged 22 events of 6 traces against 2 properties" in out
     table2, table3, table4 = (_cells(out, a, b) for a, b in (("Table II -", "Table III"),
-                                                            ("Table III", "Table IV"), ("Table IV", "Changes")))
+                                                            ("Table III", "Table IV"), ("Table IV", "Least")))
     assert table2 == [["sut", "total", "hung", "crashed", "with_fn", "with_fp", "bad", "t_rob"],
                       ["A", "4", "1", "0", "1", "1", "3", "25.0%"], ["B", "2", "0", "1", "0", "0", "1", "50.0%"]]
-    assert table3 == [["family", "A", "B"], ["PEX", "50.0", "100.0"], ["AIB", "100.0", "-"], ["All", "66.7", "100.0"]]
-    assert table4 == [["family", "A", "B"], ["PEX", "50.0", "-"], ["AIB", "0.0", "0.0"], ["All", "33.3", "0.0"]]
+    # each rate with its 95% Wilson interval (textbook values: 1/2 -> 9.5-90.5, 1/1 -> 20.7-100) and n
+    assert table3 == [["family", "A", "B"], ["PEX", "50.0 [9.5, 90.5] n=2", "100.0 [20.7, 100.0] n=1"],
+                      ["AIB", "100.0 [20.7, 100.0] n=1", "- n=0"],
+                      ["All", "66.7 [20.8, 93.9] n=3", "100.0 [20.7, 100.0] n=1"]]
+    assert table4 == [["family", "A", "B"], ["PEX", "50.0 [9.5, 90.5] n=2", "- n=0"],
+                      ["AIB", "0.0 [0.0, 79.3] n=1", "0.0 [0.0, 79.3] n=1"],
+                      ["All", "33.3 [6.1, 79.2] n=3", "0.0 [0.0, 79.3] n=1"]]
+    # the two properties, fewest C-false requests first, on their worst variant
+    assert "view coverage): AIB(ndd.GotoPosition) 0 (B), PEX(rflex) 1 (B)." in out
 
 
 def _cells(out: str, start: str, end: str) -> list[list[str]]:
     """The cells of the printed table between two titles, without its title and rule."""
     lines = out.split(start)[1].split(end)[0].splitlines()[1:]
-    return [line.split() for line in lines if line.strip() and set(line) - {"-", " "}]
+    return [re.split(r"\s{2,}", line.strip()) for line in lines if line.strip() and set(line) - {"-", " "}]
 
 
 def test_analyze_refuses_a_missing_store_and_a_bad_epsilon(tmp_path, capsys):

@@ -1,6 +1,7 @@
 """The views' numbers (paper Tables II-IV) on the small hand-made store of tests/traces/tables.trace."""
 import pytest
 
+from harness.analyzer import materialise
 from traces.fixtures import HERE, load, judged_store
 
 EPSILON = 0.01
@@ -61,3 +62,38 @@ def test_a_rejected_request_is_no_activity_and_an_unanswered_one_has_no_end():
 def test_verdicts_follow_the_properties_file_order(con):
     firsts = con.execute("select property_id from verdicts group by property_id order by min(rowid)").fetchall()
     assert firsts == [("PEX(rflex)",), ("AIB(ndd.GotoPosition)",)]
+
+
+def test_rates_carry_n_and_the_wilson_interval(con):
+    rows = con.execute("""select sut, family, n, round(tp_rate_low, 4), round(tp_rate_high, 4) from tp_rates
+                          order by sut, family""").fetchall()
+    # textbook 95% Wilson intervals: 1/1 -> [0.2065, 1], 2/3 -> [0.2077, 0.9385], 1/2 -> [0.0945, 0.9055]
+    assert rows == [("A", "AIB", 1, 0.2065, 1.0), ("A", "All", 3, 0.2077, 0.9385), ("A", "PEX", 2, 0.0945, 0.9055),
+                    ("B", "AIB", 0, None, None), ("B", "All", 1, 0.2065, 1.0), ("B", "PEX", 1, 0.2065, 1.0)]
+    fp = con.execute("select n, fp_rate_low, round(fp_rate_high, 4) from fp_rates where sut = 'B' and family = 'All'")
+    assert fp.fetchall() == [(1, 0.0, 0.7935)]  # 0/1: clamped at 0, not a rounding error below it
+
+
+def test_coverage_counts_conditions_and_cells_per_property_and_variant(con):
+    rows = con.execute("""select sut, property_id, c_false, c_true, tp, fn, tn, fp, tp_n, fp_n
+                          from coverage order by sut, property_id""").fetchall()
+    assert rows == [("A", "AIB(ndd.GotoPosition)", 1, 1, 1, 0, 1, 0, 1, 1),
+                    ("A", "PEX(rflex)", 2, 2, 1, 1, 1, 1, 2, 2),
+                    ("B", "AIB(ndd.GotoPosition)", 0, 1, 0, 0, 1, 0, 0, 1),
+                    ("B", "PEX(rflex)", 1, 0, 1, 0, 0, 0, 1, 0)]
+    judged = con.execute("select count(*) filter (where c_holds = false), count(*) filter (where c_holds) "
+                         "from verdicts").fetchone()
+    assert con.execute("select sum(c_false), sum(c_true) from coverage").fetchone() == judged
+
+
+def test_coverage_lists_every_property_even_without_relevant_requests(properties):
+    store = judged_store(load(HERE / "tables.trace"), EPSILON)
+    materialise(store, properties, EPSILON)  # all 21, most of which no request of the fixture concerns
+    rows = store.execute("select property_id, c_false + c_true, tp_rate from coverage where sut = 'A'").fetchall()
+    assert [r[0] for r in rows] == [p.id for p in properties]  # in the properties file's order
+    assert ("PRE(sick.OneShot)", 0, None) in rows
+
+
+def test_bad_behaviours_are_distinct_per_variant_property_and_verdict(con):
+    rows = con.execute("select sut, property_id, verdict, traces from bad_behaviours order by all").fetchall()
+    assert rows == [("A", "PEX(rflex)", "FN", 1), ("A", "PEX(rflex)", "FP", 1), ("A", None, "hung", 1)]

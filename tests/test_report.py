@@ -194,21 +194,28 @@ def test_tables_3_and_4_equal_the_rate_views(site, table, view, rate):
     rows = _page(out / "index.html").texts(table)
     suts = rows[0][1:]
     cells = {(row[0], sut): text for row in rows[1:] for sut, text in zip(suts, row[1:])}
-    assert cells == {(r["family"], r["sut"]): shown(r[rate], rate=True) for r in found}
+
+    def with_interval(r):  # the rate, its 95% interval, n
+        if not r["n"]:
+            return "- n=0"
+        return (f"{shown(r[rate], rate=True)} [{shown(r[rate + '_low'], rate=True)}, "
+                f"{shown(r[rate + '_high'], rate=True)}] n={r['n']}")
+    assert cells == {(r["family"], r["sut"]): with_interval(r) for r in found}
     assert [row[0] for row in rows[1:]] == ["PEX", "AIB", "PRE", "EXC", "All"]
 
 
-def test_the_property_table_equals_the_property_verdicts_view(site):
+def test_the_property_table_equals_the_coverage_view(site):
     db, out = site
-    names, found = _query(db, "select * from property_verdicts")
-    rows = _page(out / "index.html").texts("property_verdicts")
+    names, found = _query(db, "select * from coverage")
+    rows = _page(out / "index.html").texts("coverage")
     assert rows[0] == names
-    assert Counter(map(tuple, rows[1:])) == Counter(tuple(shown(r[c]) for c in names) for r in found)
+    rates = [c for c in names if "rate" in c]
+    assert Counter(map(tuple, rows[1:])) == Counter(tuple(shown(r[c], c in rates) for c in names) for r in found)
 
 
 def test_csv_files_equal_the_views(site):
     db, out = site
-    for view in ("trace_robustness", "tp_rates", "fp_rates", "property_verdicts", "inversions"):
+    for view in ("trace_robustness", "tp_rates", "fp_rates", "coverage", "inversions"):
         names, found = _query(db, f"select * from {view}")
         with open(out / f"{view}.csv", newline="") as f:
             written = list(csv.reader(f))
@@ -281,7 +288,9 @@ def test_table3_cells_reach_trace_pages_in_two_clicks(site):
             assert len(links) == listed.get((sut, row[0][0]), 0), (sut, row[0][0])
             assert all((out / link).exists() for link in links)
             cell = next(r for r in rates if (r["sut"], r["family"]) == (sut, row[0][0]))
-            assert f"TP {cell['tp']}, FN {cell['fn']}: TP rate {shown(cell['tp_rate'], rate=True)} %" in \
+            interval = (f"{shown(cell['tp_rate'], rate=True)} [{shown(cell['tp_rate_low'], rate=True)}, "
+                        f"{shown(cell['tp_rate_high'], rate=True)}] n={cell['n']}" if cell["n"] else "- n=0")
+            assert f"TP {cell['tp']}, FN {cell['fn']}: TP rate (%, 95% interval, n)\n{interval}." in \
                 (out / href).read_text()
 
 

@@ -40,7 +40,8 @@ class Mutant:
         return self.script.render()
 
 
-def _text(step: Step) -> str:
+def step_text(step: Step) -> str:
+    """A step as an operation records it: its text without the comment."""
     return replace(step, comment="").render()
 
 
@@ -52,7 +53,7 @@ def _indices(steps: list[Step], op: str) -> list[int]:
     return [i for i, s in enumerate(steps) if s.op == op]
 
 
-def _plausible(value: float) -> float:
+def plausible(value: float) -> float:
     """Three significant digits: a value a mission author would write."""
     return float(f"{value:.3g}")
 
@@ -62,18 +63,18 @@ def _delete_one(steps, rng, kind: str, op: str):
     if not candidates:
         return None
     i = rng.choice(candidates)
-    return {"op": op, "line": _line(steps[i]), "step": _text(steps.pop(i))}
+    return {"op": op, "line": _line(steps[i]), "step": step_text(steps.pop(i))}
 
 
 def delete_request(steps, rng, interface):
     return _delete_one(steps, rng, "send", "delete_request")
 
 
-def _random_request(service: Service, rng: random.Random, handle: str | None) -> Step:
+def random_request(service: Service, rng: random.Random, handle: str | None) -> Step:
     args = []
     for arg in service.args.values():
         if arg.type == "float":
-            args.append((arg.name, f"{_plausible(rng.uniform(arg.min, arg.max)):g}"))
+            args.append((arg.name, f"{plausible(rng.uniform(arg.min, arg.max)):g}"))
         else:
             args.append((arg.name, rng.choice(arg.choices)))
     return Step(0, "send", service=service.qualified, args=tuple(args), handle=handle)
@@ -90,10 +91,10 @@ def _fresh_handle(steps: list[Step]) -> str:
 def insert_request(steps, rng, interface):
     service = interface.services[rng.choice(sorted(interface.services))]
     handle = _fresh_handle(steps) if rng.random() < 0.5 else None
-    step = _random_request(service, rng, handle)
+    step = random_request(service, rng, handle)
     at = rng.randint(0, len(steps))
     steps.insert(at, step)
-    return {"op": "insert_request", "position": at + 1, "step": _text(step)}
+    return {"op": "insert_request", "position": at + 1, "step": step_text(step)}
 
 
 def swap_requests(steps, rng, interface):
@@ -103,7 +104,7 @@ def swap_requests(steps, rng, interface):
     i, j = sorted(rng.sample(sends, 2))
     steps[i], steps[j] = steps[j], steps[i]
     return {"op": "swap_requests", "lines": [_line(steps[j]), _line(steps[i])],
-            "steps": [_text(steps[j]), _text(steps[i])]}
+            "steps": [step_text(steps[j]), step_text(steps[i])]}
 
 
 def drop_wait(steps, rng, interface):
@@ -116,9 +117,9 @@ def change_sleep(steps, rng, interface):
         return None
     i = rng.choice(sleeps)
     old = steps[i]
-    seconds = _plausible(old.seconds * 10 ** rng.uniform(-SLEEP_SCALE_DECADES, SLEEP_SCALE_DECADES))
+    seconds = plausible(old.seconds * 10 ** rng.uniform(-SLEEP_SCALE_DECADES, SLEEP_SCALE_DECADES))
     steps[i] = replace(old, seconds=seconds)
-    return {"op": "change_sleep", "line": _line(old), "step": _text(old), "seconds": seconds}
+    return {"op": "change_sleep", "line": _line(old), "step": step_text(old), "seconds": seconds}
 
 
 REQUEST_OPERATORS = (delete_request, insert_request, swap_requests)
@@ -137,7 +138,11 @@ def mutate(golden: Script, interface: Interface, rng: random.Random, operations:
             candidates.remove(operator)
             record = operator(steps, rng, interface)
         records.append(record)
-    script = Script(tuple(steps), label).renumbered()
+    return validated(Script(tuple(steps), label).renumbered(), records, interface)
+
+
+def validated(script: Script, records: list[dict], interface: Interface) -> Mutant:
+    """The mutant, marked invalid with the validator's message if the interface cannot run it."""
     try:
         validate(script, interface)
     except ScriptError as e:

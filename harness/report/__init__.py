@@ -52,15 +52,19 @@ def write_report(con, out: Path, extra_traces: list[int]) -> dict[str, int]:
         "table2": table2.link_column("sut", pages.bad_href),
         "table3": pages.pivot(tp, "tp_rate", "table3", suts, families),
         "table4": pages.pivot(fp, "fp_rate", "table4", suts, families),
-        "properties": queries.view(con, "property_verdicts"),
+        "properties": queries.per_property(con),
+        "shrunk": queries.shrunk(con),
         "suspicious": queries.suspicious(con),
         "inversions": queries.inversions(con),
     }
     tables["verdict_transitions"], tables["table_changes"] = queries.changes(con)
     tables["suspicious"].link_column("trace_id", lambda i: pages.trace_href(i) if i in page_ids else None)
+    shrunk = pages.write_shrunk(con, out, tables["shrunk"])
+    tables["shrunk"].link_column("script_id", pages.shrunk_href)
+    tables["shrunk"].link_column("trace_id", lambda i: pages.trace_href(i) if i in page_ids else None)
     csv_tables = [table2, tp, fp, tables["properties"], tables["suspicious"], tables["invalid_mutants"],
                   tables["trace_outcomes"], bad, queries.bad_verdicts(con), tables["inversions"],
-                  tables["verdict_transitions"], tables["table_changes"]]
+                  tables["verdict_transitions"], tables["table_changes"], tables["shrunk"]]
 
     (out / "traces").mkdir(parents=True, exist_ok=True)
     for stale in (out / "traces").glob("*.html"):  # pages of traces no longer bad would mislead
@@ -70,7 +74,7 @@ def write_report(con, out: Path, extra_traces: list[int]) -> dict[str, int]:
     lists = pages.write_lists(out, family_traces, bad, suts, families, (tp, fp))
     details = queries.trace_details(con, sorted(page_ids))
     why = explanations(con, [v for t in details for v in t["verdicts"] if pages.explained(v)])
-    pages.write_traces(out, details, queries.module_order(con), why)
+    pages.write_traces(out, details, queries.module_order(con), why, shrunk)
     pages.write_index(out, dict(
         campaigns=queries.campaigns(con), analysis=queries.analysis(con), tables=tables, bad=bad, suts=suts,
         charts=pages.index_charts(suts, families, tp, fp, table2, queries.verdict_mix(con)),

@@ -10,13 +10,16 @@ BAR_W, GAP = 16, 14
 
 
 def grouped_bars(title: str, categories: list[str], series: list[str],
-                 values: dict[tuple[str, str], float | None], full_scale: bool = True) -> Markup:
-    """Rates in [0, 1]: one group of bars per category, one bar per series.
+                 values: dict[tuple[str, str], float | None], full_scale: bool = True,
+                 intervals: dict[tuple[str, str], tuple[float, float]] | None = None) -> Markup:
+    """Rates in [0, 1]: one group of bars per category, one bar per series, each with a whisker
+    over its confidence interval when `intervals` gives one.
 
-    full_scale draws 0-100 %; otherwise the axis stops just above the largest rate, so that
-    rare events (false positives) stay visible.
+    full_scale draws 0-100 %; otherwise the axis stops just above the largest rate (or interval),
+    so that rare events (false positives) stay visible.
     """
-    top = max([v for v in values.values() if v is not None] + [0.0])
+    intervals = intervals or {}
+    top = max([v for v in values.values() if v is not None] + [hi for _, hi in intervals.values()] + [0.0])
     y_max = 1.0 if full_scale or top == 0 else min(1.0, nice_step(top, 4) * 4)
     group_w = len(series) * BAR_W + GAP
     width = LEFT + len(categories) * group_w + 20
@@ -39,8 +42,15 @@ def grouped_bars(title: str, categories: list[str], series: list[str],
                 add(root, "text", "-", css_class="tick", x=x0 + (s + 0.5) * BAR_W, y=y(0) - 2,
                     text_anchor="middle", title=tip)
                 continue
+            interval = intervals.get((category, name))
+            if interval:
+                tip += f" [{100 * interval[0]:.1f}, {100 * interval[1]:.1f}]"
             add(root, "rect", css_class=f"series-{s}", x=x0 + s * BAR_W, y=y(v), width=BAR_W - 2,
                 height=max(y(0) - y(v), 0.5), title=tip)
+            if interval:
+                mid = x0 + s * BAR_W + (BAR_W - 2) / 2
+                add(root, "line", css_class="whisker", x1=mid, x2=mid, y1=y(interval[0]), y2=y(interval[1]),
+                    title=tip)
     _legend(root, series, [f"series-{s}" for s in range(len(series))], TOP + PLOT_H + 24)
     return markup(root)
 

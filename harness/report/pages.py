@@ -10,7 +10,8 @@ from markupsafe import Markup
 from harness.report import charts, queries
 from harness.report.tables import Table
 from harness.report.timeline import timeline
-from harness.textable import percent
+from harness.shrink import Behaviour, mission_file, original, write_mission
+from harness.textable import percent, rate_interval
 
 TEMPLATES = Path(__file__).parent / "templates"
 SHOWN_ROWS = 200  # longer tables are cut on the page; their CSV has every row
@@ -35,7 +36,11 @@ def bad_href(sut: str) -> str:
     return f"traces/bad-{slug(sut)}.html"
 
 
-_env.globals.update(trace_href=trace_href, list_href=list_href, bad_href=bad_href)
+def shrunk_href(script_id: int) -> str:
+    return "shrunk/" + mission_file(Path(), script_id).name
+
+
+_env.globals.update(trace_href=trace_href, list_href=list_href, bad_href=bad_href, shrunk_href=shrunk_href)
 
 
 def _rates(view: Table, rate: str) -> dict[tuple[str, str], float | None]:
@@ -43,13 +48,29 @@ def _rates(view: Table, rate: str) -> dict[tuple[str, str], float | None]:
     return {(r["family"], r["sut"]): r[rate] for r in view.records()}
 
 
+def _intervals(view: Table, rate: str) -> dict[tuple[str, str], tuple[float, float]]:
+    """(family, variant) -> the rate's 95% interval, where it has cases."""
+    return {(r["family"], r["sut"]): (r[f"{rate}_low"], r[f"{rate}_high"]) for r in view.records() if r.get("n")}
+
+
+def rate_text(r: dict, rate: str, n: int) -> str:
+    """A rate of a tp_rates/fp_rates row with its interval and n (a store analysed before the
+    views had intervals: the rate alone)."""
+    if f"{rate}_low" not in r:
+        return percent(r[rate])
+    return rate_interval(r[rate], r[f"{rate}_low"], r[f"{rate}_high"], n)
+
+
+_env.globals["rate_text"] = rate_text
+
+
 def pivot(view: Table, rate: str, name: str, suts: list[str], families: list[str]) -> Table:
-    """Paper layout of Tables III/IV: a row per family, a column per variant, each cell a link."""
-    cell = _rates(view, rate)
+    """Paper layout of Tables III/IV: a row per family, a column per variant, each cell a link
+    showing the rate, its 95% Wilson interval and n."""
+    cell = {(r["family"], r["sut"]): rate_text(r, rate, r.get("n")) for r in view.records()}
     families = [f for f in families if any((f, s) in cell for s in suts)]
     suts = [s for s in suts if any((f, s) in cell for f in families)]
-    table = Table(name, ["family", *suts], [(f, *(cell.get((f, s)) for s in suts)) for f in families],
-                  percent=frozenset(suts))
+    table = Table(name, ["family", *suts], [(f, *(cell.get((f, s)) for s in suts)) for f in families])
     for r, family in enumerate(families):
         for c, sut in enumerate(suts, start=1):
             table.links[(r, c)] = list_href(sut, family)
@@ -84,9 +105,23 @@ def explained(verdict: dict) -> bool:
     return verdict["verdict"] in ("FN", "FP") or verdict["suspicious"]
 
 
-def write_traces(out: Path, details: list[dict], modules: list[str], why: dict) -> None:
-    """A page per trace; `why`: (trace_id, property_id, rqst_id) -> the explanation of a verdict."""
+def write_shrunk(con, out: Path, table: Table) -> dict[int, list[dict]]:
+    """Each shrunk reproducer's .mission file under out/shrunk (replayable with `run`); returns
+    the reproducers by the trace they were shrunk from."""
+    by_trace: dict[int, list[dict]] = {}
+    for r in table.records():
+        behaviour = Behaviour(r["sut"], r["verdict"], r["property_id"])
+        write_mission(out / "shrunk", original(con, r["trace_id"]), behaviour, r["script_id"], r["body"], r["runs"])
+        by_trace.setdefault(r["trace_id"], []).append({**r, "behaviour": str(behaviour)})
+    return by_trace
+
+
+def write_traces(out: Path, details: list[dict], modules: list[str], why: dict,
+                 shrunk: dict[int, list[dict]]) -> None:
+    """A page per trace; `why`: (trace_id, property_id, rqst_id) -> the explanation of a verdict;
+    `shrunk`: trace_id -> the reproducers shrunk from it."""
     for t in details:
+        t["shrunk"] = shrunk.get(t["trace_id"], [])
         end_t = t["sim_s"] if t["sim_s"] is not None else 0.0
         svg = timeline(modules, t["requests"], t["verdicts"], t["world"], end_t, t["outcome"])
         shown = [v for v in t["verdicts"] if v["verdict"] != "TN" or v["suspicious"]]
@@ -104,7 +139,8 @@ def index_charts(suts: list[str], families: list[str], tp: Table, fp: Table, tab
         return title, draw(title, *data, **options)
 
     return [chart("Trace robustness per variant", charts.grouped_bars, ["T_ROB"], suts, t_rob),
-            chart("True positive rate per family", charts.grouped_bars, families, suts, _rates(tp, "tp_rate")),
-            chart("False positive rate per family", charts.grouped_bars, families, suts, _rates(fp, "fp_rate"),
-                  full_scale=False),
+            chart("True positive rate per family (95% interval)", charts.grouped_bars, families, suts,
+                  _rates(tp, "tp_rate"), intervals=_intervals(tp, "tp_rate")),
+            chart("False positive rate per family (95% interval)", charts.grouped_bars, families, suts,
+                  _rates(fp, "fp_rate"), full_scale=False, intervals=_intervals(fp, "fp_rate")),
             chart("Verdict mix per variant", charts.stacked_bars, suts, list(queries.VERDICTS), mix)]

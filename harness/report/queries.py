@@ -18,6 +18,8 @@ ANALYSED = ("verdicts", "requests", "property_verdicts", "family_verdicts", "tra
 # What an analysis by a bench with provenance (schema version 2) adds; a store judged before is
 # read as is, without them.
 CHANGES = ("verdict_transitions", "table_changes")
+# The rate columns of the coverage view, shown as percentages.
+COVERAGE_RATES = frozenset(f"{rate}{end}" for rate in ("tp_rate", "fp_rate") for end in ("", "_low", "_high"))
 
 
 def rows(con, sql: str, params=()) -> list[dict]:
@@ -38,6 +40,13 @@ def check_analysed(con, db: str) -> None:
                          f"run python -m harness analyze --db {db} first")
 
 
+def per_property(con) -> Table:
+    """The coverage view; a store analysed before it had one (read as it is) shows its verdict counts."""
+    if con.execute("select count(*) from information_schema.tables where table_name = 'coverage'").fetchall()[0][0]:
+        return view(con, "coverage", percent=COVERAGE_RATES)
+    return view(con, "property_verdicts")
+
+
 def module_order(con) -> list[str]:
     """Modules in the order the interface description declares them (reply_codes insertion order)."""
     return [r[0] for r in con.execute("select module from reply_codes group by module "
@@ -51,6 +60,7 @@ def campaigns(con) -> list[dict]:
                count(*) filter (where s.kind = 'mutant') as mutants,
                count(*) filter (where s.kind = 'mutant' and not s.valid) as invalid
         from campaigns c left join scripts s using (campaign_id)
+        where c.config->>'kind' is distinct from 'shrink'  -- listed with the shrunk reproducers
         group by all order by c.campaign_id""")
     for c in found:
         c["config"] = json.loads(c["config"]) if c["config"] else {}
@@ -221,3 +231,15 @@ def inversions(con) -> Table:
     return query_table(con, "inversions", """
         select t.sut, i.* from inversions i join traces t using (trace_id)
         order by i.trace_id, i.rqst_id, i.property_id""")
+
+
+def shrunk(con) -> Table:
+    """Every shrunk reproducer: the behaviour, the trace it was shrunk from, steps before and after."""
+    return query_table(con, "shrunk_reproducers", """
+        with records as (
+            select script_id, body, unnest(from_json(mutations, '["json"]')) as r from scripts where kind = 'shrunk'
+        )
+        select script_id, r->>'sut' as sut, r->>'verdict' as verdict, r->>'property' as property_id,
+               (r->>'trace')::integer as trace_id, (r->>'steps_before')::integer as steps_before,
+               (r->>'steps_after')::integer as steps_after, (r->>'runs')::integer as runs, body
+        from records order by script_id""")

@@ -31,7 +31,7 @@ def test_chromium_renders_the_tables_and_a_timeline(tmp_path):
     write_report(analysed_store(tmp_path / "store.duckdb"), out, [])
     index, shot = _render(out / "index.html", tmp_path, "index")
     assert shot.startswith(b"\x89PNG") and len(shot) > 10_000
-    for table in ("trace_robustness", "table3", "table4", "property_verdicts"):
+    for table in ("trace_robustness", "table3", "table4", "coverage"):
         assert len(index.tables[table]) > 1, f"table {table} has no rows in the rendered DOM"
     assert len(index.with_class("chart")) == 4
 

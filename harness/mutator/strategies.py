@@ -1,0 +1,44 @@
+"""How a campaign makes its mutants: the paper's random operators, or targeted ones.
+
+`random` (the default) draws the paper's operators uniformly: the verdict rates then describe
+what random perturbations of the mission meet, as in the paper's Tables III-IV. `targeted` aims
+every mutant at the least-covered property's P-condition (harness.mutator.targeted): far more
+cases per property and more bad behaviours found, but its rates describe aimed cases, so they
+are not comparable with the paper's.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+from harness.errors import UntimelyError
+from harness.interface import Interface, Property
+from harness.judge import Judge
+from harness.mutator import operators, targeted
+from harness.mutator.operators import Mutant
+from harness.mutator.script import Script
+from harness.trace import Trace
+
+STRATEGIES = ("random", "targeted")
+DEFAULT_OPERATIONS = {"random": 1, "targeted": targeted.SITES_PER_MUTANT}
+
+
+def operations(strategy: str, given: int | None, time_mutations: bool) -> int:
+    """Operations per mutant: the one given, or the strategy's default; refuses what does not apply."""
+    if strategy not in STRATEGIES:
+        raise UntimelyError(f"--strategy {strategy!r}: choose one of {', '.join(STRATEGIES)}")
+    if strategy == "targeted" and time_mutations:
+        raise UntimelyError("--time-mutations applies to --strategy random only; targeted mutants "
+                            "choose their own sleeps")
+    return DEFAULT_OPERATIONS[strategy] if given is None else given
+
+
+def generate(config: dict, golden: Script, interface: Interface, properties: list[Property],
+             run_golden: Callable[[], Trace], name: Callable[[int], str]) -> list[Mutant]:
+    """The campaign's mutants; `run_golden` runs the golden on the campaign's first variant with
+    that run's seed (targeted generation reads its timeline and verdicts)."""
+    count, seed, ops = config["mutants"], config["seed"], config["ops_per_mutant"]
+    if config["strategy"] == "random":
+        return operators.generate(golden, interface, count, seed, ops, config["time_mutations"], name=name)
+    trace = run_golden()
+    verdicts = Judge(interface, properties).verdicts([trace])[0]
+    return targeted.generate(golden, trace, verdicts, interface, properties, count, seed, ops, name=name)

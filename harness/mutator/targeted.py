@@ -1,0 +1,179 @@
+"""Targeted mutants (`campaign --strategy targeted`): each aims at one property and inserts
+requests that make its P-condition false, placed by what the golden run showed.
+
+Generic: it reads only the properties, the interface and the golden run's trace. A property's
+basic type says what falsifies its condition (DESIGN §6):
+
+- PC[x, Q]: an x sent before every q in Q has ended ok (before q is sent, or while it runs);
+- ES[x, y]: an x sent while a y runs;  EE[x, y]: a y sent while an accepted x runs;
+- EX = ES and EE; MX_R = ES both ways; MX_I = EE both ways.
+
+"While r runs" is either a place where the golden run had r running (after an optional sleep,
+so the activity is past its start), or a fresh r followed, after an optional sleep, by the
+request: without the sleep it lands in r's start phase. A fresh request is placed where its own
+preconditions (the Q of the PC properties it is an x of) had ended ok, so the layer accepts it.
+For EE-type properties a quarter of the aims instead send a request of x's module that does not
+dominate x while x runs (an Init during an activity): C stays true, a layer that interrupts
+anyway shows a false positive.
+
+Balance: the next mutant aims at the property with the fewest expected falsified requests so far:
+the golden run's count of C-false requests times the mutants made, plus the falsifying requests
+inserted for it. Every choice draws from random.Random("untimely-targeted:SEED").
+"""
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass
+from typing import Callable
+
+from harness.interface import Interface, Property
+from harness.mutator.operators import Mutant, plausible, random_request, step_text, validated
+from harness.mutator.script import Script, Step
+from harness.mutator.timeline import Timeline
+from harness.trace import Trace
+
+SITES_PER_MUTANT = 3  # default falsifying insertions per mutant (--ops-per-mutant), at distinct places
+DISTURB_SHARE = 0.25  # of the aims at an EE-type property: a non-dominating request instead
+START_PHASE_SHARE = 1 / 3  # of the "while r runs" insertions: no sleep, r is still starting
+# A sleep before the falsifying request, drawn log-uniformly, and shorter than the shortest
+# run the golden showed of the activity it must land in.
+SLEEP_RANGE_S = (0.01, 1.0)
+
+
+@dataclass(frozen=True)
+class Falsifier:
+    """Send one of `send` before every one of `need` has ended ok (`before_ok`), or while one of
+    `running` runs (`during`); `disturb` marks a request that leaves C true."""
+    kind: str
+    send: tuple[str, ...]
+    need: tuple[str, ...] = ()
+    running: tuple[str, ...] = ()
+    disturb: bool = False
+
+
+def _ee(x, y) -> Falsifier:
+    return Falsifier("during", send=tuple(y), running=tuple(x))
+
+
+def _es(x, y) -> Falsifier:
+    return Falsifier("during", send=tuple(x), running=tuple(y))
+
+
+def falsifiers(prop: Property) -> list[Falsifier]:
+    x, y = prop.x, prop.y
+    return {"PC": lambda: [Falsifier("before_ok", send=x, need=prop.q)],
+            "ES": lambda: [_es(x, y)],
+            "EE": lambda: [_ee(x, y)],
+            "EX": lambda: [_es(x, y), _ee(x, y)],
+            "MX_R": lambda: [_es(x, y), _es(y, x)],
+            "MX_I": lambda: [_ee(x, y), _ee(y, x)]}[prop.type]()
+
+
+def disturbers(prop: Property, interface: Interface) -> list[Falsifier]:
+    """For each x of an EE-type property: its module's services that neither are x nor dominate it."""
+    if prop.type not in ("EE", "EX", "MX_I"):
+        return []
+    found = []
+    for x in prop.x:
+        module = interface.services[x].module
+        others = tuple(s for s, svc in interface.services.items()
+                       if svc.module == module and s not in prop.y and s not in prop.x)
+        if others:
+            found.append(Falsifier("during", send=others, running=(x,), disturb=True))
+    return found
+
+
+class Planner:
+    """Places falsifying insertions in the golden script, from its run's timeline."""
+
+    def __init__(self, golden: Script, timeline: Timeline, interface: Interface,
+                 properties: list[Property], rng: random.Random):
+        self.golden, self.timeline, self.interface, self.rng = golden, timeline, interface, rng
+        self.needs: dict[str, set[str]] = {}
+        for p in properties:
+            if p.type == "PC":
+                for x in p.x:
+                    self.needs.setdefault(x, set()).update(p.q)
+
+    def _request(self, service: str) -> Step:
+        return random_request(self.interface.services[service], self.rng, None)
+
+    def _ready(self, p: int, service: str) -> bool:
+        return self.needs.get(service, set()) <= self.timeline.ended_ok(p)
+
+    def _sleep(self, running: str) -> list[Step]:
+        if self.rng.random() < START_PHASE_SHARE:
+            return []
+        lo, hi = SLEEP_RANGE_S
+        runs = [a.end - a.start for a in self.timeline.activities
+                if a.service == running and a.accepted and a.end is not None]
+        hi = max(lo, min([hi] + [0.9 * d for d in runs]))
+        return [Step(0, "sleep", seconds=plausible(lo * (hi / lo) ** self.rng.random()))]
+
+    def site(self, f: Falsifier) -> tuple[int, list[Step], str] | None:
+        """(position in the golden, steps to insert there, what it does), or None if impossible."""
+        positions, rng = self.timeline.positions, self.rng
+        send = rng.choice(f.send)
+        if f.kind == "before_ok":
+            places = [p for p in positions if not set(f.need) <= self.timeline.ended_ok(p)]
+            return (rng.choice(places), [self._request(send)],
+                    f"{send} before {' and '.join(f.need)} ended ok") if places else None
+        running = [p for p in positions if self.timeline.running(p, f.running)
+                   and self._ready(p, send)]
+        if running and rng.random() < 0.5:
+            p = rng.choice(running)
+            names = sorted({a.service for a in self.timeline.running(p, f.running)})
+            return p, self._sleep(names[0]) + [self._request(send)], f"{send} while {', '.join(names)} runs"
+        fresh = rng.choice(f.running)
+        places = [p for p in positions if self._ready(p, fresh)]
+        if not places:
+            return None
+        steps = [self._request(fresh)] + self._sleep(fresh) + [self._request(send)]
+        phase = " in its start phase" if len(steps) == 2 else ""
+        return rng.choice(places), steps, f"{send} while a new {fresh} runs{phase}"
+
+    def mutant(self, prop: Property, options: list[Falsifier], label: str,
+               sites_wanted: int) -> tuple[Mutant, int]:
+        """A mutant with up to `sites_wanted` insertions aimed at `prop`; and how many of them
+        should falsify its condition."""
+        sites = []
+        for _ in range(sites_wanted):
+            found = self.site(self.rng.choice(options))
+            if found and found[0] not in {s[0] for s in sites}:
+                sites.append(found)
+        steps, records, offset = list(self.golden.steps), [], 0
+        disturbing = options[0].disturb
+        for p, inserted, what in sorted(sites, key=lambda s: s[0]):
+            what += " (a disturbance: C stays true)" if disturbing else ""
+            steps[p + offset:p + offset] = inserted
+            records.append({"op": "insert_request", "aim": prop.id, "situation": what,
+                            "position": p + offset + 1, "steps": [step_text(s) for s in inserted]})
+            offset += len(inserted)
+        falsifying = 0 if disturbing else len(records)
+        return validated(Script(tuple(steps), label).renumbered(), records, self.interface), falsifying
+
+
+def generate(golden: Script, golden_trace: Trace, golden_verdicts: list[dict], interface: Interface,
+             properties: list[Property], count: int, seed: int, sites: int = SITES_PER_MUTANT, redraws: int = 50,
+             name: Callable[[int], str] = "mutant {}".format) -> list[Mutant]:
+    """`count` targeted mutants of `golden`, balanced over `properties` (see the module doc)."""
+    rng = random.Random(f"untimely-targeted:{seed}")
+    planner = Planner(golden, Timeline(golden, golden_trace, interface.replies), interface, properties, rng)
+    base = {p.id: 0 for p in properties}
+    for v in golden_verdicts:
+        if v["c_holds"] is False:
+            base[v["property_id"]] += 1
+    aimed = dict.fromkeys(base, 0)
+    seen, mutants = {golden.renumbered().render()}, []
+    for n in range(1, count + 1):
+        prop = min(properties, key=lambda p: base[p.id] * (n - 1) + aimed[p.id])
+        falsify, disturb = falsifiers(prop), disturbers(prop, interface)
+        for _ in range(redraws + 1):
+            options = disturb if disturb and rng.random() < DISTURB_SHARE else falsify
+            mutant, falsifying = planner.mutant(prop, options, name(n), sites)
+            if mutant.body not in seen:
+                break
+        aimed[prop.id] += max(falsifying, 1)  # a disturbing mutant still takes its turn
+        seen.add(mutant.body)
+        mutants.append(mutant)
+    return mutants

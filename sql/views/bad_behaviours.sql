@@ -1,0 +1,19 @@
+-- Distinct bad behaviours (issue 10): a variant hung, or gave an FN or an FP on a property. One
+-- row per behaviour with how many traces show it and a representative to shrink: the trace of
+-- the shortest script (fewest characters), then the smallest trace id.
+create or replace view bad_behaviours as
+with shown as (
+    select distinct v.trace_id, t.sut, v.property_id, v.verdict
+    from verdicts v join traces t using (trace_id)
+    where v.verdict in ('FN', 'FP')
+    union all
+    select trace_id, sut, null, 'hung' from traces where outcome = 'hung'
+),
+sized as (
+    select s.*, length(coalesce(sc.body, '')) as script_size
+    from shown s join traces t using (trace_id) left join scripts sc using (script_id)
+)
+select sut, property_id, verdict, count(*) as traces,
+       arg_min(trace_id, (script_size, trace_id)) as representative
+from sized
+group by sut, property_id, verdict
