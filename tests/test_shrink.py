@@ -3,6 +3,7 @@ its stored script, the report's link to it, and the refusals."""
 import json
 import re
 import shlex
+from pathlib import Path
 
 import pytest
 
@@ -10,7 +11,8 @@ from harness import store
 from harness.cli import main
 from harness.mutator.ddmin import ddmin
 from harness.mutator.script import parse
-from harness.shrink import MIN_SLEEP_S, shorter_sleeps
+from harness.errors import StoreError
+from harness.shrink import MIN_SLEEP_S, Behaviour, Original, shorter_sleeps, store_shrunk
 
 MAX_STEPS = 10
 
@@ -136,3 +138,15 @@ def test_campaign_shrink_does_every_distinct_behaviour_once(tmp_path, capsys):
     assert main(args) == 0  # again: every behaviour has its reproducer, nothing is shrunk twice
     assert " shrunk from " not in capsys.readouterr().out
     assert len(_query(db, "select 1 from scripts where kind = 'shrunk'")) == len(behaviours)
+
+
+def test_a_store_older_than_shrunk_scripts_is_refused_and_left_as_it_was(tmp_path):
+    con = store.connect()
+    con.execute("drop table scripts")  # as a store made before shrunk scripts had it
+    con.execute("""create table scripts (script_id integer primary key, campaign_id integer not null,
+                   kind varchar not null check (kind in ('golden', 'mutant')), parent integer,
+                   mutations json not null, body varchar not null, valid boolean not null, invalid_reason varchar)""")
+    orig = Original(1, 1, "genom", 7, "hung", "send rflex.Init\n", Path("missions/dala"), 0.003, {})
+    with pytest.raises(StoreError, match="this store predates shrunk scripts"):
+        store_shrunk(con, orig, Behaviour("genom", "hung"), parse("send rflex.Init\n"), 3)
+    assert con.execute("select count(*) from campaigns").fetchone() == (0,)
