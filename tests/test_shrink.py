@@ -9,9 +9,9 @@ import pytest
 
 from harness import store
 from harness.cli import main
+from harness.errors import StoreError
 from harness.mutator.ddmin import ddmin
 from harness.mutator.script import parse
-from harness.errors import StoreError
 from harness.shrink import MIN_SLEEP_S, Behaviour, Original, shorter_sleeps, store_shrunk
 
 MAX_STEPS = 10
