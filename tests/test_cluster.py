@@ -114,3 +114,16 @@ def test_external_suts_need_a_worker_offering_the_sut_resource(scheduler, monkey
     with pytest.raises(UntimelyError, match=r"no worker of tcp://\S+ offers the `sut` resource .* "
                                             r"`dask worker tcp://\S+ --resources sut=K`"):
         checked(scheduler, setup)
+
+
+def test_external_suts_run_on_the_cluster_in_slots_of_their_worker(tmp_path):
+    from test_external_campaign import FAULTY
+    db = tmp_path / "c.duckdb"
+    campaign.main(arguments(DEFAULT_MISSION_DIR, db, mutants=3, seed=5, sut=f"f=cmd:{{python}} {FAULTY}",
+                            time_scale=20.0, jobs=2, cluster="local:1"))
+    con = store.connect(db, read_only=True)
+    outcomes = con.execute("select outcome, count(*) from traces group by all").fetchall()
+    valid = con.execute("select count(*) from scripts where valid").fetchone()[0]
+    assert outcomes == [("completed", valid)]
+    infos = {r[0] for r in con.execute("select sut_info from trace_runs").fetchall()}
+    assert infos <= {"faulty test adapter on slot 0", "faulty test adapter on slot 1"} and len(infos) == 2
