@@ -7,9 +7,10 @@ the script's number in the campaign (golden 0, mutant n) and the variant's name.
 
 Nothing lost, nothing doubled: the golden runs first on every variant (so a variant or world
 that cannot be built is reported before anything is stored); the campaign, its scripts and
-those golden traces are then committed together, and every later trace in a transaction of
-its own. A campaign killed at any moment restarts from what its store holds: the runs whose
-trace ids are missing. Only this process writes to the store; workers return traces to it.
+those golden traces are then committed together, and later traces in batches (Batches). A
+campaign killed at any moment restarts from what its store holds: the runs whose trace ids are
+missing, which are at most the one batch it had not committed. Only this process writes to the
+store; workers return traces to it.
 """
 from __future__ import annotations
 
@@ -45,6 +46,10 @@ COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", 
 ABSENT = {"external": {}, "strategy": "random"}
 RUN_WALL_LIMIT_S = 600.0  # of a simulated run; a real-time one has the executive's watchdogs
 REALTIME_WALL_LIMIT_S = 3 * 3600.0
+# A transaction per simulated run cost a quarter of a campaign; a killed campaign re-runs at most
+# one batch: up to BATCH_RUNS runs, or those that came in during BATCH_S (a couple of seconds' work).
+BATCH_RUNS = 64
+BATCH_S = 2.0
 
 
 def _sha256(path: Path) -> str:
@@ -148,8 +153,8 @@ def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[M
         rows += [(golden_id + n, campaign_id, "mutant", golden_id, json.dumps(m.operations), m.body,
                   m.valid, m.invalid_reason) for n, m in enumerate(mutants, 1)]
         con.executemany("insert into scripts values (?, ?, ?, ?, ?, ?, ?, ?)", rows)
-        for task, trace in golden_runs:
-            store.insert_trace(con, task.trace_id, campaign_id, task.script_id, trace)
+        store.insert_traces(con, campaign_id, [(task.trace_id, task.script_id, trace, None)
+                                               for task, trace in golden_runs])
     return campaign_id
 
 
@@ -168,12 +173,36 @@ def pending_tasks(con, campaign_id: int, config: dict) -> list[Task]:
     return [t for t in tasks if t.trace_id not in owners]
 
 
-def _store_each(con, campaign_id: int, session: Session):
-    def on_trace(task: Task, trace: Trace) -> None:
-        with store.transaction(con):
-            store.insert_trace(con, task.trace_id, campaign_id, task.script_id, trace)
-        session.count(trace)
-    return on_trace
+class Batches:
+    """Traces committed together: when BATCH_RUNS have come in, when the oldest has waited BATCH_S,
+    at once for a real-time run (it took wall-clock time to make), and at the end of the session.
+    A session ended by an exception (Ctrl-C included) still commits the traces it holds."""
+
+    def __init__(self, con, campaign_id: int, session: Session, realtime: set[str]):
+        self.con, self.campaign_id, self.session, self.realtime = con, campaign_id, session, realtime
+        self.held: list[tuple[int, int, Trace, None]] = []
+        self.oldest = 0.0
+
+    def add(self, task: Task, trace: Trace) -> None:
+        if not self.held:
+            self.oldest = time.monotonic()
+        self.held.append((task.trace_id, task.script_id, trace, None))
+        self.session.count(trace)
+        if (len(self.held) >= BATCH_RUNS or time.monotonic() - self.oldest >= BATCH_S
+                or task.sut in self.realtime):
+            self.commit()
+
+    def commit(self) -> None:
+        if self.held:
+            with store.transaction(self.con):
+                store.insert_traces(self.con, self.campaign_id, self.held)
+            self.held = []
+
+    def __enter__(self) -> "Batches":
+        return self
+
+    def __exit__(self, *_exception) -> None:
+        self.commit()
 
 
 def summary(con, campaign_id: int, session: Session) -> str:
@@ -249,7 +278,8 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
         else:
             print(f"campaign {campaign_id} in {args.db} is complete ({total} runs stored); nothing to run")
     if pending:
-        run_tasks(pending, _store_each(con, campaign_id, session))
+        with Batches(con, campaign_id, session, set(config["external"])) as batches:
+            run_tasks(pending, batches.add)
     if session.runs:
         session.progress.close()
     print(summary(con, campaign_id, session))

@@ -155,27 +155,46 @@ def add_reply_codes(con, interface: Interface) -> None:
                    anti join reply_codes using (module, service, reply) order by position""")
 
 
-def _table(rows: list[tuple], columns: tuple[str, ...], schema: pa.Schema, trace_id: int) -> pa.Table:
-    cols = list(zip(*rows)) if rows else [()] * len(columns)
-    arrays = [pa.array([trace_id] * len(rows), pa.int32())]
-    arrays += [pa.array(list(c), schema.field(name).type) for name, c in zip(columns, cols)]
+TRACE_SCHEMA = pa.schema([("trace_id", pa.int32()), ("campaign_id", pa.int32()), ("script_id", pa.int32()),
+                          ("sut", pa.string()), ("seed", pa.int64()), ("outcome", pa.string()),
+                          ("sim_s", pa.float64()), ("wall_s", pa.float64()), ("error", pa.string()),
+                          ("label", pa.string())])
+
+
+def _table(rows: list[tuple], columns: tuple[str, ...], schema: pa.Schema, trace_ids: list[int]) -> pa.Table:
+    """Rows (without their trace id) of several traces as one Arrow table; `trace_ids` row by row."""
+    arrays = [pa.array(trace_ids, pa.int32())]
+    arrays += [pa.array(values, schema.field(name).type) for name, values in zip(columns, zip(*rows))]
     return pa.Table.from_arrays(arrays, schema=schema)
 
 
 def insert_trace(con, trace_id: int, campaign_id: int, script_id: int | None, trace: Trace,
                  label: str | None = None) -> None:
-    """Write one trace (row, events, ground truth, world events); the caller owns the transaction."""
-    con.execute("insert into traces values (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
-                [trace_id, campaign_id, script_id, trace.sut, trace.seed, trace.outcome,
-                 trace.sim_s, trace.wall_s, trace.error, label])
-    for name, rows in (("events", trace.events), ("internal_events", trace.internal_events)):
+    """Write one trace; the caller owns the transaction."""
+    insert_traces(con, campaign_id, [(trace_id, script_id, trace, label)])
+
+
+def insert_traces(con, campaign_id: int, runs: list[tuple[int, int | None, Trace, str | None]]) -> None:
+    """Write traces, given as (trace_id, script_id, trace, label): their rows, events, ground truth,
+    world events and provenance, one bulk insert per table; the caller owns the transaction."""
+    rows = [(trace_id, campaign_id, script_id, t.sut, t.seed, t.outcome, t.sim_s, t.wall_s, t.error, label)
+            for trace_id, script_id, t, label in runs]
+    trace_rows = pa.Table.from_arrays([pa.array(c, f.type) for c, f in zip(zip(*rows), TRACE_SCHEMA)],  # noqa: F841
+                                      schema=TRACE_SCHEMA)
+    con.execute("insert into traces select * from trace_rows")
+    for table, columns, schema in (("events", EVENT_COLUMNS, EVENT_SCHEMA),
+                                   ("internal_events", EVENT_COLUMNS, EVENT_SCHEMA),
+                                   ("world_events", WORLD_EVENT_COLUMNS, WORLD_SCHEMA)):
+        rows, trace_ids = [], []
+        for trace_id, _, trace, _ in runs:
+            these = getattr(trace, table)
+            rows += these
+            trace_ids += [trace_id] * len(these)
         if rows:
-            arrow = _table(rows, EVENT_COLUMNS, EVENT_SCHEMA, trace_id)  # noqa: F841 (read by DuckDB)
-            con.execute(f"insert into {name} select * from arrow")
-    if trace.world_events:
-        arrow = _table(trace.world_events, WORLD_EVENT_COLUMNS, WORLD_SCHEMA, trace_id)  # noqa: F841
-        con.execute("insert into world_events select * from arrow")
-    if trace.provenance:
-        columns = ", ".join(trace.provenance)
-        con.execute(f"insert into trace_runs (trace_id, {columns}) values (?{', ?' * len(trace.provenance)})",
-                    [trace_id, *trace.provenance.values()])
+            arrow = _table(rows, columns, schema, trace_ids)  # noqa: F841 (read by DuckDB)
+            con.execute(f"insert into {table} select * from arrow")
+    for trace_id, _, trace, _ in runs:
+        if trace.provenance:
+            columns = ", ".join(trace.provenance)
+            con.execute(f"insert into trace_runs (trace_id, {columns}) values (?{', ?' * len(trace.provenance)})",
+                        [trace_id, *trace.provenance.values()])

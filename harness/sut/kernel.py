@@ -7,7 +7,7 @@ Nothing here sleeps: time jumps from one event to the next.
 """
 from __future__ import annotations
 
-import heapq
+from heapq import heappop, heappush
 from itertools import count
 from typing import Any, Callable, Generator
 
@@ -24,6 +24,9 @@ class Interrupt(Exception):
 
 class Event:
     """Something that happens once; callbacks run when the kernel processes it."""
+
+    # Slots: a run creates hundreds of thousands of events (mostly timeouts), each cheaper so.
+    __slots__ = ("env", "callbacks", "triggered", "ok", "value")
 
     def __init__(self, env: "Environment"):
         self.env = env
@@ -56,12 +59,14 @@ class Event:
 
 
 class Timeout(Event):
+    __slots__ = ("delay",)
+
     def __init__(self, env: "Environment", delay: float, value: Any = None):
         if delay < 0:
             raise ValueError(f"negative timeout delay {delay!r}")
-        super().__init__(env)
-        self.delay, self.triggered, self.value = delay, True, value
-        env._schedule(self, delay, NORMAL)
+        # Event.__init__ and Environment._schedule inlined: the kernel's most frequent path.
+        self.env, self.callbacks, self.triggered, self.ok, self.value, self.delay = env, [], True, True, value, delay
+        heappush(env._heap, (env.now + delay, NORMAL, next(env._seq), self))
 
     def __repr__(self) -> str:
         return f"<Timeout {self.delay:g}s {'processed' if self.processed else 'pending'}>"
@@ -70,12 +75,15 @@ class Timeout(Event):
 class Process(Event):
     """Runs a generator; the process is itself an event that triggers when the generator returns."""
 
+    __slots__ = ("generator", "name", "target", "_resumer")
+
     def __init__(self, env: "Environment", generator: Generator, name: str = ""):
         super().__init__(env)
         self.generator, self.name = generator, name or getattr(generator, "__name__", "process")
         self.target: Event | None = None
+        self._resumer = self._resume  # one bound method, appended to every event it waits on
         start = Event(env)
-        start.callbacks.append(self._resume)
+        start.callbacks.append(self._resumer)
         start.succeed(priority=URGENT)
 
     @property
@@ -88,16 +96,17 @@ class Process(Event):
             return
         kick = Event(self.env)
         kick.ok, kick.value = False, Interrupt(cause)
-        kick.callbacks.append(self._resume)
+        kick.callbacks.append(self._resumer)
         kick.triggered = True
         self.env._schedule(kick, 0.0, URGENT)
 
     def _resume(self, event: Event) -> None:
-        if not self.is_alive:
+        if self.triggered:  # no longer alive
             return
-        if self.target is not None and self.target is not event and self.target.callbacks is not None:
+        target = self.target
+        if target is not None and target is not event and target.callbacks is not None:
             # An interruption overtakes the event the process was waiting on.
-            self.target.callbacks.remove(self._resume)
+            target.callbacks.remove(self._resumer)
         self.target = None
         try:
             if event.ok:
@@ -110,13 +119,14 @@ class Process(Event):
             return
         if not isinstance(nxt, Event):
             raise TypeError(f"process {self.name!r} yielded {nxt!r}; yield an Event")
-        if nxt.callbacks is None:  # already processed: resume right away
+        callbacks = nxt.callbacks
+        if callbacks is None:  # already processed: resume right away
             resume = Event(self.env)
-            resume.callbacks.append(self._resume)
+            resume.callbacks.append(self._resumer)
             resume.succeed(nxt.value, priority=URGENT)
             self.target = resume
         else:
-            nxt.callbacks.append(self._resume)
+            callbacks.append(self._resumer)
             self.target = nxt
 
     def __repr__(self) -> str:
@@ -132,7 +142,7 @@ class Environment:
         self._seq = count()
 
     def _schedule(self, event: Event, delay: float, priority: int) -> None:
-        heapq.heappush(self._heap, (self.now + delay, priority, next(self._seq), event))
+        heappush(self._heap, (self.now + delay, priority, next(self._seq), event))
 
     def event(self) -> Event:
         return Event(self)
@@ -153,7 +163,7 @@ class Environment:
         return self._heap[0][0] if self._heap else float("inf")
 
     def step(self) -> None:
-        self.now, _, _, event = heapq.heappop(self._heap)
+        self.now, _, _, event = heappop(self._heap)
         callbacks, event.callbacks = event.callbacks, None
         for callback in callbacks:
             callback(event)
@@ -162,13 +172,14 @@ class Environment:
 
     def run(self, until: float | Event | None = None) -> None:
         """Process events until the heap is empty, a time is reached, or an event is processed."""
+        heap, step = self._heap, self.step
         if isinstance(until, Event):
-            while not until.processed and self._heap:
-                self.step()
+            while until.callbacks is not None and heap:  # not yet processed
+                step()
             return
         limit = float("inf") if until is None else until
-        while self._heap and self._heap[0][0] <= limit:
-            self.step()
+        while heap and heap[0][0] <= limit:
+            step()
         if until is not None:
             self.now = max(self.now, limit)
 

@@ -31,12 +31,11 @@ import pymunk
 from harness.errors import InputFileError
 from harness.interface import read_toml
 from harness.sut.kernel import Environment
+from harness.sut.laser import Laser, wall
 
 MAX_STEP_S = 0.1  # longest single physics step; longer advances are split
 TRACTION_N = 3000.0  # force (N) and torque (N m) the wheels can exert on the 100 kg rover
 ROVER, ROCK, BOUND = 1, 2, 3  # pymunk collision types
-ROVER_CATEGORY = 0b10
-LASER_FILTER = pymunk.ShapeFilter(mask=pymunk.ShapeFilter.ALL_MASKS() ^ ROVER_CATEGORY)
 
 
 @dataclass(frozen=True)
@@ -124,7 +123,6 @@ class World:
         self.pose = spec.start  # the rover moves only in `advance`, which keeps this up to date
         shape = pymunk.Circle(self.rover, spec.rover_radius)
         shape.collision_type, shape.friction = ROVER, 0.9
-        shape.filter = pymunk.ShapeFilter(categories=ROVER_CATEGORY)
         # The wheels: a kinematic body the rover follows through force-limited joints (the
         # pymunk top-down "tank" idiom), so that a rock stops the rover instead of letting
         # commanded speeds push it through.
@@ -139,16 +137,19 @@ class World:
         self.space.on_collision(ROVER, BOUND, begin=self._collided)
 
     def _add_static_shapes(self) -> None:
+        """The walls and rocks, in pymunk for collisions and in the laser for scans."""
         (x0, x1), (y0, y1) = self.spec.x_range, self.spec.y_range
         corners = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
-        for n, (a, b) in enumerate(zip(corners, corners[1:] + corners[:1])):
-            wall = pymunk.Segment(self.space.static_body, a, b, 0.0)
-            wall.collision_type, wall.friction, wall.label = BOUND, 0.9, f"bound {n + 1}"
-            self.space.add(wall)
+        walls = list(zip(corners, corners[1:] + corners[:1]))
+        for n, (a, b) in enumerate(walls):
+            segment = pymunk.Segment(self.space.static_body, a, b, 0.0)
+            segment.collision_type, segment.friction, segment.label = BOUND, 0.9, f"bound {n + 1}"
+            self.space.add(segment)
         for n, rock in enumerate(self.spec.rocks, 1):
             shape = pymunk.Circle(self.space.static_body, rock.radius, (rock.x, rock.y))
             shape.collision_type, shape.friction, shape.label = ROCK, 0.9, f"rock {n}"
             self.space.add(shape)
+        self.laser = Laser([wall(a, b) for a, b in walls], [(r.x, r.y, r.radius) for r in self.spec.rocks])
 
     def _collided(self, arbiter: pymunk.Arbiter, _space, _data) -> None:
         obstacle = next(s for s in arbiter.shapes if s.collision_type != ROVER)
@@ -184,20 +185,8 @@ class World:
             self.rover.velocity, self.rover.angular_velocity = (0.0, 0.0), 0.0
 
     def scan(self, fov_deg: float, range_m: float, step_deg: float) -> tuple[tuple[float, float], ...]:
-        """Laser ray casts from the rover: (bearing relative to the heading, distance) of each hit."""
-        x, y, heading = self.pose
-        rays = max(1, int(fov_deg / step_deg)) + 1  # both edges of the field of view
-        first = -math.radians(fov_deg) / 2
-        step = math.radians(fov_deg) / (rays - 1)
-        hits = []
-        query = self.space.segment_query_first
-        for n in range(rays):
-            bearing = first + n * step
-            angle = heading + bearing
-            hit = query((x, y), (x + range_m * math.cos(angle), y + range_m * math.sin(angle)), 0.0, LASER_FILTER)
-            if hit is not None:
-                hits.append((bearing, hit.alpha * range_m))
-        return tuple(hits)
+        """Laser rays from the rover: (bearing relative to the heading, distance) of each hit."""
+        return self.laser.scan(*self.pose, fov_deg, range_m, step_deg)
 
     def __repr__(self) -> str:
         x, y, heading = self.pose
