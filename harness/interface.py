@@ -93,12 +93,21 @@ class Property:
 
 def read_toml(path: Path, missing: str = "file not found; pass an existing file") -> dict:
     """A TOML data file's contents; `missing` is the message for a file that is not there."""
+    return parse_toml(path, read_bytes(path, missing))
+
+
+def read_bytes(path: Path, missing: str) -> bytes:
     try:
-        with open(path, "rb") as f:
-            return tomllib.load(f)
+        return Path(path).read_bytes()
     except FileNotFoundError:
         raise InputFileError(path, "", missing) from None
-    except tomllib.TOMLDecodeError as e:
+
+
+def parse_toml(path: Path, content: bytes) -> dict:
+    """The TOML text `content` read from `path` (named in messages)."""
+    try:
+        return tomllib.loads(content.decode())
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
         raise InputFileError(path, "", f"not valid TOML: {e}") from None
 
 

@@ -63,3 +63,23 @@ def test_hits_equal_pymunk_s_near_walls_corners_and_rock_edges(dala):
     for x, y in poses:
         for heading in [0.0, math.pi / 4, math.pi / 2, math.pi, -math.pi / 2, rng.uniform(-4, 4)]:
             assert laser.scan(x, y, heading, 360.0, 4.0, 1.0) == pymunk_scan(space, x, y, heading, 360.0, 4.0, 1.0)
+
+
+def test_rays_grazing_a_rock_hit_or_miss_as_in_pymunk(dala):
+    spec, space, laser = dala
+    rng = random.Random(16)
+    grazes = 0
+    for rock in spec.rocks:
+        for _ in range(40):
+            x, y = rng.uniform(*spec.x_range), rng.uniform(*spec.y_range)
+            distance = math.dist((x, y), (rock.x, rock.y))
+            if distance <= rock.radius:
+                continue
+            centre, half = math.atan2(rock.y - y, rock.x - x), math.asin(rock.radius / distance)
+            for side in (-1, 1):
+                for off in (0.0, 1e-15, -1e-15, 1e-12, -1e-12, 1e-9, -1e-9, 1e-7, -1e-7, 2e-6, -2e-6):
+                    heading = centre + side * (half + off) + math.radians(15)  # the first ray grazes
+                    got = laser.scan(x, y, heading, 30.0, 30.0, 10.0)
+                    assert got == pymunk_scan(space, x, y, heading, 30.0, 30.0, 10.0), (x, y, heading)
+                    grazes += 1
+    assert grazes > 3000

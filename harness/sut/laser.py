@@ -1,19 +1,23 @@
 """Laser rays against the world's static shapes (the bounds' walls and round rocks), computed here.
 
-A pymunk ray query costs some 9 µs of wrapping per ray; the world's shapes are 4 segments and a few
+A pymunk ray query costs several µs of Python wrapping per ray; the world's shapes are 4 segments and a few
 circles, so the nearest hit is cheaper computed directly. The arithmetic is chipmunk's own
 (Munk2D `CircleSegmentQuery`, `cpSegmentShapeSegmentQuery`, `cpSpaceSegmentQueryFirst`), operation
 for operation in IEEE doubles, so every hit equals pymunk's to the last bit: the traces, which
 depend on where the rover steers, stay the same (tests/test_sut_laser.py compares them).
 
-Only shapes that the scan's range can reach are tested; a shape is left out only when it is
-farther than the range by more than REACH_MARGIN_M, far beyond any rounding.
+Only shapes that the scan's range can reach are tested, each only by the rays that point at it: a
+shape is left out only when it is out of range by more than REACH_MARGIN_M, or off the ray's
+direction by more than ANGLE_MARGIN, both far beyond any rounding. The bounds'
+walls are not point-queried first as chipmunk does: a rover never stands exactly on one.
 """
 from __future__ import annotations
 
 import math
 
 REACH_MARGIN_M = 1e-6
+ANGLE_MARGIN = 1e-6  # radians
+TAU = 2 * math.pi
 _TINY = 2.2250738585072014e-308  # CPFLOAT_MIN (DBL_MIN): chipmunk's guard in cpvnormalize
 
 
@@ -25,45 +29,56 @@ def wall(a: tuple[float, float], b: tuple[float, float]) -> tuple[float, ...]:
     return a[0], a[1], b[0], b[1], vy, -vx  # cpvrperp
 
 
-def _segment_distance(px: float, py: float, segment: tuple[float, ...]) -> float:
-    ax, ay, bx, by = segment[:4]
-    dx, dy = bx - ax, by - ay
-    along = max(0.0, min(1.0, ((px - ax) * dx + (py - ay) * dy) / (dx * dx + dy * dy)))
-    return math.hypot(px - ax - along * dx, py - ay - along * dy)
+def _spread(by_ray: list[list], item, low: float, width: float, step: float) -> None:
+    """Give `item` to the rays (`step` apart) whose angle from the first ray is within
+    [low, low + width] modulo 2 pi (0 <= low < 2 pi), widened by ANGLE_MARGIN on each side."""
+    last = len(by_ray) - 1
+    for start in (low - TAU, low, low + TAU):
+        if start + width + ANGLE_MARGIN < 0.0 or start - ANGLE_MARGIN > last * step:
+            continue  # this turn of the interval lies outside the field of view
+        for n in range(max(0, math.ceil((start - ANGLE_MARGIN) / step)),
+                       min(last, math.floor((start + width + ANGLE_MARGIN) / step)) + 1):
+            by_ray[n].append(item)
 
 
 class Laser:
-    """Rays from a point against fixed walls and circles (x, y, radius)."""
+    """Rays from a point against fixed walls (made by `wall`) and circles (x, y, radius)."""
 
     def __init__(self, walls: list[tuple[float, ...]], circles: list[tuple[float, float, float]]):
         self.walls, self.circles = walls, circles
 
-    def _walls_seen_from(self, x: float, y: float, reach: float) -> list[tuple[float, ...]]:
-        """Per reachable wall, what cpSegmentShapeSegmentQuery computes before it looks at the ray:
-        the ends relative to (x, y) (moved by a thickness of 0), the normal, the offset."""
-        seen = []
-        for segment in self.walls:
-            if _segment_distance(x, y, segment) > reach:
-                continue
-            ax, ay, bx, by, nx, ny = segment
+    def _walls_by_ray(self, x: float, y: float, reach: float, step: float, first_angle: float, by_ray) -> None:
+        """Give each ray the reachable walls between whose ends it points, with what
+        cpSegmentShapeSegmentQuery computes before it looks at the ray: the ends relative to (x, y)
+        (moved by a thickness of 0), the normal, the offset."""
+        for ax, ay, bx, by, nx, ny in self.walls:
+            if math.hypot(max(min(ax, bx) - x, 0.0, x - max(ax, bx)), max(min(ay, by) - y, 0.0, y - max(ay, by))) > reach:
+                continue  # its bounding box is out of reach
             d = (ax - x) * nx + (ay - y) * ny
             fx, fy = (-nx, -ny) if d > 0.0 else (nx, ny)
             ox, oy = fx * 0.0 - x, fy * 0.0 - y
-            seen.append((ax + ox, ay + oy, bx + ox, by + oy, nx, ny, d + (-0.0 if d > 0.0 else 0.0)))
-        return seen
+            terms = (ax + ox, ay + oy, bx + ox, by + oy, nx, ny, d + (-0.0 if d > 0.0 else 0.0))
+            to_a, to_b = math.atan2(ay - y, ax - x), math.atan2(by - y, bx - x)
+            sweep = (to_b - to_a) % TAU
+            low, width = (to_a, sweep) if sweep <= math.pi else (to_b, TAU - sweep)
+            _spread(by_ray, terms, (low - first_angle) % TAU, width, step)
 
-    def _circles_seen_from(self, x: float, y: float, reach: float) -> tuple[list[tuple[float, ...]], bool]:
-        """Per reachable circle, the ray-independent terms of CircleSegmentQuery; and whether (x, y)
-        is inside one (chipmunk's point query comes first: such a ray hits at once)."""
-        seen = []
+    def _circles_by_ray(self, x: float, y: float, reach: float, step: float, first_angle: float, by_ray) -> bool:
+        """Give each ray the reachable circles it points at, with the ray-independent terms of
+        CircleSegmentQuery; False when (x, y) is inside a circle (chipmunk's point query comes
+        first: then every ray hits at once)."""
         for cx, cy, r in self.circles:
             ax, ay = x - cx, y - cy
             aa = ax * ax + ay * ay
-            if math.sqrt(aa) - r <= 0.0:
-                return [], True
-            if math.sqrt(aa) - r <= reach:
-                seen.append((cx, cy, ax, ay, aa, aa - r * r))
-        return seen, False
+            gap = math.sqrt(aa) - r
+            if gap <= 0.0:
+                return False
+            if gap > reach:
+                continue
+            half = math.asin(r / math.sqrt(aa))
+            _spread(by_ray, (cx, cy, ax, ay, aa, aa - r * r), (math.atan2(-ay, -ax) - half - first_angle) % TAU,
+                    2 * half, step)
+        return True
 
     def scan(self, x: float, y: float, heading: float, fov_deg: float, range_m: float,
              step_deg: float) -> tuple[tuple[float, float], ...]:
@@ -72,13 +87,16 @@ class Laser:
         rays = max(1, int(fov_deg / step_deg)) + 1  # both edges of the field of view
         first = -math.radians(fov_deg) / 2
         step = math.radians(fov_deg) / (rays - 1)
-        circles, inside = self._circles_seen_from(x, y, reach)
-        if inside:
+        circles_by_ray, walls_by_ray = [[] for _ in range(rays)], [[] for _ in range(rays)]
+        if not self._circles_by_ray(x, y, reach, step, heading + first, circles_by_ray):
             return tuple((first + n * step, 0.0) for n in range(rays))
-        walls = self._walls_seen_from(x, y, reach)
+        self._walls_by_ray(x, y, reach, step, heading + first, walls_by_ray)
         cos, sin, sqrt = math.cos, math.sin, math.sqrt
         hits = []
         for n in range(rays):
+            walls, circles = walls_by_ray[n], circles_by_ray[n]
+            if not walls and not circles:
+                continue
             bearing = first + n * step
             angle = heading + bearing
             qx, qy = x + range_m * cos(angle), y + range_m * sin(angle)

@@ -24,12 +24,13 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 
 import pymunk
 
 from harness.errors import InputFileError
-from harness.interface import read_toml
+from harness.interface import parse_toml, read_bytes
 from harness.sut.kernel import Environment
 from harness.sut.laser import Laser, wall
 
@@ -79,8 +80,14 @@ def _inside(spec_path, where, x, y, margin, x_range, y_range) -> None:
 
 
 def load_world(path: str | Path) -> WorldSpec:
+    """The world described in `path`; contents read before are not parsed again (every run loads them)."""
     path = Path(path)
-    data = read_toml(path, "world file not found; pass an existing world.toml")
+    return _parse_world(path, read_bytes(path, "world file not found; pass an existing world.toml"))
+
+
+@lru_cache(maxsize=8)
+def _parse_world(path: Path, content: bytes) -> WorldSpec:
+    data = parse_toml(path, content)
     bounds, rover = data.get("bounds"), data.get("rover")
     if not isinstance(bounds, dict) or not isinstance(rover, dict):
         raise InputFileError(path, "", "a world needs a [bounds] table (x, y) and a [rover] table "
@@ -167,12 +174,14 @@ class World:
     def advance(self) -> None:
         """Move the rover from the last advance to now at the commanded wheel speeds."""
         remaining, self.time = self.env.now - self.time, self.env.now
+        if self.still or remaining <= 1e-12:
+            return
         speed, turn = self.wheels
-        while not self.still and remaining > 1e-12:
+        self.wheelbase.angular_velocity = turn  # the solver never changes a kinematic body's speeds
+        while remaining > 1e-12:
             dt = min(remaining, MAX_STEP_S)
             x, y, heading = self.pose
             self.wheelbase.velocity = (speed * math.cos(heading), speed * math.sin(heading))
-            self.wheelbase.angular_velocity = turn
             self.space.step(dt)
             (x1, y1), heading = self.rover.position, self.rover.angle
             self.odometer += math.hypot(x1 - x, y1 - y)
