@@ -34,7 +34,7 @@ from harness.progress import Progress
 from harness.provenance import last_epsilon
 from harness.suts import ExternalSut, resolve
 from harness.trace import Trace
-from harness.workers import Setup, Task, run_all, script_label
+from harness.workers import Pool, Setup, Task, script_label
 
 # The files a trace depends on; a store made from other contents is another campaign.
 # properties.toml is not among them: editing a property re-judges traces, it does not re-run them.
@@ -229,7 +229,8 @@ def summary(con, campaign_id: int, session: Session) -> str:
 def _backend(cluster: str | None, setup: Setup, jobs: int):
     """`run_tasks(tasks, on_trace)` on the local pool, or on a checked Dask cluster."""
     if not cluster:
-        yield lambda tasks, on_trace: run_all(tasks, setup, jobs, on_trace)
+        with Pool(setup, jobs) as pool:
+            yield pool.run_all
         return
     from harness import cluster as dask_cluster  # Dask is an optional dependency
     with dask_cluster.connect(cluster, setup, jobs) as backend:

@@ -146,40 +146,64 @@ class _Worker:
         self.process.join()
 
 
+class Pool:
+    """`jobs` worker processes, started when first needed and kept across `run_all` calls (a
+    campaign's golden runs, then its mutants); stopped when the block ends."""
+
+    def __init__(self, setup: Setup, jobs: int):
+        self.setup, self.jobs = setup, jobs
+        self.context = multiprocessing.get_context("spawn")
+        self.workers: list[_Worker] = []
+
+    def __enter__(self) -> "Pool":
+        return self
+
+    def __exit__(self, *_exception) -> None:
+        _stop(self.workers)
+
+    def run_all(self, tasks: list[Task], on_trace: Callable[[Task, Trace], None]) -> None:
+        """Run every task; `on_trace(task, trace)` is called in this process, in completion order.
+        A worker that raises UntimelyError aborts the whole campaign with it; so does any
+        exception, after the busy workers are killed."""
+        setup, jobs, workers = self.setup, self.jobs, self.workers
+        pending = deque(tasks)
+        try:
+            while pending or any(w.task for w in workers):
+                while pending and len(workers) < jobs:
+                    free = min(set(range(jobs)) - {w.slot for w in workers})
+                    workers.append(_Worker(self.context, setup, free))
+                for worker in workers:
+                    if worker.task is None and pending:
+                        worker.give(pending.popleft())
+                busy = [w for w in workers if w.task]
+                wait([w.conn for w in busy] + [w.process.sentinel for w in busy], timeout=1.0)
+                for worker in busy:
+                    alive = worker.process.is_alive()  # before reading: a dead worker's result is all in the pipe
+                    result = worker.result()
+                    if result is None and alive:
+                        if not worker.overdue(setup.watchdog_s):
+                            continue
+                        worker.kill()
+                        result = crashed(worker.task, f"no result after {setup.watchdog_s:g} s of wall time; "
+                                                      "the worker was killed", setup.watchdog_s)
+                    elif result is None:
+                        result = crashed(worker.task, worker.death())
+                    if isinstance(result, UserError):
+                        raise UntimelyError(result.message)
+                    task, worker.task = worker.task, None
+                    if not worker.process.is_alive():
+                        workers.remove(worker)
+                    on_trace(task, result)
+        except BaseException:
+            _stop(workers)
+            workers.clear()
+            raise
+
+
 def run_all(tasks: list[Task], setup: Setup, jobs: int, on_trace: Callable[[Task, Trace], None]) -> None:
-    """Run every task on `jobs` workers; `on_trace(task, trace)` is called in this process, in
-    completion order. A worker that raises UntimelyError aborts the whole campaign with it."""
-    context = multiprocessing.get_context("spawn")
-    pending, workers = deque(tasks), []
-    try:
-        while pending or any(w.task for w in workers):
-            while pending and len(workers) < jobs:
-                free = min(set(range(jobs)) - {w.slot for w in workers})
-                workers.append(_Worker(context, setup, free))
-            for worker in workers:
-                if worker.task is None and pending:
-                    worker.give(pending.popleft())
-            busy = [w for w in workers if w.task]
-            wait([w.conn for w in busy] + [w.process.sentinel for w in busy], timeout=1.0)
-            for worker in busy:
-                alive = worker.process.is_alive()  # before reading: a dead worker's result is all in the pipe
-                result = worker.result()
-                if result is None and alive:
-                    if not worker.overdue(setup.watchdog_s):
-                        continue
-                    worker.kill()
-                    result = crashed(worker.task, f"no result after {setup.watchdog_s:g} s of wall time; "
-                                                  "the worker was killed", setup.watchdog_s)
-                elif result is None:
-                    result = crashed(worker.task, worker.death())
-                if isinstance(result, UserError):
-                    raise UntimelyError(result.message)
-                task, worker.task = worker.task, None
-                if not worker.process.is_alive():
-                    workers.remove(worker)
-                on_trace(task, result)
-    finally:
-        _stop(workers)
+    """Run every task on a pool of `jobs` workers of its own (see Pool.run_all)."""
+    with Pool(setup, jobs) as pool:
+        pool.run_all(tasks, on_trace)
 
 
 def _stop(workers: list[_Worker]) -> None:

@@ -147,12 +147,11 @@ def test_results_do_not_depend_on_jobs_and_a_finished_campaign_does_nothing(miss
         assert dump(one)[name] == first[name]
 
 
-def test_resume_after_sigkill_equals_an_uninterrupted_campaign(mission, tmp_path, capsys):
-    killed, whole = tmp_path / "killed.duckdb", tmp_path / "whole.duckdb"
+def kill_when_script4_starts(args, tmp_path, setup: str = "") -> None:
+    """Run a campaign (stalling_runner) in a child process and SIGKILL it once script 4 has started."""
     marker = tmp_path / "script4-started"
-    program = (f"import argparse, test_campaign as t; from harness import campaign; "
-               f"campaign.main(argparse.Namespace(**{vars(arguments(mission, killed))!r}), "
-               f"runner=t.stalling_runner)")
+    program = (f"import argparse, test_campaign as t; from harness import campaign; {setup}"
+               f"campaign.main(argparse.Namespace(**{vars(args)!r}), runner=t.stalling_runner)")
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(HERE), str(ROOT)]), **{MARKER: str(marker)})
     child = subprocess.Popen([sys.executable, "-c", program], env=env, cwd=tmp_path, start_new_session=True,
                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
@@ -163,6 +162,10 @@ def test_resume_after_sigkill_equals_an_uninterrupted_campaign(mission, tmp_path
     stderr = child.communicate()[1].decode()
     assert marker.exists(), stderr
 
+
+def test_resume_after_sigkill_equals_an_uninterrupted_campaign(mission, tmp_path, capsys):
+    killed, whole = tmp_path / "killed.duckdb", tmp_path / "whole.duckdb"
+    kill_when_script4_starts(arguments(mission, killed), tmp_path)
     capsys.readouterr()
     campaign.main(arguments(mission, killed), runner=fake_runner)
     resumed = capsys.readouterr().err
@@ -170,6 +173,26 @@ def test_resume_after_sigkill_equals_an_uninterrupted_campaign(mission, tmp_path
     stored, total = (int(n) for n in resumed.split(": ")[1].split(" runs")[0].split(" of "))
     assert 0 < stored < total
     campaign.main(arguments(mission, whole), runner=fake_runner)
+    assert dump(killed) == dump(whole)
+
+
+def test_a_killed_campaign_loses_at_most_the_batch_it_had_not_committed(mission, tmp_path, capsys):
+    """One worker runs the scripts in order; with batches of 3 runs, those before script 4 are
+    stored but for the last, incomplete batch, which the resumed campaign runs again."""
+    killed, whole = tmp_path / "killed.duckdb", tmp_path / "whole.duckdb"
+    kill_when_script4_starts(arguments(mission, killed, jobs=1), tmp_path,
+                             setup="campaign.BATCH_RUNS, campaign.BATCH_S = 3, 3600.0; ")
+    con = store.connect(killed, read_only=True)
+    valid = [r[0] for r in con.execute("select script_id from scripts where valid and script_id < 4").fetchall()]
+    stored = [r[0] for r in con.execute("select trace_id from traces order by trace_id").fetchall()]
+    con.close()
+    done = [(script_id - 1) * 2 + v + 1 for script_id in valid for v in range(2)]  # golden first, committed alone
+    assert len(done) > 2 + 3, "seed 11 must give the two mutants before script 4 whole batches to commit"
+    assert stored == done[:2 + (len(done) - 2) // 3 * 3]
+    capsys.readouterr()
+    campaign.main(arguments(mission, killed, jobs=1), runner=fake_runner)
+    assert f"{len(stored)} of " in capsys.readouterr().err
+    campaign.main(arguments(mission, whole, jobs=1), runner=fake_runner)
     assert dump(killed) == dump(whole)
 
 
