@@ -22,22 +22,25 @@ _TINY = 2.2250738585072014e-308  # CPFLOAT_MIN (DBL_MIN): chipmunk's guard in cp
 
 
 def wall(a: tuple[float, float], b: tuple[float, float]) -> tuple[float, ...]:
-    """A zero-thickness segment as chipmunk caches it: ends and unit normal (cpSegmentShapeInit)."""
+    """A zero-thickness segment as chipmunk caches it: ends and unit normal (cpSegmentShapeInit);
+    then its bounding box (left, bottom, right, top)."""
     vx, vy = b[0] - a[0], b[1] - a[1]
     scale = 1.0 / (math.sqrt(vx * vx + vy * vy) + _TINY)
     vx, vy = vx * scale, vy * scale
-    return a[0], a[1], b[0], b[1], vy, -vx  # cpvrperp
+    return a[0], a[1], b[0], b[1], vy, -vx, min(a[0], b[0]), min(a[1], b[1]), max(a[0], b[0]), max(a[1], b[1])
 
 
 def _spread(by_ray: list[list], item, low: float, width: float, step: float) -> None:
     """Give `item` to the rays (`step` apart) whose angle from the first ray is within
     [low, low + width] modulo 2 pi (0 <= low < 2 pi), widened by ANGLE_MARGIN on each side."""
     last = len(by_ray) - 1
+    span = last * step
     for start in (low - TAU, low, low + TAU):
-        if start + width + ANGLE_MARGIN < 0.0 or start - ANGLE_MARGIN > last * step:
+        start, end = start - ANGLE_MARGIN, start + width + ANGLE_MARGIN
+        if end < 0.0 or start > span:
             continue  # this turn of the interval lies outside the field of view
-        for n in range(max(0, math.ceil((start - ANGLE_MARGIN) / step)),
-                       min(last, math.floor((start + width + ANGLE_MARGIN) / step)) + 1):
+        first_ray = 0 if start <= 0.0 else math.ceil(start / step)
+        for n in range(first_ray, last + 1 if end >= span else math.floor(end / step) + 1):
             by_ray[n].append(item)
 
 
@@ -51,8 +54,10 @@ class Laser:
         """Give each ray the reachable walls between whose ends it points, with what
         cpSegmentShapeSegmentQuery computes before it looks at the ray: the ends relative to (x, y)
         (moved by a thickness of 0), the normal, the offset."""
-        for ax, ay, bx, by, nx, ny in self.walls:
-            if math.hypot(max(min(ax, bx) - x, 0.0, x - max(ax, bx)), max(min(ay, by) - y, 0.0, y - max(ay, by))) > reach:
+        for ax, ay, bx, by, nx, ny, left, bottom, right, top in self.walls:
+            off_x = left - x if x < left else x - right if x > right else 0.0
+            off_y = bottom - y if y < bottom else y - top if y > top else 0.0
+            if off_x * off_x + off_y * off_y > reach * reach:
                 continue  # its bounding box is out of reach
             d = (ax - x) * nx + (ay - y) * ny
             fx, fy = (-nx, -ny) if d > 0.0 else (nx, ny)

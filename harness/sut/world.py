@@ -189,8 +189,9 @@ class World:
             remaining -= dt
 
     def set_wheels(self, speed: float, turn: float) -> None:
+        stopping = not self.still and (speed, turn) == (0.0, 0.0)
         self.wheels = (speed, turn)
-        if self.still:
+        if stopping:  # a still rover is never stepped, so its speeds stay zero until it moves again
             self.rover.velocity, self.rover.angular_velocity = (0.0, 0.0), 0.0
 
     def scan(self, fov_deg: float, range_m: float, step_deg: float) -> tuple[tuple[float, float], ...]:
