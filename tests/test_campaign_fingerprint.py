@@ -1,6 +1,7 @@
 """The speed work must not change what a campaign computes: a campaign's store is compared, table by
 table, with the fingerprint (harness/fingerprint.py) and Tables II-IV that main computed before the
-speed work of issue 14 (tests/fingerprints/*.json, made by `expectation` below on main at 6e823b1).
+speed work of issue 14 (tests/fingerprints/*.json, made by `expectation` below on main at 6e823b1;
+main at 6cfb6e1 computes the same).
 
 The 30-mutant campaign runs in every `make test`; the default campaign (300 mutants, 816 runs)
 is checked by `make bench` (bench/campaign_bench.py), which runs it anyway.
