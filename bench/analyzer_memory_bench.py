@@ -53,7 +53,8 @@ def main() -> int:
     ram = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
     print(f"growth           {slope:,.0f} bytes per event from {small:,} to {large:,} events "
           f"(fixed part {small_rss - slope * small / 2**20:,.0f} MB)")
-    print(f"this machine     {ram / 2**30:,.1f} GB of RAM: about {ram / slope / 1e6:,.0f} million events at that growth")
+    print(f"this machine     {ram / 2**30:,.1f} GB of RAM: about {ram / slope / 1e6:,.0f} million events "
+          "at that growth")
     return 0
 
 
