@@ -23,6 +23,8 @@ class Driver:
         self.layer = FunctionalLayer(self.env, variant, interface, world)
         self.services: dict[int, str] = {}
         self.replies: list[tuple[float, int, str, str | None]] = []  # (t, rqst_id, kind, code)
+        rflex = self.layer.modules["rflex"]  # Dala's modules share the world and the posters
+        self.world, self.posters = rflex.world, rflex.posters
 
     def send(self, at: float, service: str, **args) -> int:
         rqst_id = len(self.services) + 1

@@ -27,12 +27,12 @@ def drive(interface, variant="reference", goal=(9, 4), fuse=True, at=None):
 def test_ndd_reaches_the_goal_around_the_rock_it_has_mapped(interface):
     d, _, goto = drive(interface)
     d.run(40)
-    x, y, _ = d.layer.world.pose
+    x, y, _ = d.world.pose
     assert d.final(goto) == "ok" and math.dist((x, y), (9, 4)) <= 0.25
     assert "collision" not in d.world_kinds()
-    assert d.layer.posters.ref == (0.0, 0.0) and d.layer.world.still  # ends by writing Ref = 0
-    rock = d.layer.world.spec.rocks[0]  # on the straight line from (2, 2) to (9, 4)
-    assert d.layer.posters.cart_a.clearance(rock.x + rock.radius, rock.y) < 0.2  # it was mapped
+    assert d.posters.ref == (0.0, 0.0) and d.world.still  # ends by writing Ref = 0
+    rock = d.world.spec.rocks[0]  # on the straight line from (2, 2) to (9, 4)
+    assert d.posters.cart_a.clearance(rock.x + rock.radius, rock.y) < 0.2  # it was mapped
 
 
 def test_navigating_without_the_map_hits_the_rock(interface):
@@ -41,7 +41,7 @@ def test_navigating_without_the_map_hits_the_rock(interface):
     assert d.world_kinds()[:2] == ["navigation_without_map", "collision"]
     assert '"with": "rock 1"' in d.layer.world_events[1][2]
     assert d.final(goto) == "goal_unreachable"  # blocked by the rock: no progress for 5 s
-    x, y, _ = d.layer.world.pose
+    x, y, _ = d.world.pose
     assert math.dist((x, y), (5.5, 3.0)) >= 0.6 + 0.4 - 0.05  # the rock stopped the rover
 
 
@@ -58,7 +58,7 @@ def test_no_progress_when_the_wheels_do_not_track(interface):
     goto = d.send(ready, "ndd.GotoPosition", x=9, y=4)  # no TrackSpeedStart
     d.run(ready + 8)
     assert d.final(goto) == "goal_unreachable"
-    assert 5 < d.when(goto) - ready < 6 and d.layer.world.odometer == 0
+    assert 5 < d.when(goto) - ready < 6 and d.world.odometer == 0
 
 
 def test_rflex_in_idle_mode_does_not_move(interface):
@@ -67,7 +67,7 @@ def test_rflex_in_idle_mode_does_not_move(interface):
     d.send(ready, "rflex.TrackSpeedStart")
     goto = d.send(ready, "ndd.GotoPosition", x=9, y=4)
     d.run(ready + 8)
-    assert d.final(goto) == "goal_unreachable" and d.layer.world.odometer == 0
+    assert d.final(goto) == "goal_unreachable" and d.world.odometer == 0
 
 
 def test_a_scan_fills_scart_and_reset_clears_the_map(interface):
@@ -77,15 +77,15 @@ def test_a_scan_fills_scart_and_reset_clears_the_map(interface):
     d.send(ready + 0.5, "aspect.Reset")  # required before Fuse
     fuse = d.send(ready + 0.8, "aspect.Fuse")
     d.run(ready + 1.5)
-    scan = d.layer.posters.scart
-    assert d.final(shot) == "ok" and scan.seq == 1 and scan.pose == d.layer.world.pose
+    scan = d.posters.scart
+    assert d.final(shot) == "ok" and scan.seq == 1 and scan.pose == d.world.pose
     assert scan.hits[0] == (pytest.approx(-math.pi / 2), pytest.approx(2.0))  # the bound y = 0, 2 m right
     assert all(round(math.degrees(b)) % 10 == 0 and 0 < dist <= 8 for b, dist in scan.hits)  # one ray / 10 deg
-    assert d.layer.posters.cart_a.occupied
+    assert d.posters.cart_a.occupied
     reset = d.send(ready + 2, "aspect.Reset")  # also interrupts Fuse
     d.run(ready + 3)
     assert d.final(reset) == "ok" and d.final(fuse) == "interrupted"
-    assert not d.layer.posters.cart_a.occupied
+    assert not d.posters.cart_a.occupied
 
 
 def talk_while_driving(interface, start_driving):
@@ -139,7 +139,7 @@ def test_an_interface_service_the_layer_lacks_is_refused(tmp_path, interface):
         'services.Stop = { kind = "exec" }\nservices.Jump = { kind = "exec" }\n\n[modules.sick]')
     path = tmp_path / "interface.toml"
     path.write_text(text)
-    with pytest.raises(UntimelyError, match=r"declares rflex\.Jump \(exec\), which the simulated Dala layer "
+    with pytest.raises(UntimelyError, match=r"declares rflex\.Jump \(exec\), which the simulated layer "
                                             r"does not implement"):
         FunctionalLayer(Environment(), "reference", load_interface(path), WORLD)
 
@@ -160,4 +160,4 @@ def test_reprs_show_variant_modules_and_activities(interface):
     assert repr(rflex.activities[0]) == "<Activity rflex.TrackSpeedStart #3 starting>"
     assert repr(d.layer).startswith("<FunctionalLayer reference t=1.200 <Module rflex initialised")
     assert "<Module sick uninitialised []>" in repr(d.layer)
-    assert repr(d.layer.variant) == "<Variant protections=PEX,AIB,PRE,EXC defects=->"
+    assert repr(d.layer.variant) == "<Variant reference protections=PEX,AIB,PRE,EXC defects=->"

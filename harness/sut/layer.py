@@ -1,25 +1,25 @@
-"""The simulated Dala functional layer: the executive's only door into the simulation.
+"""The simulated functional layer: the executive's only door into the simulation.
 
-A request reaches its module's control task, which checks it (bad_params, PEX, PRE, free slot;
-see variants.py), applies the interruptions it causes (AIB, EXC, the variant's quirks), then
-starts it. Replies go back through the `reply` callable given with each request.
+What the layer is made of comes from its mission folder: the modules from the behaviour module
+that layer.toml names (or timed modules built from the interface and [timing]), what it enforces
+from layer.toml's protections, defects and variants (harness/sut/description.py).
+
+A request reaches its module's control task, which checks it (bad arguments, then the variant's
+rejecting protections in their declared order, then a free activity slot), applies the
+interruptions it causes (the interrupting protections, the layer's stop service, the variant's
+defects), then starts it. Replies go back through the `reply` callable given with each request.
 """
 from __future__ import annotations
 
+import importlib
 from pathlib import Path
 from typing import Callable
 
 from harness.errors import UntimelyError
 from harness.interface import Interface, Service
-from harness.sut import rules
+from harness.sut.description import Protection, load_layer
 from harness.sut.kernel import Environment
 from harness.sut.module import CONTROL_LATENCY_S, Activity, Module
-from harness.sut.modules import Posters, build_modules
-from harness.sut.variants import (DEADLOCK_ON_DOMINATED_START, DEADLOCK_ON_EXCLUDED_START, INIT_INTERRUPTS,
-                                  PEX_LEAK_DURING_INIT, variant_named)
-from harness.sut.world import World, load_world
-
-ACTIVITY_SLOTS = 3  # exec activities a module runs at once
 
 
 def parse_args(service: Service, raw: dict[str, str]) -> dict | None:
@@ -44,27 +44,42 @@ def parse_args(service: Service, raw: dict[str, str]) -> dict | None:
     return values
 
 
+def build_modules(env: Environment, description, interface: Interface, world_file: Path) -> tuple[dict, list]:
+    """The modules by name and the world's event list (virtual damage; empty without a world)."""
+    if description.behaviour:
+        try:
+            behaviour = importlib.import_module(description.behaviour)
+        except ImportError as e:
+            raise UntimelyError(f"{description.path}: behaviour = {description.behaviour!r} cannot be "
+                                f"imported ({e}); name an importable Python module") from None
+        return behaviour.build(env, world_file)
+    return {m: Module(env, m) for m in interface.modules}, []
+
+
 class FunctionalLayer:
     def __init__(self, env: Environment, variant: str, interface: Interface, world_file: Path):
         self.env, self.interface, self.variant_name = env, interface, variant
-        self.variant = variant_named(variant)
-        self.world = World(load_world(world_file), env)
-        self.world_events = self.world.events
-        self.posters = Posters(robot=self.world.pose)
-        self.modules = build_modules(env, self.world, self.posters)
-        self.succeeded: set[str] = set()  # services that have ended ok at least once (for PRE)
+        self.description = load_layer(Path(world_file).parent)  # the world's folder, even if it has none
+        self.description.check(interface)
+        self.variant = self.description.variant(variant)
+        self.modules, self.world_events = build_modules(env, self.description, interface, world_file)
+        self.succeeded: set[str] = set()  # services that have ended ok at least once
         self._check_implements(interface)
 
     def _check_implements(self, interface: Interface) -> None:
         for service in interface.services.values():
             module = self.modules.get(service.module)
+            timing = self.description.timing_of(service.qualified)
+            if module is not None and timing and service.kind != "control":
+                module.add_timed(service.name, timing.start_s, timing.run_s)
             if module is None or (service.kind != "control" and service.name not in module.bodies):
                 raise UntimelyError(f"the interface {interface.path} declares {service.qualified} "
-                                    f"({service.kind}), which the simulated Dala layer does not implement; "
-                                    f"use an interface with only modules {', '.join(self.modules)}")
+                                    f"({service.kind}), which the simulated layer does not implement; "
+                                    f"use an interface with only modules {', '.join(self.modules)}, or give "
+                                    f"the service a [timing] entry in {self.description.path}")
 
-    def has(self, protection: str) -> bool:
-        return protection in self.variant.protections
+    def _is_stop(self, qualified: str) -> bool:
+        return qualified.split(".", 1)[1] == self.description.stop
 
     def receive(self, rqst_id: int, service: str, args: dict[str, str], reply: Callable) -> None:
         spec = self.interface.services.get(service)
@@ -85,7 +100,7 @@ class FunctionalLayer:
 
     def _handle(self, module: Module, rqst_id: int, service: Service, raw: dict, answer) -> None:
         values = parse_args(service, raw)
-        rejection = "bad_params" if values is None else self._rejection(module, service)
+        rejection = self.description.bad_params if values is None else self._rejection(module, service)
         if rejection:
             answer("final", rejection)
         elif service.kind == "control":
@@ -96,39 +111,49 @@ class FunctionalLayer:
             if not module.deadlocked:
                 module.start(rqst_id, service.name, service.kind, values, answer)
 
+    def _rejects(self, protection: Protection, module: Module, request: str) -> bool:
+        if protection.kind == "requires_init":
+            leak = self.variant.defect("leak_during_init", protection.name) and module.initialising
+            return not module.initialised and not leak
+        if protection.kind == "requires":
+            return not protection.services.get(request, frozenset()) <= self.succeeded
+        if protection.kind == "rejects_while":
+            blocking = protection.services.get(request, frozenset())
+            return any(a.qualified in blocking for m in self.modules.values() for a in m.running())
+        return False
+
     def _rejection(self, module: Module, service: Service) -> str | None:
         if service.kind != "exec":
             return None
-        leak = PEX_LEAK_DURING_INIT in self.variant.defects and module.initialising
-        if self.has("PEX") and not module.initialised and not leak:
-            return "wait_init"
-        if self.has("PRE") and not rules.REQUIREMENTS.get(service.qualified, set()) <= self.succeeded:
-            return "disallowed"
-        if len(module.running()) >= ACTIVITY_SLOTS:
-            return "too_many_activities"
+        for protection in self.variant.protections:
+            if self._rejects(protection, module, service.qualified):
+                return protection.reply
+        if len(module.running()) >= self.description.slots:
+            return self.description.no_slot
         return None
 
-    def _victims(self, module: Module, service: Service) -> list[tuple[Activity, str]]:
-        """The running activities an accepted request ends, each with its final reply."""
+    def _victims(self, module: Module, service: Service) -> list[tuple[Activity, str, str]]:
+        """The running activities an accepted request ends, each with its final reply and the
+        protection or defect that ends it."""
         if service.kind == "init":
-            return [(a, "interrupted") for a in module.running()] if INIT_INTERRUPTS in self.variant.defects else []
+            quirk = self.variant.defect("init_interrupts")
+            return [(a, quirk.reply, quirk.name) for a in module.running()] if quirk else []
         request = service.qualified
-        dominated = [a for a in module.running() if rules.dominates(request, a.qualified)]
-        if self.has("AIB"):
-            victims = [(a, "interrupted") for a in dominated]
-        else:  # a Stop still stops, but nothing says it interrupted anything
-            victims = [(a, "ok") for a in dominated if rules.is_stop(request)]
-        if self.has("EXC"):
-            excluded = rules.excluded_by(request)
-            victims += [(a, "interrupted_excl") for m in self.modules.values() for a in m.running()
-                        if a.qualified in excluded]
+        interrupting = [p for p in self.variant.protections if p.kind in ("interrupts", "excludes")]
+        victims = []
+        if self._is_stop(request) and not any(p.stop for p in interrupting):
+            # a stop still stops, but nothing says it interrupted anything
+            victims = [(a, "ok", "") for a in module.running() if not self._is_stop(a.qualified)]
+        for p in interrupting:
+            victims += [(a, p.reply, p.name) for m in self.modules.values() for a in m.running()
+                        if request in p.services.get(a.qualified, ()) or
+                        (p.stop and m is module and self._is_stop(request) and not self._is_stop(a.qualified))]
         return victims
 
     def _interrupt_for(self, module: Module, service: Service) -> None:
         """Interrupt what an accepted request ends; a defective variant may deadlock instead."""
-        deadlocking = {"interrupted": DEADLOCK_ON_DOMINATED_START, "interrupted_excl": DEADLOCK_ON_EXCLUDED_START}
-        for activity, code in self._victims(module, service):
-            if activity.phase == "starting" and deadlocking.get(code) in self.variant.defects:
+        for activity, code, cause in self._victims(module, service):
+            if activity.phase == "starting" and self.variant.defect("deadlock_on_start", cause):
                 activity.module.freeze()
             else:
                 activity.interrupt(code)

@@ -14,9 +14,7 @@ from typing import Callable, Generator
 from harness.sut.kernel import Environment, Interrupt
 
 CONTROL_LATENCY_S = 0.001
-INIT_S = 0.5
 DEFAULT_START_S = 0.1
-STOP_S = 0.05
 FROZEN = None  # interruption cause of a deadlock: the activity ends without any reply
 
 Reply = Callable[[str, "str | None"], None]  # (kind, code) of one request
@@ -46,18 +44,21 @@ class Activity:
 
 
 class Module:
-    """Generic module; subclasses give `name`, `settings` defaults, `bodies` and `start_s`."""
+    """Generic module; subclasses give `name`, `settings` defaults, `bodies` and `start_s`. A
+    service without a body of its own can be given a timed one (`add_timed`)."""
 
     name = "module"
-    start_s: dict[str, float] = {"Init": 0.0, "Stop": 0.01}  # start phase of each service
+    start_s: dict[str, float] = {}  # start phase of each service
 
-    def __init__(self, env: Environment):
+    def __init__(self, env: Environment, name: str | None = None):
         self.env = env
+        self.name = name or self.name
+        self.start_s = dict(type(self).start_s)
         self.activities: list[Activity] = []
         self.initialised = False
         self.deadlocked = False
         self.settings: dict = {}
-        self.bodies: dict[str, Callable[[Activity], Generator]] = {"Init": self._init, "Stop": self._stop}
+        self.bodies: dict[str, Callable[[Activity], Generator]] = {}
         self._queue: deque[Callable[[], None]] = deque()
 
     # -- control task ------------------------------------------------------------------------
@@ -117,13 +118,16 @@ class Module:
     def ended(self, activity: Activity) -> None:
         """Clean-up after any non-frozen end of an activity (normal or interrupted)."""
 
-    def _init(self, _activity: Activity):
-        yield self.env.timeout(INIT_S)
-        self.initialised = True
-        return "ok"
+    def add_timed(self, service: str, start_s: float, run_s: float | None) -> None:
+        """A service with no codel: a start phase, then a wait of `run_s` (None: until interrupted)
+        that ends ok; an init activity's end initialises the module."""
+        self.start_s.setdefault(service, start_s)
+        self.bodies.setdefault(service, lambda activity: self._wait(activity, run_s))
 
-    def _stop(self, _activity: Activity):
-        yield self.env.timeout(STOP_S)
+    def _wait(self, activity: Activity, run_s: float | None):
+        yield self.env.event() if run_s is None else self.env.timeout(run_s)
+        if activity.kind == "init":
+            self.initialised = True
         return "ok"
 
     def __repr__(self) -> str:

@@ -1,4 +1,4 @@
-"""The five Dala modules: their settings, start phases and activity bodies (codels).
+"""The Dala layer's behaviour, named by missions/dala/layer.toml. The five Dala modules: their settings, start phases and activity bodies (codels).
 
 Codels run only while their activity runs. Modules share posters: Robot (pose, by rflex),
 SCart (laser scan, by sick), CartA (map, by aspect), Ref (speed reference, by ndd).
@@ -7,11 +7,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from harness.sut.kernel import Environment
 from harness.sut.module import Activity, Module
 from harness.sut.navigation import CLEARANCE_M, OccupancyMap, steer
-from harness.sut.world import World
+from harness.sut.world import World, load_world
 
 MOVED_M = 0.001  # odometer change that counts as the rover moving
 
@@ -43,7 +44,7 @@ class Rflex(DalaModule):
     """Odometry and wheels: TrackSpeedStart drives the rover from Ref; in mode idle (the default,
     until SetMode velocity) the wheels ignore Ref."""
     name = "rflex"
-    start_s = {**Module.start_s, "TrackSpeedStart": 0.5}  # motor enable
+    start_s = {"TrackSpeedStart": 0.5}  # motor enable
     PERIOD_S = 0.1
 
     def __init__(self, env, world, posters):
@@ -70,7 +71,7 @@ class Rflex(DalaModule):
 class Sick(DalaModule):
     """Laser range finder: ray casts into SCart, once (OneShot) or periodically (ContinuousShot)."""
     name = "sick"
-    start_s = {**Module.start_s, "ContinuousShot": 0.5}  # spin-up
+    start_s = {"ContinuousShot": 0.5}  # spin-up
     PERIOD_S = 0.25
     RAY_STEP_DEG = 10.0  # sees a 0.6 m rock between two rays up to 6.9 m away
 
@@ -126,7 +127,7 @@ class Aspect(DalaModule):
 class Ndd(DalaModule):
     """Navigation: GotoPosition steers (Ref) to x, y around the obstacles mapped in CartA."""
     name = "ndd"
-    start_s = {**Module.start_s, "GotoPosition": 0.2}
+    start_s = {"GotoPosition": 0.2}
     PERIOD_S = 0.2
     GOAL_TOLERANCE_M = 0.25
     STALL_S, PROGRESS_M = 5.0, 0.05  # no PROGRESS_M closer for STALL_S: goal_unreachable
@@ -164,7 +165,7 @@ class Ndd(DalaModule):
 class Antenna(DalaModule):
     """Orbiter link: Point slews the antenna; Communication talks while the rover stands still."""
     name = "antenna"
-    start_s = {**Module.start_s, "Point": 0.2, "Communication": 0.2}
+    start_s = {"Point": 0.2, "Communication": 0.2}
     PERIOD_S = 0.2
     SLEW_DEG_S = 45.0
 
@@ -204,8 +205,12 @@ class Antenna(DalaModule):
         return "ok"
 
 
-def build_modules(env: Environment, world: World, posters: Posters) -> dict[str, DalaModule]:
+def build(env: Environment, world_file: Path) -> tuple[dict[str, DalaModule], list]:
+    """The Dala layer's behaviour (missions/dala/layer.toml names this module): the five modules
+    on the world of `world_file`, and the list the world records its virtual damage in."""
+    world = World(load_world(world_file), env)
+    posters = Posters(robot=world.pose)
     aspect = Aspect(env, world, posters)
     modules = (Rflex(env, world, posters), Sick(env, world, posters), aspect,
                Ndd(env, world, posters, aspect), Antenna(env, world, posters))
-    return {m.name: m for m in modules}
+    return {m.name: m for m in modules}, world.events
