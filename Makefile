@@ -11,7 +11,8 @@ ROS_STAMP  := $(VENV_ROS)/.installed
 DB      ?= reports/campaign.duckdb
 OUT     ?= reports
 MUTANTS ?= 300
-SUTS    ?= genom,bip-a,bip-b
+MISSION ?= missions/dala
+SUTS    ?=
 SEED    ?= 2012
 JOBS    ?= 0
 STRATEGY ?= random
@@ -44,7 +45,7 @@ bench: $(STAMP) ros
 	$(PY) bench/run.py
 
 campaign: $(STAMP)
-	$(PY) -m harness campaign --mutants $(MUTANTS) --sut $(SUTS) --seed $(SEED) --strategy $(STRATEGY) --db $(DB) --jobs $(JOBS)
+	$(PY) -m harness campaign --mission $(MISSION) --mutants $(MUTANTS) $(if $(SUTS),--sut $(SUTS)) --seed $(SEED) --strategy $(STRATEGY) --db $(DB) --jobs $(JOBS)
 
 analyze: $(STAMP)
 	$(PY) -m harness analyze --db $(DB)

@@ -21,24 +21,20 @@ import sys
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
-from pathlib import Path
 
 from harness import analyzer, shrink, store
-from harness.errors import InputFileError, StoreError, UntimelyError
+from harness.errors import StoreError, UntimelyError
 from harness.executive import run_script
-from harness.interface import Interface, load_interface, load_properties
+from harness.interface import Interface
+from harness.mission import load_mission
 from harness.mutator import strategies
 from harness.mutator.operators import Mutant
-from harness.mutator.script import load_script
 from harness.progress import Progress
 from harness.provenance import last_epsilon
 from harness.suts import ExternalSut, resolve
 from harness.trace import Trace
 from harness.workers import Pool, Setup, Task, script_label
 
-# The files a trace depends on; a store made from other contents is another campaign.
-# properties.toml is not among them: editing a property re-judges traces, it does not re-run them.
-TRACE_FILES = ("golden.mission", "interface.toml", "world.toml")
 # Arguments that decide what is run; --jobs, --cluster and --db do not.
 COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "max_delay",
             "files")
@@ -52,14 +48,6 @@ BATCH_RUNS = 64
 BATCH_S = 2.0
 
 
-def _sha256(path: Path) -> str:
-    try:
-        return hashlib.sha256(path.read_bytes()).hexdigest()
-    except FileNotFoundError:
-        raise InputFileError(path, "", "file not found; a mission folder holds "
-                             + ", ".join(TRACE_FILES) + " and properties.toml") from None
-
-
 def campaign_config(args) -> dict:
     """The campaign's identity (stored in campaigns.config); refuses arguments that make no sense."""
     if args.mutants < 0:
@@ -71,24 +59,26 @@ def campaign_config(args) -> dict:
         raise UntimelyError(f"--jobs {args.jobs}: give a number of worker processes, or 0 for all cores")
     if not args.max_delay >= 0:
         raise UntimelyError(f"--max-delay {args.max_delay}: give a delay in seconds >= 0")
-    mission = Path(args.mission)
-    suts, external = resolve(args.sut, mission, args.time_scale)
-    return {"kind": "campaign", "mission": str(mission.resolve()), "mutants": args.mutants, "sut": suts,
+    mission = load_mission(args.mission)
+    suts, external = resolve(args.sut or mission.default_suts(), mission.folder, args.time_scale)
+    return {"kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
             "external": {name: sut.config() for name, sut in external.items()},
             "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,
             "time_mutations": args.time_mutations,
             "max_delay": args.max_delay, "jobs": args.jobs,
-            "files": {name: _sha256(mission / name) for name in TRACE_FILES}}
+            "files": mission.hashes()}
 
 
 def _difference(stored: dict, wanted: dict) -> str | None:
     for key in COMPARED:
-        if stored.get(key, ABSENT.get(key)) == wanted[key]:
-            continue
-        if key == "files":
-            changed = [n for n in TRACE_FILES if stored["files"].get(n) != wanted["files"][n]]
+        if key == "files":  # a campaign stored before a file was hashed compares those it hashed
+            changed = [n for n in stored["files"] if stored["files"][n] != wanted["files"].get(n)]
+            if not changed:
+                continue
             return (f"--mission {stored['mission']} had other contents: {', '.join(changed)} "
                     f"differ from {wanted['mission']}")
+        if stored.get(key, ABSENT.get(key)) == wanted[key]:
+            continue
         if key == "external":
             return f"external SUTs {stored.get(key, ABSENT[key])}, not {wanted[key]}"
         show = (lambda v: ",".join(v)) if key == "sut" else str
@@ -240,12 +230,11 @@ def _backend(cluster: str | None, setup: Setup, jobs: int):
 def main(args, runner=None) -> int:
     """`runner` replaces harness.executive.run_script (tests inject failing ones)."""
     config = campaign_config(args)
-    mission = Path(args.mission)
-    interface = load_interface(mission / "interface.toml")
-    golden = load_script(mission / "golden.mission", interface)
-    properties = load_properties(mission / "properties.toml", interface)
+    target = load_mission(args.mission)
+    mission, interface = target.folder, target.interface
+    golden, properties = target.golden(), target.properties()
     external = {name: ExternalSut(**spec) for name, spec in config["external"].items()}
-    setup = Setup(runner or run_script, mission / "interface.toml", mission / "world.toml", args.max_delay,
+    setup = Setup(runner or run_script, target.interface_file, target.world_file, args.max_delay,
                   external, REALTIME_WALL_LIMIT_S if external else RUN_WALL_LIMIT_S)
     # A real-time run mostly waits: its slots may outnumber the cores.
     jobs = args.jobs or max([len(os.sched_getaffinity(0))] + [s.slots for s in external.values()])

@@ -9,12 +9,22 @@ import sys
 from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR
 from harness.errors import UntimelyError
 
-VARIANTS_HELP = "genom, bip-a, bip-b, bare, reference"
 EXTERNAL_HELP = ("; or an external SUT over untimely/1: NAME=cmd:COMMAND (started per run, stdio), "
                  "NAME=tcp://HOST:PORT, or a NAME from the mission folder's suts.toml")
 
 
+def _variants_help() -> str:
+    """The default mission's variants, read from its layer description."""
+    try:
+        from harness.sut.description import load_layer
+        layer = load_layer(DEFAULT_MISSION_DIR)
+    except UntimelyError:
+        return "those of the mission folder's layer.toml"
+    return f"{', '.join(layer.variants)} (for {DEFAULT_MISSION_DIR.name}; others: the mission folder's layer.toml)"
+
+
 def _parser() -> argparse.ArgumentParser:
+    variants_help = _variants_help()
     p = argparse.ArgumentParser(
         prog="python -m harness",
         description="Untimely: mutate a mission script, run it against a simulated functional "
@@ -35,7 +45,7 @@ def _parser() -> argparse.ArgumentParser:
 
     c = command("run", "run one script on one variant, store and summarise its trace", "harness.run:main")
     c.add_argument("mission", help="a mission script, e.g. missions/dala/golden.mission")
-    c.add_argument("--sut", required=True, help=f"implementation variant: {VARIANTS_HELP}{EXTERNAL_HELP}")
+    c.add_argument("--sut", required=True, help=f"implementation variant: {variants_help}{EXTERNAL_HELP}")
     c.add_argument("--seed", type=int, default=0, help="seed of the observation delays (default: 0)")
     c.add_argument("--interface", help="interface description (default: interface.toml beside the script)")
     c.add_argument("--world", help="world description (default: world.toml beside the script)")
@@ -47,8 +57,8 @@ def _parser() -> argparse.ArgumentParser:
     c = command("campaign", "run golden + seeded mutants on each variant; resumable", "harness.campaign:main")
     c.add_argument("--mission", default=str(DEFAULT_MISSION_DIR), help="mission folder (default: %(default)s)")
     c.add_argument("--mutants", type=int, default=300, help="number of mutants (default: %(default)s)")
-    c.add_argument("--sut", default="genom,bip-a,bip-b",
-                   help=f"comma-separated SUTs (default: %(default)s): variants {VARIANTS_HELP}{EXTERNAL_HELP}")
+    c.add_argument("--sut", help="comma-separated SUTs (default: the layer.toml's default_suts): "
+                   f"variants {variants_help}{EXTERNAL_HELP}")
     c.add_argument("--seed", type=int, default=2012, help="campaign seed (default: %(default)s)")
     c.add_argument("--jobs", type=int, default=0, help="worker processes, 0 = all cores (default: %(default)s)")
     c.add_argument("--strategy", choices=("random", "targeted"), default="random",
@@ -90,7 +100,7 @@ def _parser() -> argparse.ArgumentParser:
     c = command("explain", "the events that decided a verdict, its margin and what would flip it",
                 "harness.explain:main")
     c.add_argument("trace_id", type=int, help="a trace id")
-    c.add_argument("property", help="a property id, e.g. \"AIB(rflex.TrackSpeedStart)\"")
+    c.add_argument("property", help="a property id, as the properties file spells it")
     c.add_argument("rqst_id", type=int, nargs="?", help="a request id (default: every request judged)")
     db(c)
 
@@ -127,7 +137,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        print("interrupted; the store keeps every finished transaction", file=sys.stderr)
+        print("stopped (Ctrl-C); the store keeps every finished transaction", file=sys.stderr)
         return 130
     except BrokenPipeError:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())

@@ -124,7 +124,7 @@ def test_campaign_stores_scripts_and_every_run_with_deterministic_ids(mission, t
     assert per_trace == len(traces)
     config = json.loads(con.execute("select config from campaigns").fetchone()[0])
     assert config["mutants"] == 8 and config["sut"] == ["genom", "bip-a"]
-    assert set(config["files"]) == {"golden.mission", "interface.toml", "world.toml"}
+    assert set(config["files"]) == {"golden.mission", "interface.toml", "layer.toml", "world.toml"}
     invalid = len(scripts) - len(valid_ids)
     assert f"{len(valid_ids) - 1} valid, {invalid} invalid" in out
     assert f"genom     {len(valid_ids)} runs: {len(valid_ids)} completed, 0 hung, 0 crashed" in out
@@ -219,8 +219,8 @@ def test_bad_arguments_are_refused_before_anything_runs(mission, tmp_path):
         campaign.main(arguments(mission, db, sut="genom,genom"), runner=fake_runner)
     with pytest.raises(UntimelyError, match=r"--ops-per-mutant 0: give at least 1"):
         campaign.main(arguments(mission, db, ops_per_mutant=0), runner=fake_runner)
-    (mission / "world.toml").unlink()
-    with pytest.raises(UntimelyError, match=r"world.toml:: file not found; a mission folder holds"):
+    (mission / "golden.mission").unlink()
+    with pytest.raises(UntimelyError, match=r"golden.mission:: file not found; a mission folder holds"):
         campaign.main(arguments(mission, db), runner=fake_runner)
     assert not db.exists()
 

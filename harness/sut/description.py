@@ -14,7 +14,7 @@ Protection kinds (each with its `reply` code):
   running other one (priority to the latest request).
 
 Defect kinds:
-- init_interrupts: every init request interrupts all running activities of its module (`reply`).
+- interrupts_on_init: every init request interrupts all running activities of its module (`reply`).
 - deadlock_on_start: an interruption by `protection` that reaches an activity still in its start
   phase deadlocks that activity's module (no reply, no pong).
 - leak_during_init: exec requests arriving while the module's init runs pass `protection`.
@@ -31,8 +31,8 @@ from harness.interface import Interface, read_toml
 LAYER_FILE = "layer.toml"
 REJECTING = ("requires_init", "requires", "rejects_while")
 INTERRUPTING = ("interrupts", "excludes")
-DEFECT_KINDS = {"init_interrupts": "reply", "deadlock_on_start": "protection", "leak_during_init": "protection"}
-LAYER_KEYS = {"behaviour", "slots", "bad_params", "no_slot", "stop", "default_suts", "doc"}
+DEFECT_KINDS = {"interrupts_on_init": "reply", "deadlock_on_start": "protection", "leak_during_init": "protection"}
+LAYER_KEYS = {"behaviour", "slots", "invalid_args", "no_slot", "stop", "default_suts", "doc"}
 
 
 @dataclass(frozen=True)
@@ -81,7 +81,7 @@ class LayerDescription:
     path: Path
     behaviour: str | None  # a Python module building the modules; None: modules timed from `timing`
     slots: int
-    bad_params: str
+    invalid_args: str  # the reply to arguments outside their domain
     no_slot: str
     stop: str | None  # the service that stops its module's other activities
     default_suts: tuple[str, ...]
@@ -101,7 +101,7 @@ class LayerDescription:
 
     def check(self, interface: Interface) -> None:
         """Every code and service it names is the interface's."""
-        codes = [self.bad_params, self.no_slot] + [p.reply for p in self.protections.values()] \
+        codes = [self.invalid_args, self.no_slot] + [p.reply for p in self.protections.values()] \
             + [d.reply for d in self.defects.values() if d.reply]
         for code in codes:
             if code not in interface.replies:
@@ -203,7 +203,7 @@ def _load(path: Path, _stamp: tuple) -> LayerDescription:
     default = _strings(path, "[layer]", "default_suts", layer.get("default_suts", list(variants)))
     _picked(path, "[layer]", "default_suts", default, variants)
     return LayerDescription(
-        path, layer.get("behaviour"), int(layer.get("slots", 3)), _code(path, "[layer]", layer, "bad_params"),
+        path, layer.get("behaviour"), int(layer.get("slots", 3)), _code(path, "[layer]", layer, "invalid_args"),
         _code(path, "[layer]", layer, "no_slot"), layer.get("stop"), default, {n: _timing(path, n, s) for n, s in data.get("timing", {}).items()},
         protections, defects, variants)
 

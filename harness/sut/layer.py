@@ -100,7 +100,7 @@ class FunctionalLayer:
 
     def _handle(self, module: Module, rqst_id: int, service: Service, raw: dict, answer) -> None:
         values = parse_args(service, raw)
-        rejection = self.description.bad_params if values is None else self._rejection(module, service)
+        rejection = self.description.invalid_args if values is None else self._rejection(module, service)
         if rejection:
             answer("final", rejection)
         elif service.kind == "control":
@@ -136,7 +136,7 @@ class FunctionalLayer:
         """The running activities an accepted request ends, each with its final reply and the
         protection or defect that ends it."""
         if service.kind == "init":
-            quirk = self.variant.defect("init_interrupts")
+            quirk = self.variant.defect("interrupts_on_init")
             return [(a, quirk.reply, quirk.name) for a in module.running()] if quirk else []
         request = service.qualified
         interrupting = [p for p in self.variant.protections if p.kind in ("interrupts", "excludes")]
