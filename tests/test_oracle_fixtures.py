@@ -34,6 +34,18 @@ def test_trace_gets_the_expected_verdicts(index, case):
     assert {(p, r) for p, r, *_, suspicious in rows if suspicious} == case.flagged
 
 
+def test_the_second_targets_fixtures_cover_every_cell_of_es_ex_and_mx_r():
+    seen = {t: set() for t in ("ES", "EX", "MX_R")}
+    for fixture in FIXTURES:
+        if not fixture.path.name.startswith("manipulator_"):
+            continue
+        types = {p.id: p.type for p in fixture.properties}
+        for case in fixture.cases:
+            for (property_id, _), (verdict, c_holds, _) in case.expected.items():
+                seen[types[property_id]].add((c_holds, verdict))
+    assert {t: CELLS[t] - seen[t] for t in seen} == {t: set() for t in seen}
+
+
 def test_fixtures_cover_every_cell_of_every_verdict_table():
     seen = {t: set() for t in CELLS}
     roles, suspicious = set(), set()

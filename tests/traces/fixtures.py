@@ -1,5 +1,6 @@
 """Hand-made traces with the verdicts they must get, in a small line format (*.trace here).
 
+    mission missions/manipulator                # optional, first: another target than Dala
     use PEX(rflex) AIB(ndd.GotoPosition)        # the properties judged in this file
     trace pc_true_accepted sut=genom outcome=hung   # a trace: label, optional sut and outcome
     0.0 request 1 rflex.Init                    # t kind rqst_id module.Service
@@ -11,16 +12,18 @@ Events get seq in line order. After `=>` on a request line come the expected ver
 of that request, separated by `;`: property id, verdict, c_holds (true, false, null),
 margin_s (seconds, or - for NULL), and `suspicious` when the row must be flagged (at the
 fixtures' epsilon, 10 ms); a row without it must not be. Every verdict row of the trace must be listed.
-Properties come from missions/dala/properties.toml and tests/traces/properties.toml.
+Properties come from missions/dala/properties.toml and tests/traces/properties.toml, or from the
+properties.toml of the file's `mission` folder (whose interface then gives the reply classes).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from harness import DEFAULT_MISSION_DIR
+from harness import DEFAULT_MISSION_DIR, ROOT
 from harness.analyzer import materialise
-from harness.interface import load_interface, load_properties
+from harness.interface import Interface, load_interface, load_properties
+from harness.mission import load_mission
 from harness.store import add_campaign, add_reply_codes, connect, insert_trace
 from harness.trace import Trace
 
@@ -46,12 +49,13 @@ class Fixture:
     path: Path
     properties: list
     cases: list[Case]
+    interface: Interface = INTERFACE
 
 
-def _expect(case: Case, text: str, rqst_id: int, where: str) -> None:
+def _expect(case: Case, text: str, rqst_id: int, where: str, known: dict) -> None:
     for item in text.split(";"):
         property_id, verdict, c_holds, margin, *flag = item.split()
-        if property_id not in PROPERTIES or c_holds not in BOOLEANS or flag not in ([], ["suspicious"]):
+        if property_id not in known or c_holds not in BOOLEANS or flag not in ([], ["suspicious"]):
             raise ValueError(f"{where}: bad expectation {item.strip()!r}")
         case.expected[(property_id, rqst_id)] = (verdict, BOOLEANS[c_holds], None if margin == "-" else float(margin))
         if flag:
@@ -59,14 +63,17 @@ def _expect(case: Case, text: str, rqst_id: int, where: str) -> None:
 
 
 def load(path: Path) -> Fixture:
-    properties, cases = [], []
+    properties, cases, known, interface = [], [], PROPERTIES, INTERFACE
     for n, raw in enumerate(path.read_text().splitlines(), 1):
         line, _, expect = raw.split("#")[0].partition("=>")
         words, where = line.split(), f"{path.name}:{n}"
         if not words:
             continue
-        if words[0] == "use":
-            properties = [PROPERTIES[w] for w in words[1:]]
+        if words[0] == "mission":
+            mission = load_mission(ROOT / words[1])
+            interface, known = mission.interface, {p.id: p for p in mission.properties()}
+        elif words[0] == "use":
+            properties = [known[w] for w in words[1:]]
         elif words[0] == "trace":
             options = dict(w.split("=") for w in words[2:])
             cases.append(Case(words[1], Trace(sut=options.get("sut", "fixture"), seed=0,
@@ -82,8 +89,8 @@ def load(path: Path) -> Fixture:
             case.trace.events.append((len(case.trace.events) + 1, float(t), kind, rqst_id,
                                       module, service, None, reply))
             if expect.strip():
-                _expect(case, expect, rqst_id, where)
-    return Fixture(path, properties, cases)
+                _expect(case, expect, rqst_id, where, known)
+    return Fixture(path, properties, cases, interface)
 
 
 def all_fixtures() -> list[Fixture]:
@@ -91,19 +98,19 @@ def all_fixtures() -> list[Fixture]:
 
 
 def judged_traces(mission: str, traces: list[tuple[Trace, str | None]], properties: list, epsilon: float,
-                  path=":memory:"):
+                  path=":memory:", interface: Interface = INTERFACE):
     """A store of one campaign holding `traces`, (trace, label) pairs given ids 1, 2, ... in order,
     judged with `properties`."""
     con = connect(path)
     add_campaign(con, 1, mission, 0, {})
-    add_reply_codes(con, INTERFACE)
+    add_reply_codes(con, interface)
     for trace_id, (trace, label) in enumerate(traces, 1):
         insert_trace(con, trace_id, 1, None, trace, label=label)
-    materialise(con, properties, epsilon, INTERFACE)
+    materialise(con, properties, epsilon, interface)
     return con
 
 
 def judged_store(fixture: Fixture, epsilon: float, path=":memory:"):
     """A store holding the fixture's traces (ids 1, 2, ... in file order), judged with its properties."""
     return judged_traces(str(fixture.path), [(case.trace, case.label) for case in fixture.cases],
-                         fixture.properties, epsilon, path)
+                         fixture.properties, epsilon, path, fixture.interface)
