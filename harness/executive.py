@@ -121,13 +121,7 @@ class Executive:
                     self.notes.append((self.env.now, "wait_timeout", json.dumps({"wait": what})))
                     return
                 watchdog = self.env.timeout(deadline - self.env.now)
-                yield self._first_of(request.observed, watchdog)
-
-    def _first_of(self, *events: Event) -> Event:
-        either = self.env.event()
-        for event in events:
-            event.callbacks.append(lambda _e: either.triggered or either.succeed())
-        return either
+                yield self.env.any_of(request.observed, watchdog)
 
     def play(self, script: Script):
         for step in script.steps:
@@ -150,7 +144,7 @@ class Executive:
             yield self.env.timeout(self.probe_period)
             answered = self.env.event()
             self.layer.ping(lambda: answered.triggered or answered.succeed())
-            yield self._first_of(answered, self.env.timeout(self.probe_timeout))
+            yield self.env.any_of(answered, self.env.timeout(self.probe_timeout))
             if not answered.triggered:
                 self.notes.append((self.env.now, "probe_unanswered", json.dumps({})))
                 if not self.done.triggered:
@@ -162,8 +156,9 @@ def run_script(script: Script, sut: str, seed: int, interface: Interface, world_
                max_delay: float = 0.003, layer_factory=None) -> Trace:
     """Run one script on one variant; never raises for a hung or crashing layer.
 
-    `layer_factory(env, sut, interface, world_file)` builds the layer; the simulated Dala layer
-    by default, a fake one in the executive's own tests.
+    `layer_factory(env, sut, interface, world_file)` builds the layer; by default the simulated
+    layer that the world file's mission folder describes (layer.toml), a fake one in the
+    executive's own tests.
     """
     if layer_factory is None:
         from harness.sut.layer import FunctionalLayer as layer_factory

@@ -134,3 +134,18 @@ def test_reprs_say_what_and_when():
     env.run()
     assert (repr(p), repr(t)) == ("<Process walker done>", "<Timeout 2.5s processed>")
     assert repr(env.event()) == "<Event pending at t=2.500000>"
+
+
+def test_any_of_succeeds_once_at_the_first_event():
+    env = Environment()
+    first, later = env.timeout(1.0), env.timeout(3.0)
+    either = env.any_of(later, first)
+    seen = []
+
+    def waiter():
+        yield either
+        seen.append(env.now)
+
+    env.process(waiter())
+    env.run()
+    assert seen == [1.0] and either.processed and later.processed

@@ -46,13 +46,6 @@ class Event:
         self.env._schedule(self, 0.0, priority)
         return self
 
-    def fail(self, exception: BaseException) -> "Event":
-        if self.triggered:
-            raise RuntimeError(f"{self!r} has already been triggered")
-        self.triggered, self.ok, self.value = True, False, exception
-        self.env._schedule(self, 0.0, NORMAL)
-        return self
-
     def __repr__(self) -> str:
         state = "processed" if self.processed else "triggered" if self.triggered else "pending"
         return f"<{type(self).__name__} {state} at t={self.env.now:.6f}>"
@@ -152,6 +145,13 @@ class Environment:
 
     def process(self, generator: Generator, name: str = "") -> Process:
         return Process(self, generator, name)
+
+    def any_of(self, *events: Event) -> Event:
+        """An event that succeeds, once, when the first of `events` is processed."""
+        either = Event(self)
+        for event in events:
+            event.callbacks.append(lambda _e: either.triggered or either.succeed())
+        return either
 
     def call_at(self, time: float, callback: Callable[[], None]) -> Event:
         """Run a plain callback at an absolute time (used for message delivery)."""
