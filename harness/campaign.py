@@ -142,7 +142,8 @@ def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[M
         rows = [(golden_id, campaign_id, "golden", None, "[]", golden_text, True, None)]
         rows += [(golden_id + n, campaign_id, "mutant", golden_id, json.dumps(m.operations), m.body,
                   m.valid, m.invalid_reason) for n, m in enumerate(mutants, 1)]
-        con.executemany("insert into scripts values (?, ?, ?, ?, ?, ?, ?, ?)", rows)
+        con.executemany("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
+                        "invalid_reason) values (?, ?, ?, ?, ?, ?, ?, ?)", rows)
         store.insert_traces(con, campaign_id, [(task.trace_id, task.script_id, trace, None)
                                                for task, trace in golden_runs])
     return campaign_id

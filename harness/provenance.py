@@ -31,10 +31,11 @@ def record(con, properties_file: Path | None, epsilon: float, properties: int, s
     """Add the analysis just made to `analyses` (its files when it was judged from a properties
     file); the caller owns the transaction."""
     analysis_id = con.execute("select coalesce(max(analysis_id), 0) + 1 from analyses").fetchone()[0]
-    con.execute("insert into analyses select ?, now()::timestamp, ?, ?, (select count(*) from traces), ?",
+    con.execute("insert into analyses (analysis_id, analysed_at, epsilon, properties, traces, seconds) "
+                "select ?, now()::timestamp, ?, ?, (select count(*) from traces), ?",
                 [analysis_id, epsilon, properties, seconds])
     if properties_file is not None:
-        con.executemany("insert into analysis_files values (?, ?, ?, ?)",
+        con.executemany("insert into analysis_files (analysis_id, role, path, sha256) values (?, ?, ?, ?)",
                         [[analysis_id, *source] for source in sources(properties_file)])
 
 

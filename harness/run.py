@@ -78,7 +78,8 @@ def main(args) -> int:
         store.add_campaign(con, campaign_id, str(script_path), args.seed, config)
         store.add_reply_codes(con, interface)
         script_id = store.next_id(con, "scripts", "script_id")
-        con.execute("insert into scripts values (?, ?, 'golden', null, ?, ?, true, null)",
+        con.execute("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
+                    "invalid_reason) values (?, ?, 'golden', null, ?, ?, true, null)",
                     [script_id, campaign_id, json.dumps([]), script.render()])
         trace_id = store.next_id(con, "traces", "trace_id")
         store.insert_trace(con, trace_id, campaign_id, script_id, trace)

@@ -190,7 +190,8 @@ def store_shrunk(con, orig: Original, behaviour: Behaviour, script: Script, runs
             store.add_campaign(con, campaign_id, str(orig.mission), orig.seed,
                                {"kind": "shrink", "max_delay": orig.max_delay, **record})
             script_id = store.next_id(con, "scripts", "script_id")
-            con.execute("insert into scripts values (?, ?, 'shrunk', ?, ?, ?, true, null)",
+            con.execute("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
+                        "invalid_reason) values (?, ?, 'shrunk', ?, ?, ?, true, null)",
                         [script_id, campaign_id, orig.script_id, json.dumps([record]), script.render()])
     except duckdb.ConstraintException as e:
         raise StoreError(f"this store predates shrunk scripts ({e}); shrink into a store made by this "

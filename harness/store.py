@@ -63,7 +63,7 @@ def _apply_schema(con, found: int | None) -> None:
     con.execute((SQL_DIR / "schema.sql").read_text())
     if found != SCHEMA_VERSION:
         note = "created" if found is None else f"migrated from schema version {found}"
-        con.execute("insert into schema_version values (?, ?, ?)",
+        con.execute("insert into schema_version (version, applied_at, note) values (?, ?, ?)",
                     [SCHEMA_VERSION, datetime.now(timezone.utc).replace(tzinfo=None), note])
 
 
@@ -133,7 +133,7 @@ def next_id(con, table: str, column: str) -> int:
 
 
 def add_campaign(con, campaign_id: int, mission: str, seed: int, config: dict) -> None:
-    con.execute("insert into campaigns values (?, ?, ?, ?, ?)",
+    con.execute("insert into campaigns (campaign_id, created_at, mission, seed, config) values (?, ?, ?, ?, ?)",
                 [campaign_id, datetime.now(timezone.utc).replace(tzinfo=None), mission, seed,
                  json.dumps(config, sort_keys=True)])
 

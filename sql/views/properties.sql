@@ -6,5 +6,5 @@ create or replace table properties (
     type         varchar not null
 );
 {% for p in properties %}
-insert into properties values ({{ p.id | lit }}, {{ p.family | lit }}, {{ p.type | lit }});
+insert into properties (property_id, family, type) values ({{ p.id | lit }}, {{ p.family | lit }}, {{ p.type | lit }});
 {% endfor %}
