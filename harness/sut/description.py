@@ -115,19 +115,15 @@ class LayerDescription:
                                      f"interface {interface.path} does not declare")
 
 
-def _fail(path, where, problem):
-    return InputFileError(path, where, problem)
-
-
 def _strings(path, where, key, value) -> tuple[str, ...]:
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise _fail(path, where, f"{key} = {value!r}; give a list of names")
+        raise InputFileError(path, where, f"{key} = {value!r}; give a list of names")
     return tuple(value)
 
 
 def _code(path, where, spec, key="reply") -> str:
     if not isinstance(spec.get(key), str):
-        raise _fail(path, where, f"{key} = {spec.get(key)!r}; give the reply code it answers with")
+        raise InputFileError(path, where, f"{key} = {spec.get(key)!r}; give the reply code it answers with")
     return spec[key]
 
 
@@ -135,7 +131,7 @@ def _protection(path, name, spec) -> Protection:
     where = f"[protections.{name}]"
     kind = spec.get("kind")
     if kind not in REJECTING + INTERRUPTING:
-        raise _fail(path, where, f"kind = {kind!r}; use one of {', '.join(REJECTING + INTERRUPTING)}")
+        raise InputFileError(path, where, f"kind = {kind!r}; use one of {', '.join(REJECTING + INTERRUPTING)}")
     table = {"requires": "after", "rejects_while": "while", "interrupts": "by"}.get(kind)
     services: dict[str, set[str]] = {}
     if table:
@@ -144,7 +140,7 @@ def _protection(path, name, spec) -> Protection:
     if kind == "excludes":
         for pair in spec.get("pairs", []):
             if not isinstance(pair, list) or len(pair) != 2:
-                raise _fail(path, where, f"pairs entry {pair!r}; give [\"module.Service\", \"module.Service\"]")
+                raise InputFileError(path, where, f"pairs entry {pair!r}; give [\"module.Service\", \"module.Service\"]")
             a, b = _strings(path, where, "pairs entry", pair)
             services.setdefault(a, set()).add(b)
             services.setdefault(b, set()).add(a)
@@ -156,11 +152,11 @@ def _defect(path, name, spec, protections) -> Defect:
     where = f"[defects.{name}]"
     kind = spec.get("kind")
     if kind not in DEFECT_KINDS:
-        raise _fail(path, where, f"kind = {kind!r}; use one of {', '.join(DEFECT_KINDS)}")
+        raise InputFileError(path, where, f"kind = {kind!r}; use one of {', '.join(DEFECT_KINDS)}")
     if DEFECT_KINDS[kind] == "reply":
         return Defect(name, kind, reply=_code(path, where, spec))
     if spec.get("protection") not in protections:
-        raise _fail(path, where, f"protection = {spec.get('protection')!r}; name one of {', '.join(protections)}")
+        raise InputFileError(path, where, f"protection = {spec.get('protection')!r}; name one of {', '.join(protections)}")
     return Defect(name, kind, protection=spec["protection"])
 
 
@@ -168,14 +164,15 @@ def _timing(path, name, spec) -> Timing:
     run_s = spec.get("run_s")
     if not isinstance(spec.get("start_s", 0.0), (int, float)) or not (
             run_s == "forever" or isinstance(run_s, (int, float))):
-        raise _fail(path, f"[timing] {name}", f"{spec!r}; give {{ start_s = SECONDS, run_s = SECONDS or \"forever\" }}")
+        raise InputFileError(path, f"[timing] {name}", f"{spec!r}; give {{ start_s = SECONDS, run_s = SECONDS or \"forever\" }}")
     return Timing(float(spec.get("start_s", 0.0)), None if run_s == "forever" else float(run_s))
 
 
-def _picked(path, where, key, names, known: dict):
-    for n in names:
+def _picked(path, where, key, names, known: dict) -> tuple:
+    """The entries of `known` that the list `names` picks."""
+    for n in _strings(path, where, key, names):
         if n not in known:
-            raise _fail(path, where, f"{key} names {n!r}; use one of {', '.join(known) or '(none declared)'}")
+            raise InputFileError(path, where, f"{key} names {n!r}; use one of {', '.join(known) or '(none declared)'}")
     return tuple(known[n] for n in names)
 
 
@@ -185,27 +182,25 @@ def _load(path: Path, _stamp: tuple) -> LayerDescription:
     layer = data.get("layer", {})
     unknown = set(layer) - LAYER_KEYS
     if unknown:
-        raise _fail(path, "[layer]", f"unknown key(s) {sorted(unknown)}; known: {', '.join(sorted(LAYER_KEYS))}")
+        raise InputFileError(path, "[layer]", f"unknown key(s) {sorted(unknown)}; known: {', '.join(sorted(LAYER_KEYS))}")
     protections = {n: _protection(path, n, s) for n, s in data.get("protections", {}).items()}
     defects = {n: _defect(path, n, s, protections) for n, s in data.get("defects", {}).items()}
     variants = {}
     for name, spec in data.get("variants", {}).items():
         where = f"[variants.{name}]"
-        variants[name] = Variant(
-            name,
-            tuple(p for p in protections.values()  # in declaration order, whatever the variant's order
-                  if p in _picked(path, where, "protections", _strings(path, where, "protections",
-                                                                       spec.get("protections", [])), protections)),
-            _picked(path, where, "defects", _strings(path, where, "defects", spec.get("defects", [])), defects),
-            spec.get("doc", ""))
+        enforced = {p.name for p in _picked(path, where, "protections", spec.get("protections", []), protections)}
+        variants[name] = Variant(name, tuple(p for p in protections.values() if p.name in enforced),  # file order
+                                 _picked(path, where, "defects", spec.get("defects", []), defects),
+                                 spec.get("doc", ""))
     if not variants:
-        raise _fail(path, "[variants]", "no variants; add [variants.NAME] tables (protections, defects, doc)")
-    default = _strings(path, "[layer]", "default_suts", layer.get("default_suts", list(variants)))
-    _picked(path, "[layer]", "default_suts", default, variants)
+        raise InputFileError(path, "[variants]", "no variants; add [variants.NAME] tables (protections, defects, doc)")
+    default = _picked(path, "[layer]", "default_suts", layer.get("default_suts", list(variants)), variants)
+    if not isinstance(layer.get("slots", 3), int) or layer.get("slots", 3) < 1:
+        raise InputFileError(path, "[layer]", f"slots = {layer['slots']!r}; give a whole number of activities >= 1")
     return LayerDescription(
-        path, layer.get("behaviour"), int(layer.get("slots", 3)), _code(path, "[layer]", layer, "invalid_args"),
-        _code(path, "[layer]", layer, "no_slot"), layer.get("stop"), default, {n: _timing(path, n, s) for n, s in data.get("timing", {}).items()},
-        protections, defects, variants)
+        path, layer.get("behaviour"), layer.get("slots", 3), _code(path, "[layer]", layer, "invalid_args"),
+        _code(path, "[layer]", layer, "no_slot"), layer.get("stop"), tuple(v.name for v in default),
+        {n: _timing(path, n, s) for n, s in data.get("timing", {}).items()}, protections, defects, variants)
 
 
 def load_layer(folder: Path) -> LayerDescription:

@@ -1,4 +1,5 @@
-"""The Dala layer's behaviour, named by missions/dala/layer.toml. The five Dala modules: their settings, start phases and activity bodies (codels).
+"""The Dala layer's behaviour (missions/dala/layer.toml names this module): the five Dala
+modules, their settings, start phases and activity bodies (codels).
 
 Codels run only while their activity runs. Modules share posters: Robot (pose, by rflex),
 SCart (laser scan, by sick), CartA (map, by aspect), Ref (speed reference, by ndd).

@@ -1,0 +1,71 @@
+"""layer.toml: what a simulated layer enforces, read once and checked against the interface;
+a bad entry is refused naming the file, the entry and the bad value."""
+import shutil
+
+import pytest
+
+from harness import DEFAULT_MISSION_DIR
+from harness.errors import UntimelyError
+from harness.interface import load_interface
+from harness.mission import load_mission
+from harness.sut.description import load_layer
+from harness.sut.kernel import Environment
+from harness.sut.layer import FunctionalLayer
+
+
+def test_dalas_variants_and_their_protections_in_checking_order():
+    layer = load_layer(DEFAULT_MISSION_DIR)
+    assert list(layer.variants) == ["genom", "bip-a", "bip-b", "bare", "reference"]
+    assert [p.name for p in layer.variant("bip-b").protections] == ["PEX", "AIB", "PRE", "EXC"]
+    assert layer.default_suts == ("genom", "bip-a", "bip-b")
+    assert load_mission(DEFAULT_MISSION_DIR).default_suts() == "genom,bip-a,bip-b"
+
+
+@pytest.fixture
+def folder(tmp_path):
+    copy = tmp_path / "dala"
+    shutil.copytree(DEFAULT_MISSION_DIR, copy)
+    return copy
+
+
+@pytest.mark.parametrize("old,new,message", [
+    ('kind = "excludes"', 'kind = "forbids"', r"layer.toml:\[protections.EXC\]: kind = 'forbids'; use one of "
+                                              r"requires_init, requires, rejects_while, interrupts, excludes"),
+    ('protections = ["PEX", "AIB"]\n', 'protections = ["PEX", "AIB", "XYZ"]\n',
+     r"layer.toml:\[variants.genom\]: protections names 'XYZ'; use one of PEX, AIB, PRE, EXC"),
+    ('protection = "AIB"', 'protection = "ZZZ"', r"\[defects.deadlock_on_dominated_start\]: protection = 'ZZZ'"),
+    ('default_suts = ["genom", "bip-a", "bip-b"]', 'default_suts = ["genom", "bip-z"]',
+     r"layer.toml:\[layer\]: default_suts names 'bip-z'; use one of genom, bip-a"),
+    ('slots = 3 ', 'slots = 0 ', r"layer.toml:\[layer\]: slots = 0; give a whole number"),
+    ('Stop = { start_s = 0.01, run_s = 0.05 }', 'Stop = { start_s = 0.01, run_s = "long" }',
+     r"layer.toml:\[timing\] Stop: .*run_s = SECONDS or \"forever\""),
+    ('[layer]\n', '[layer]\ncolour = "red"\n', r"layer.toml:\[layer\]: unknown key\(s\) \['colour'\]"),
+])
+def test_a_bad_entry_is_refused_naming_it(folder, old, new, message):
+    path = folder / "layer.toml"
+    text = path.read_text()
+    assert old in text
+    path.write_text(text.replace(old, new, 1))
+    with pytest.raises(UntimelyError, match=message):
+        load_layer(folder)
+
+
+def test_codes_and_services_must_be_the_interfaces(folder):
+    path = folder / "layer.toml"
+    path.write_text(path.read_text().replace('reply = "disallowed"', 'reply = "nope"'))
+    interface = load_interface(folder / "interface.toml")
+    with pytest.raises(UntimelyError, match=r"layer.toml:: reply code 'nope' is not in the catalogue of the "
+                                            r"interface .*interface.toml; add it there"):
+        FunctionalLayer(Environment(), "reference", interface, folder / "world.toml")
+    path.write_text(path.read_text().replace('reply = "nope"', 'reply = "disallowed"')
+                    .replace('"ndd.GotoPosition" = ["ndd.SetParams"]', '"ndd.Fly" = ["ndd.SetParams"]'))
+    with pytest.raises(UntimelyError, match=r"layer.toml:\[protections.PRE\]: names 'ndd.Fly', which the "
+                                            r"interface .* does not declare"):
+        FunctionalLayer(Environment(), "reference", interface, folder / "world.toml")
+
+
+def test_a_folder_without_a_layer_has_no_default_variants(folder):
+    (folder / "layer.toml").unlink()
+    with pytest.raises(UntimelyError, match=r"layer.toml:: file not found; a folder without a simulated layer "
+                                            r"needs --sut NAME=cmd:COMMAND"):
+        load_mission(folder).default_suts()
