@@ -52,7 +52,7 @@ def _query(db, sql, params=()):
         con.close()
 
 
-# One behaviour per variant, each the mark of one defect or missing protection (harness/sut/variants.py).
+# One behaviour per variant, each the mark of one defect or missing protection (missions/dala/layer.toml).
 DEFECTS = {
     "genom": ("FP", "AIB(%"),  # init_interrupts: an Init interrupts the module's running activities
     "bip-a": ("hung", None),  # deadlock_on_dominated_start
