@@ -43,6 +43,15 @@ def test_a_30_mutant_campaign_stores_what_main_stored_before_the_speed_work(tmp_
     assert expectation(db, stored["arguments"]) == stored
 
 
+def test_dala_on_every_variant_stores_what_main_stored_before_the_layer_became_data(tmp_path):
+    """Issue 12 moved the layer's knowledge into missions/dala/layer.toml: Dala's runs and verdicts,
+    on all five variants, are those main computed at 0acfa4f (tests/fingerprints/dala-all-variants.json)."""
+    stored = expected("dala-all-variants")
+    db = tmp_path / "c.duckdb"
+    assert cli.main(["campaign", *stored["arguments"], "--db", str(db)]) == 0
+    assert expectation(db, stored["arguments"]) == stored
+
+
 def test_the_default_campaign_expectation_is_main_s_default_campaign():
     stored = expected("campaign-default")
     assert stored["arguments"] == ["--mutants", "300", "--sut", "genom,bip-a,bip-b", "--seed", "2012"]
