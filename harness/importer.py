@@ -194,7 +194,7 @@ def load(con, path: Path, interface: Interface) -> tuple[int, int, int]:
                        from staged group by trace_id""", [first, path.stem])
         con.execute("""insert into traces (trace_id, campaign_id, sut, outcome, sim_s, label)
                        select id, ?, sut, outcome, sim_s, label from imported_ids order by id""", [campaign_id])
-        con.execute("""insert into events
+        con.execute("""insert into events (trace_id, seq, t, kind, rqst_id, module, service, args, reply)
                        select i.id, s.seq::integer, s.t::double, s.kind, s.rqst_id::integer, s.module, s.service,
                               s.args::json, s.reply
                        from staged s join imported_ids i on i.label = s.trace_id order by i.id, s.line""")

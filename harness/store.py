@@ -151,7 +151,8 @@ def add_reply_codes(con, interface: Interface) -> None:
         raise StoreError(f"{interface.path}: reply {reply!r} of {module}.{service} has class {cls!r}, "
                          f"but the store already has class {known!r}; use a fresh --db")
     # Set-based, in the interface's order (readers rely on insertion order).
-    con.execute("""insert into reply_codes select module, service, reply, class from codes
+    con.execute("""insert into reply_codes (module, service, reply, class)
+                   select module, service, reply, class from codes
                    anti join reply_codes using (module, service, reply) order by position""")
 
 
@@ -181,7 +182,7 @@ def insert_traces(con, campaign_id: int, runs: list[tuple[int, int | None, Trace
             for trace_id, script_id, t, label in runs]
     trace_rows = pa.Table.from_arrays([pa.array(c, f.type) for c, f in zip(zip(*rows), TRACE_SCHEMA)],  # noqa: F841
                                       schema=TRACE_SCHEMA)
-    con.execute("insert into traces select * from trace_rows")
+    con.execute(f"insert into traces ({', '.join(TRACE_SCHEMA.names)}) select * from trace_rows")
     for table, columns, schema in (("events", EVENT_COLUMNS, EVENT_SCHEMA),
                                    ("internal_events", EVENT_COLUMNS, EVENT_SCHEMA),
                                    ("world_events", WORLD_EVENT_COLUMNS, WORLD_SCHEMA)):
@@ -192,7 +193,7 @@ def insert_traces(con, campaign_id: int, runs: list[tuple[int, int | None, Trace
             trace_ids += [trace_id] * len(these)
         if rows:
             arrow = _table(rows, columns, schema, trace_ids)  # noqa: F841 (read by DuckDB)
-            con.execute(f"insert into {table} select * from arrow")
+            con.execute(f"insert into {table} ({', '.join(schema.names)}) select * from arrow")
     for trace_id, _, trace, _ in runs:
         if trace.provenance:
             columns = ", ".join(trace.provenance)
