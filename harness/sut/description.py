@@ -140,7 +140,8 @@ def _protection(path, name, spec) -> Protection:
     if kind == "excludes":
         for pair in spec.get("pairs", []):
             if not isinstance(pair, list) or len(pair) != 2:
-                raise InputFileError(path, where, f"pairs entry {pair!r}; give [\"module.Service\", \"module.Service\"]")
+                raise InputFileError(path, where,
+                                     f"pairs entry {pair!r}; give [\"module.Service\", \"module.Service\"]")
             a, b = _strings(path, where, "pairs entry", pair)
             services.setdefault(a, set()).add(b)
             services.setdefault(b, set()).add(a)
@@ -156,7 +157,8 @@ def _defect(path, name, spec, protections) -> Defect:
     if DEFECT_KINDS[kind] == "reply":
         return Defect(name, kind, reply=_code(path, where, spec))
     if spec.get("protection") not in protections:
-        raise InputFileError(path, where, f"protection = {spec.get('protection')!r}; name one of {', '.join(protections)}")
+        raise InputFileError(path, where, f"protection = {spec.get('protection')!r}; "
+                             f"name one of {', '.join(protections)}")
     return Defect(name, kind, protection=spec["protection"])
 
 
@@ -164,7 +166,8 @@ def _timing(path, name, spec) -> Timing:
     run_s = spec.get("run_s")
     if not isinstance(spec.get("start_s", 0.0), (int, float)) or not (
             run_s == "forever" or isinstance(run_s, (int, float))):
-        raise InputFileError(path, f"[timing] {name}", f"{spec!r}; give {{ start_s = SECONDS, run_s = SECONDS or \"forever\" }}")
+        raise InputFileError(path, f"[timing] {name}",
+                             f"{spec!r}; give {{ start_s = SECONDS, run_s = SECONDS or \"forever\" }}")
     return Timing(float(spec.get("start_s", 0.0)), None if run_s == "forever" else float(run_s))
 
 
@@ -182,7 +185,8 @@ def _load(path: Path, _stamp: tuple) -> LayerDescription:
     layer = data.get("layer", {})
     unknown = set(layer) - LAYER_KEYS
     if unknown:
-        raise InputFileError(path, "[layer]", f"unknown key(s) {sorted(unknown)}; known: {', '.join(sorted(LAYER_KEYS))}")
+        raise InputFileError(path, "[layer]",
+                             f"unknown key(s) {sorted(unknown)}; known: {', '.join(sorted(LAYER_KEYS))}")
     protections = {n: _protection(path, n, s) for n, s in data.get("protections", {}).items()}
     defects = {n: _defect(path, n, s, protections) for n, s in data.get("defects", {}).items()}
     variants = {}

@@ -169,7 +169,8 @@ class DalaNode:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="dala_node", description=__doc__.split("\n\n")[0])
     parser.add_argument("--variant", required=True,
-                        help="a variant of the mission folder's layer.toml (Dala: genom, bip-a, bip-b, bare, reference)")
+                        help="a variant of the mission folder's layer.toml "
+                             "(Dala: genom, bip-a, bip-b, bare, reference)")
     parser.add_argument("--time-scale", type=float, default=float(os.environ.get("UNTIMELY_TIME_SCALE", "1")),
                         help="mission seconds per wall second (default: $UNTIMELY_TIME_SCALE, else 1)")
     parser.add_argument("--mission", type=Path, default=DEFAULT_MISSION_DIR,
