@@ -9,7 +9,7 @@ VENV_ROS   := .venv-ros
 ROS_STAMP  := $(VENV_ROS)/.installed
 
 DB      ?= reports/campaign.duckdb
-OUT     ?= reports
+OUT     ?=# the report's folder; empty: the store's folder
 MUTANTS ?= 300
 MISSION ?= missions/dala
 SUTS    ?=
@@ -51,7 +51,7 @@ analyze: $(STAMP)
 	$(PY) -m harness analyze --db $(DB)
 
 report: $(STAMP)
-	$(PY) -m harness report --db $(DB) --out $(OUT)
+	$(PY) -m harness report --db $(DB) $(if $(OUT),--out $(OUT))
 
 clean:
 	rm -rf $(VENV) $(VENV_ROS) reports/*.duckdb reports/*.html reports/*.csv reports/traces

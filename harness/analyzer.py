@@ -15,7 +15,7 @@ from pathlib import Path
 import duckdb
 
 from harness import SQL_DIR, diff  # diff as a module: it imports this one
-from harness.errors import PropertyError, StoreError
+from harness.errors import InputFileError, PropertyError, StoreError
 from harness.interface import Interface, Property, load_interface, load_properties
 from harness.oracles import render_property, render_view
 from harness.provenance import default_properties, last_epsilon, record
@@ -25,8 +25,9 @@ from harness.textable import format_table, percent, rate_interval
 # (events source, verdicts table): the observed timeline and the ground truth.
 SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
 # Creation order: each view reads only tables or views created before it.
-VIEWS = ("wilson", "requests", "activities", "property_verdicts", "family_verdicts", "trace_robustness",
-         "tp_rates", "fp_rates", "inversions", "interface_latency", "coverage", "bad_behaviours", "table_values",
+VIEWS = ("wilson", "judged_traces", "trace_scope", "requests", "activities", "property_verdicts",
+         "family_verdicts", "trace_robustness", "tp_rates", "fp_rates", "inversions", "interface_latency",
+         "coverage", "bad_behaviours", "table_values",
          "verdict_transitions", "table_changes", "analysis")
 # Rank queries ordering the views' rows: variants as they were run, properties and families in
 # the order of the properties file (the verdicts table is filled in that order); All comes last.
@@ -181,6 +182,11 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
              + _rates_by_family(con, "tp_rates", "tp_rate", suts),
              "Table IV - false positive rates FP/(FP+TN), % [95% Wilson interval] n=FP+TN\n"
              + _rates_by_family(con, "fp_rates", "fp_rate", suts)]
+    left_out = con.execute("select left_out, count(*) from trace_scope where not counted group by all "
+                           "order by all").fetchall()
+    if left_out:
+        parts.append("Not counted in Tables II-IV (view trace_scope): "
+                     + "; ".join(f"{n} trace{'s' * (n != 1)}: {why}" for why, n in left_out) + ".")
     judged, inverted, caught, flagged = flag_accuracy(con)
     if judged:
         parts.append(f"Ground truth: {inverted} of {judged} observed verdicts differ from the verdicts on "
@@ -212,7 +218,11 @@ def main(args) -> int:
     con = connect(args.db, create=False)
     properties_path = Path(args.properties) if args.properties else default_properties(con)
     epsilon = last_epsilon(con) if args.epsilon is None else args.epsilon
-    interface = load_interface(properties_path.parent / "interface.toml")
+    interface_path = Path(args.interface) if args.interface else properties_path.parent / "interface.toml"
+    if not interface_path.exists():
+        raise InputFileError(interface_path, "", f"file not found; the properties {properties_path} name services "
+                             "of an interface description: pass --interface FILE (default: beside the properties)")
+    interface = load_interface(interface_path)
     properties = load_properties(properties_path, interface)
     elapsed = materialise(con, properties, epsilon, interface, properties_path)
     traces, events = con.execute("select (select count(*) from traces), (select count(*) from events)").fetchone()

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from harness import analyzer, shrink, store
 from harness.errors import StoreError, UntimelyError
 from harness.executive import run_script
+from harness.files import read_text
 from harness.interface import Interface
 from harness.mission import load_mission
 from harness.mutator import strategies
@@ -46,12 +47,16 @@ REALTIME_WALL_LIMIT_S = 3 * 3600.0
 # one batch: up to BATCH_RUNS runs, or those that came in during BATCH_S (a couple of seconds' work).
 BATCH_RUNS = 64
 BATCH_S = 2.0
+# A store of ~300,000 traces, judged in a few GB of memory; generating them takes minutes.
+MAX_MUTANTS = 100_000
+SHOW_GENERATION = 2_000  # from this many mutants on, generating them shows its progress
 
 
 def campaign_config(args) -> dict:
     """The campaign's identity (stored in campaigns.config); refuses arguments that make no sense."""
-    if args.mutants < 0:
-        raise UntimelyError(f"--mutants {args.mutants}: give a number of mutants >= 0")
+    if not 0 <= args.mutants <= MAX_MUTANTS:
+        raise UntimelyError(f"--mutants {args.mutants}: give a number of mutants from 0 to {MAX_MUTANTS:,}; "
+                            "split a larger study into campaigns of other --seed values")
     ops_per_mutant = strategies.operations(args.strategy, args.ops_per_mutant, args.time_mutations)
     if ops_per_mutant < 1:
         raise UntimelyError(f"--ops-per-mutant {ops_per_mutant}: give at least 1 operation per mutant")
@@ -147,6 +152,18 @@ def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[M
         store.insert_traces(con, campaign_id, [(task.trace_id, task.script_id, trace, None)
                                                for task, trace in golden_runs])
     return campaign_id
+
+
+def _generate(config: dict, golden, interface: Interface, properties, run_golden,
+              golden_id: int) -> list[Mutant]:
+    """The campaign's mutants (harness.mutator.strategies); a long random generation shows its progress."""
+    progress = Progress(config["mutants"], unit="mutants") if config["mutants"] >= SHOW_GENERATION else None
+    mutants = strategies.generate(config, golden, interface, properties, run_golden=run_golden,
+                                  name=lambda n: script_label(golden_id + n),
+                                  on_mutant=progress.advance if progress else lambda: None)
+    if progress:
+        progress.close()
+    return mutants
 
 
 def pending_tasks(con, campaign_id: int, config: dict) -> list[Task]:
@@ -251,11 +268,10 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
     if campaign_id is None:
         golden_id = store.next_id(con, "scripts", "script_id")
         golden_run = _tasks([(golden_id, golden.render())], golden_id, config)[0]  # on the first variant
-        mutants = strategies.generate(config, golden, interface, properties,
-                                      run_golden=lambda: setup.run(golden_run, interface, 0),
-                                      name=lambda n: script_label(golden_id + n))
+        mutants = _generate(config, golden, interface, properties, lambda: setup.run(golden_run, interface, 0),
+                            golden_id)
         session = Session(Progress(variants * (1 + sum(m.valid for m in mutants))), start)
-        campaign_id = _create(con, config, golden_id, (mission / "golden.mission").read_text(), mutants,
+        campaign_id = _create(con, config, golden_id, read_text(mission / "golden.mission"), mutants,
                               interface, run_tasks, session)
         pending = pending_tasks(con, campaign_id, config)
     else:

@@ -2,12 +2,15 @@
 from __future__ import annotations
 
 import argparse
+import gc
 import importlib
 import os
 import sys
+from pathlib import Path
 
 from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR
 from harness.errors import UntimelyError
+from harness.store import discard_if_empty
 
 EXTERNAL_HELP = ("; or an external SUT over untimely/1: NAME=cmd:COMMAND (started per run, stdio), "
                  "NAME=tcp://HOST:PORT, or a NAME from the mission folder's suts.toml")
@@ -89,6 +92,8 @@ def _parser() -> argparse.ArgumentParser:
     c = command("analyze", "(re)materialise verdicts from the stored traces and print Tables II-IV",
                 "harness.analyzer:main")
     c.add_argument("--properties", help="properties file (default: properties.toml of the campaign's mission)")
+    c.add_argument("--interface", help="interface description the properties name "
+                                       "(default: interface.toml beside the properties file)")
     c.add_argument("--epsilon", type=float,
                    help=f"seconds within which near events may be reordered (default: the last analysis's, "
                         f"else {DEFAULT_EPSILON_S})")
@@ -105,9 +110,9 @@ def _parser() -> argparse.ArgumentParser:
     db(c)
 
     c = command("report", "write the HTML report and CSV tables from the store alone", "harness.report:main")
-    c.add_argument("--out", default="reports", help="output folder (default: %(default)s)")
+    c.add_argument("--out", help="output folder (default: the folder of the --db store)")
     c.add_argument("--trace", type=int, action="append", default=[],
-                   help="also write the page of this trace id (repeatable)")
+                   help="write only the page of this trace id into the report, on demand (repeatable)")
     db(c)
 
     c = command("import", "load foreign traces (CSV, JSON lines, Parquet) into the store",
@@ -130,6 +135,15 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    new_store = None if getattr(args, "db", None) in (None, ":memory:") or Path(args.db).exists() else args.db
+    status = _run(args)
+    if status and new_store:  # e.g. --sut nonexistent: leave no empty store behind
+        gc.collect()  # the failed command's connection, held by its traceback until now
+        discard_if_empty(new_store)
+    return status
+
+
+def _run(args) -> int:
     module, function = args.target.split(":")
     try:
         return getattr(importlib.import_module(module), function)(args) or 0

@@ -9,6 +9,8 @@ name kept as traces.label) and their events.
 from __future__ import annotations
 
 import csv
+import hashlib
+import io
 import json
 from pathlib import Path
 
@@ -19,6 +21,7 @@ import pyarrow.parquet as pq
 
 from harness.errors import InputFileError
 from harness.export import with_exported_traces
+from harness.files import read_text
 from harness.interface import Interface, load_interface
 from harness.store import add_campaign, add_reply_codes, connect, next_id, transaction
 from harness.trace import OUTCOMES
@@ -26,12 +29,18 @@ from harness.trace import OUTCOMES
 REQUIRED = ("trace_id", "seq", "t", "kind", "rqst_id", "module", "service")
 OPTIONAL = ("args", "reply", "outcome", "sut")
 SHOWN = 10  # problems listed in one error message
+MAX_T_S = 1e9  # a trace's times are seconds since it started: beyond this the file is not one
 
 # (column, condition on the raw text of a row, what is wrong) - checked before anything else.
 ROW_CHECKS = [(c, f"nullif(trim({c}), '') is null", "every event needs one") for c in REQUIRED] + [
-    ("seq", "try_cast(seq as integer) is null", "is not an integer; number each trace's events 1, 2, 3..."),
+    ("seq", "try_cast(seq as hugeint) is null", "is not an integer; number each trace's events 1, 2, 3..."),
+    ("rqst_id", "try_cast(rqst_id as hugeint) is null", "is not an integer request id"),
+    *((c, f"try_cast({c} as hugeint) is not null and try_cast({c} as integer) is null",
+       f"is out of range: the store keeps {c} as a 32-bit integer (at most 2147483647); renumber them")
+      for c in ("seq", "rqst_id")),
     ("t", "not isfinite(coalesce(try_cast(t as double), 'nan'))", "is not a time in seconds"),
-    ("rqst_id", "try_cast(rqst_id as integer) is null", "is not an integer request id"),
+    ("t", f"abs(try_cast(t as double)) > {MAX_T_S:g}",
+     f"is not a time in seconds since the trace started (at most {MAX_T_S:g} s, about 31 years)"),
     ("kind", "kind not in ('request', 'intermediate', 'final')", "is not one of request, intermediate, final"),
     ("module", "module not in (select module from known_services)", "is not a module of the interface"),
     ("service", "module in (select module from known_services) and (module, service) not in "
@@ -41,6 +50,9 @@ ROW_CHECKS = [(c, f"nullif(trim({c}), '') is null", "every event needs one") for
      "is not in the reply catalogue of the interface"),
     ("reply", "kind = 'request' and reply is not null", "is not allowed on a request; leave reply empty"),
     ("args", "args is not null and not coalesce(json_valid(args), false)", "is not JSON"),
+    # JSON has no NaN or Infinity (DuckDB accepts them); string literals are removed first
+    ("args", r"""regexp_matches(regexp_replace(args, '"(\\.|[^"\\])*"', '', 'g'), '\b(NaN|Infinity)\b')""",
+     "holds NaN or Infinity, which are no JSON numbers; give finite argument values"),
     ("outcome", f"outcome not in {OUTCOMES}", f"is not one of {', '.join(OUTCOMES)}"),
 ]
 
@@ -97,26 +109,24 @@ def _text(value) -> str | None:
 
 def _read_jsonl(path: Path) -> tuple[pa.Table, str]:
     rows, lines = [], []
-    with open(path, encoding="utf-8") as f:
-        for n, line in enumerate(f, 1):
-            if not line.strip():
-                continue
-            try:
-                row = json.loads(line)
-            except json.JSONDecodeError as e:
-                raise InputFileError(path, f"line {n}", f"not valid JSON ({e.msg}); write one event object per line") from None
-            if not isinstance(row, dict):
-                raise InputFileError(path, f"line {n}", f"{line.strip()[:60]!r} is not a JSON object of the events columns")
-            rows.append(row)
-            lines.append(n)
+    for n, line in enumerate(read_text(path).splitlines(), 1):
+        if not line.strip():
+            continue
+        try:
+            row = json.loads(line)
+        except json.JSONDecodeError as e:
+            raise InputFileError(path, f"line {n}", f"not valid JSON ({e.msg}); write one event object per line") from None
+        if not isinstance(row, dict):
+            raise InputFileError(path, f"line {n}", f"{line.strip()[:60]!r} is not a JSON object of the events columns")
+        rows.append(row)
+        lines.append(n)
     names = list(dict.fromkeys(k for row in rows for k in row))
     columns = {k: pa.array([_text(row.get(k)) for row in rows], pa.string()) for k in names}
     return pa.table({"line": pa.array(lines, pa.int64()), **columns}), "line"
 
 
 def _read_csv(path: Path) -> tuple[pa.Table, str]:
-    with open(path, newline="", encoding="utf-8") as f:
-        header = next(csv.reader(f), [])
+    header = next(csv.reader(io.StringIO(read_text(path), newline="")), [])
     try:
         table = pacsv.read_csv(path, convert_options=pacsv.ConvertOptions(
             column_types={name: pa.string() for name in header}, strings_can_be_null=True))
@@ -180,11 +190,26 @@ def _refuse(path: Path, unit: str, found: list[tuple[int, str]], interface: Inte
                          f"(checked against the interface {interface.path}) and retry")
 
 
+def _refuse_a_second_import(con, path: Path, digest: str) -> None:
+    earlier = con.execute("""select c.campaign_id, c.created_at, min(t.trace_id), max(t.trace_id)
+                             from campaigns c join traces t using (campaign_id)
+                             where c.config->>'sha256' = ? group by all order by 1 limit 1""", [digest]).fetchone()
+    if earlier:
+        campaign_id, created, first, last = earlier
+        raise InputFileError(path, "", f"these events were already imported on {created:%Y-%m-%d %H:%M} as "
+                             f"campaign {campaign_id} (trace ids {first}-{last}); nothing was imported. "
+                             "To judge them again run analyze; to keep two copies use another --db")
+
+
 def load(con, path: Path, interface: Interface) -> tuple[int, int, int]:
-    """Campaign, traces and events in one transaction: (campaign_id, first trace id, traces)."""
+    """Campaign, traces and events in one transaction: (campaign_id, first trace id, traces).
+    A file whose contents the store already holds is refused (the campaign records its SHA-256)."""
+    digest = hashlib.sha256(path.read_bytes()).hexdigest()
     with transaction(con):
+        _refuse_a_second_import(con, path, digest)
         campaign_id = next_id(con, "campaigns", "campaign_id")
-        add_campaign(con, campaign_id, str(path), 0, {"imported": str(path), "interface": interface.path})
+        add_campaign(con, campaign_id, str(path), 0, {"kind": "import", "imported": str(path),
+                                                      "interface": interface.path, "sha256": digest})
         add_reply_codes(con, interface)
         first = next_id(con, "traces", "trace_id")
         con.execute("""create temporary table imported_ids as

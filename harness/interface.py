@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from harness.errors import InputFileError
+from harness.files import decode
 
 SERVICE_KINDS = ("init", "control", "exec")
 REPLY_CLASSES = ("T", "Z", "R")
@@ -105,16 +106,31 @@ def read_bytes(path: Path, missing: str) -> bytes:
 
 def parse_toml(path: Path, content: bytes) -> dict:
     """The TOML text `content` read from `path` (named in messages)."""
+    text = decode(path, content)  # a file that is not UTF-8 is refused naming its line
     try:
-        return tomllib.loads(content.decode())
-    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
         raise InputFileError(path, "", f"not valid TOML: {e}") from None
+
+
+# The keys each table of an interface description may hold: a typo (`agrs`) must not pass unseen.
+INTERFACE_KEYS = {"the top level": ("replies", "modules"), "a module": ("doc", "poster", "services"),
+                  "a service": ("kind", "args", "doc"), "a float argument": ("type", "min", "max", "doc"),
+                  "a str argument": ("type", "choices", "doc")}
+
+
+def _known_keys(path, where, table: dict, what: str) -> None:
+    unknown = sorted(set(table) - set(INTERFACE_KEYS[what]))
+    if unknown:
+        raise InputFileError(path, where, f"unknown key(s) {unknown}; {what} takes "
+                             f"{', '.join(INTERFACE_KEYS[what])}")
 
 
 def _argument(path, where, name, spec) -> Argument:
     if not isinstance(spec, dict) or spec.get("type") not in ("float", "str"):
         raise InputFileError(path, where, f"argument {name!r} has type {spec!r}; "
                              "use { type = \"float\", min = .., max = .. } or { type = \"str\", choices = [..] }")
+    _known_keys(path, f"{where} args.{name}", spec, f"a {spec['type']} argument")
     if spec["type"] == "float":
         lo, hi = spec.get("min"), spec.get("max")
         if not isinstance(lo, (int, float)) or not isinstance(hi, (int, float)) or lo > hi:
@@ -129,6 +145,7 @@ def _argument(path, where, name, spec) -> Argument:
 def load_interface(path: str | Path) -> Interface:
     path = Path(path)
     data = read_toml(path)
+    _known_keys(path, "top level", data, "the top level")
     replies = data.get("replies")
     if not isinstance(replies, dict) or not replies:
         raise InputFileError(path, "[replies]", "missing reply catalogue; add a [replies] table of code = \"T|Z|R\"")
@@ -143,6 +160,7 @@ def load_interface(path: str | Path) -> Interface:
         raise InputFileError(path, "[modules]", "no modules declared; add [modules.NAME] tables")
     services, posters = {}, {}
     for module, mspec in modules.items():
+        _known_keys(path, f"[modules.{module}]", mspec, "a module")
         if mspec.get("poster"):
             posters[module] = mspec["poster"]
         for name, sspec in (mspec.get("services") or {}).items():
@@ -150,6 +168,7 @@ def load_interface(path: str | Path) -> Interface:
             kind = sspec.get("kind") if isinstance(sspec, dict) else None
             if kind not in SERVICE_KINDS:
                 raise InputFileError(path, where, f"kind {kind!r} is not one of {', '.join(SERVICE_KINDS)}")
+            _known_keys(path, where, sspec, "a service")
             args = {a: _argument(path, where, a, spec) for a, spec in (sspec.get("args") or {}).items()}
             until_stopped = sspec.get("until_stopped", False)
             if until_stopped not in (True, False) or until_stopped and kind != "exec":

@@ -11,6 +11,8 @@ from harness.textable import format_table
 def run(con: duckdb.DuckDBPyConnection, query: str) -> str:
     try:
         cursor = con.execute(query)
+        if cursor is None:  # DuckDB's answer to a query of blanks or comments only
+            raise StoreError(f"no statement in {query!r}; give a query, e.g. \"select * from trace_robustness\"")
         if cursor.description is None:
             return "(no result)"
         columns, rows = [d[0] for d in cursor.description], cursor.fetchall()

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import sys
 from contextlib import contextmanager
 from datetime import datetime, timezone
@@ -13,6 +14,7 @@ import pyarrow as pa
 
 from harness import SQL_DIR
 from harness.errors import StoreError
+from harness.files import make_folder
 from harness.interface import Interface
 from harness.trace import EVENT_COLUMNS, WORLD_EVENT_COLUMNS, Trace
 
@@ -37,7 +39,7 @@ def connect(path: str | Path = ":memory:", read_only: bool = False,
     if str(path) != ":memory:":
         if (read_only or not create) and not Path(path).exists():
             raise StoreError(f"no store at {str(path)!r}; run a campaign or import traces first, or pass --db")
-        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        make_folder(Path(path).parent, "the store")
     con = _open(path, read_only)
     found = schema_version(con)
     if found is not None and found > SCHEMA_VERSION:
@@ -72,7 +74,7 @@ def _open(path: str | Path, read_only: bool) -> duckdb.DuckDBPyConnection:
         return duckdb.connect(str(path), read_only=read_only,
                               config={"storage_compatibility_version": STORAGE_VERSION})
     except duckdb.Error as e:
-        raise StoreError(f"cannot open the store {str(path)!r}: {e}") from None
+        raise StoreError(_open_problem(str(path), e)) from None
 
 
 def schema_version(con) -> int | None:
@@ -116,16 +118,54 @@ def quoted(path: str | Path) -> str:
     return "'" + str(path).replace("'", "''") + "'"
 
 
+def _open_problem(path: str, error: duckdb.Error) -> str:
+    """Why a store cannot be opened, and what to do; DuckDB's lock message names the holder's PID."""
+    holder = re.search(r"Conflicting lock is held in (.*) \(PID (\d+)\)", str(error))
+    if holder:
+        return (f"{path!r} is being written by another process ({holder[1]}, PID {holder[2]}), e.g. a "
+                "campaign still running; wait for it to finish (or stop it: a campaign resumes), "
+                "or work on a copy of the store, or pass another --db")
+    return f"cannot open the store {path!r}: {error}"
+
+
+def _write_problem(error: duckdb.Error) -> StoreError:
+    return StoreError(f"could not write the store: {error}; every transaction committed before is kept. "
+                      "Free disk space (or fix the cause) and rerun the same command: a campaign resumes")
+
+
+def discard_if_empty(path: str | Path) -> None:
+    """Remove a store that holds no campaign and no trace (one a failed command just created)."""
+    if not Path(path).exists():
+        return
+    try:
+        con = duckdb.connect(str(path))
+        empty = con.execute("select (select count(*) from campaigns) + (select count(*) from traces) = 0").fetchone()[0]
+        con.close()
+    except duckdb.Error:
+        return  # not a store this command made, or not readable: leave it
+    if empty:
+        for leftover in (Path(path), Path(f"{path}.wal")):
+            leftover.unlink(missing_ok=True)
+
+
 @contextmanager
 def transaction(con):
     """The block's writes commit together, or on any exception are rolled back and it propagates."""
     con.begin()
     try:
         yield
-    except BaseException:
-        con.rollback()
+    except BaseException as e:
+        try:
+            con.rollback()
+        except duckdb.TransactionException:
+            pass  # DuckDB already ended a transaction whose write failed
+        if isinstance(e, duckdb.IOException):
+            raise _write_problem(e) from None
         raise
-    con.commit()
+    try:
+        con.commit()
+    except duckdb.Error as e:  # a full disk shows here, when the write-ahead log is written
+        raise _write_problem(e) from None
 
 
 def next_id(con, table: str, column: str) -> int:

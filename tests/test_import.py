@@ -64,9 +64,8 @@ def test_each_format_gives_the_same_store(tmp_path, interface, suffix):
 
 def test_a_second_import_gets_new_ids_and_is_judged_like_any_trace(tmp_path, interface, properties):
     con = connect(":memory:")
-    path = write(tmp_path / "robot.csv", ROWS)
-    import_file(con, path, interface)
-    assert import_file(con, path, interface) == (2, 3, 2)
+    import_file(con, write(tmp_path / "robot.csv", ROWS), interface)
+    assert import_file(con, write(tmp_path / "robot.jsonl", ROWS), interface) == (2, 3, 2)
     materialise(con, properties, 0.01)
     assert con.execute("select trace_id, property_id, verdict from verdicts where module = 'rflex' "
                        "and trace_id = 3 order by property_id").fetchall() == [
@@ -104,6 +103,12 @@ BAD = [  # rows, the error it must give (CSV: the header is line 1, ROWS[0] is l
     (_with(4, "service", "Stop"), "line 6: intermediate reply names rflex.Stop but request 2 of trace 'run-a' "
                                   "is rflex.TrackSpeedStart"),
     (_with(3, "rqst_id", 1), "line 5: request 1 of trace 'run-a' is sent a second time"),
+    (_with(2, "rqst_id", 2**31), "line 4: rqst_id = '2147483648' is out of range: the store keeps rqst_id as a "
+                                 "32-bit integer (at most 2147483647); renumber them"),
+    (_with(1, "t", "1e300"), "line 3: t = '1e300' is not a time in seconds since the trace started (at most 1e+09 s"),
+    (_with(1, "args", '{"x": NaN, "y": "NaN"}'), "line 3: args = '{\"x\": NaN, \"y\": \"NaN\"}' holds NaN or "
+                                                  "Infinity, which are no JSON numbers"),
+    (_with(1, "args", '{"x": [1, -Infinity]}'), "line 3: args = '{\"x\": [1, -Infinity]}' holds NaN or Infinity"),
 ]
 
 
@@ -159,7 +164,7 @@ def test_a_reply_class_conflicting_with_the_store_rolls_back(tmp_path, interface
     changed.write_text((DEFAULT_MISSION_DIR / "interface.toml").read_text()
                        .replace('interrupted = "Z"', 'interrupted = "T"'))
     with pytest.raises(StoreError, match="reply 'interrupted' of .* has class 'T'"):
-        import_file(con, tmp_path / "robot.csv", load_interface(changed))
+        import_file(con, write(tmp_path / "robot.jsonl", ROWS), load_interface(changed))
     assert counts(con) == before
 
 
@@ -171,3 +176,16 @@ def test_import_command(tmp_path, capsys):
     assert main(["import", str(write(tmp_path / "bad.csv", _with(2, "kind", "x"))), "--interface",
                  str(DEFAULT_MISSION_DIR / "interface.toml"), "--db", str(db)]) == 2
     assert "bad.csv:line 4: kind = 'x'" in capsys.readouterr().err
+
+
+def test_the_same_file_twice_is_refused_and_nothing_is_written(tmp_path, interface):
+    con = connect(":memory:")
+    path = write(tmp_path / "robot.csv", ROWS)
+    import_file(con, path, interface)
+    before = counts(con)
+    copy = tmp_path / "renamed.csv"
+    copy.write_bytes(path.read_bytes())
+    with pytest.raises(InputFileError, match=r"renamed.csv:: these events were already imported on .* as campaign 1 "
+                                             r"\(trace ids 1-2\); nothing was imported"):
+        import_file(con, copy, interface)
+    assert counts(con) == before

@@ -16,7 +16,7 @@ MODULES = ["rflex", "sick", "aspect", "ndd", "antenna"]
 @pytest.fixture(scope="module")
 def details(tmp_path_factory):
     con = connect(analysed_store(tmp_path_factory.mktemp("store") / "store.duckdb"), read_only=True)
-    found = {t["trace_id"]: t for t in trace_details(con, list(TRACES))}
+    found = {t["trace_id"]: t for batch in trace_details(con, list(TRACES)) for t in batch}
     con.close()
     return found
 
@@ -83,3 +83,14 @@ def test_fn_fp_tp_are_marked_and_other_verdicts_stay_in_tooltips(details):
     suspicious = _find(root, "suspicious")[0]
     assert "SUSPICIOUS" in suspicious.find("rect/title").text
     assert "TN PEX(ndd)" in _find(_request(root, 5), "bar")[0].find("title").text
+
+
+def test_a_short_bar_is_labelled_after_it_when_there_is_room(details):
+    root = _draw(details[1])
+    stop = _request(root, 8)  # rflex.Stop: 50 ms, a few pixels wide, nothing after it in its row
+    bar = _find(stop, "bar")[0]
+    assert float(bar.get("width")) < 6 * len("Stop")
+    label = _find(stop, "bar-label")[0]
+    assert label.text == "Stop" and float(label.get("x")) >= float(bar.get("x")) + float(bar.get("width"))
+    # rflex.SetMode, an instant, has TrackSpeedStart 0.4 s after it in its row: no room, no label
+    assert not _find(_request(root, 3), "bar-label")

@@ -33,6 +33,8 @@ def test_parse_errors_name_line_and_value(text, message):
     ("send ndd.GotoPosition x=1 y=2 z=3\n", "ndd.GotoPosition has no argument 'z'; it takes x, y"),
     ("send ndd.GotoPosition x=1\n", "ndd.GotoPosition needs argument(s) y"),
     ("send ndd.GotoPosition x=far y=2\n", "argument x='far' is not a number"),
+    ("send ndd.GotoPosition x=inf y=2\n", "m.mission:1: argument x='inf' is not a finite number"),
+    ("send ndd.GotoPosition x=1 y=NaN\n", "argument y='NaN' is not a finite number"),
     ("send ndd.GotoPosition x=1 x=2 y=2\n", "argument 'x' is given twice"),
     ("send rflex.Init as a\nwait b\n", "m.mission:2: wait on handle 'b', which no earlier line sends"),
     ("wait a\nsend rflex.Init as a\n", "m.mission:1: wait on handle 'a'"),

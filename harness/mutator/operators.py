@@ -152,10 +152,12 @@ def validated(script: Script, records: list[dict], interface: Interface) -> Muta
 
 def generate(golden: Script, interface: Interface, count: int, seed: int, operations: int = 1,
              time_mutations: bool = False, redraws: int = 50,
-             name: Callable[[int], str] = "mutant {}".format) -> list[Mutant]:
-    """`count` seeded mutants; `name(n)` labels the n-th (from 1) in its validator message.
-    A mutant whose body equals the golden or an earlier mutant's is redrawn (up to `redraws`
-    times), so duplicates only remain when the operators run out of distinct mutants."""
+             name: Callable[[int], str] = "mutant {}".format,
+             on_mutant: Callable[[], None] = lambda: None) -> list[Mutant]:
+    """`count` seeded mutants; `name(n)` labels the n-th (from 1) in its validator message,
+    `on_mutant()` is called after each (progress). A mutant whose body equals the golden or an
+    earlier mutant's is redrawn (up to `redraws` times), so duplicates only remain when the
+    operators run out of distinct mutants."""
     rng = random.Random(f"untimely-mutants:{seed}")
     seen, mutants = {golden.renumbered().render()}, []
     for n in range(1, count + 1):
@@ -165,4 +167,5 @@ def generate(golden: Script, interface: Interface, count: int, seed: int, operat
                 break
         seen.add(mutant.body)
         mutants.append(mutant)
+        on_mutant()
     return mutants

@@ -11,11 +11,13 @@ with `bad_params`, which is part of what the bench tests.
 """
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, replace
 from pathlib import Path
 
 from harness.errors import ScriptError
+from harness.files import read_text
 from harness.interface import Interface
 
 HANDLE_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*$")
@@ -158,9 +160,11 @@ def validate(script: Script, interface: Interface) -> None:
                 raise ScriptError(src, step.line, f"argument {name!r} is given twice")
             if arg.type == "float":
                 try:
-                    float(value)
+                    number = float(value)
                 except ValueError:
                     raise ScriptError(src, step.line, f"argument {name}={value!r} is not a number") from None
+                if not math.isfinite(number):  # JSON, hence the store, has no inf or nan
+                    raise ScriptError(src, step.line, f"argument {name}={value!r} is not a finite number")
         missing = [a for a in service.args if a not in given]
         if missing:
             raise ScriptError(src, step.line, f"{step.service} needs argument(s) {', '.join(missing)}")
@@ -174,7 +178,7 @@ def validate(script: Script, interface: Interface) -> None:
 def load_script(path: str | Path, interface: Interface) -> Script:
     path = Path(path)
     try:
-        text = path.read_text()
+        text = read_text(path)
     except OSError as e:
         raise ScriptError(path, 0, f"cannot read the script: {e.strerror}") from None
     script = parse(text, str(path))

@@ -33,12 +33,15 @@ def operations(strategy: str, given: int | None, time_mutations: bool) -> int:
 
 
 def generate(config: dict, golden: Script, interface: Interface, properties: list[Property],
-             run_golden: Callable[[], Trace], name: Callable[[int], str]) -> list[Mutant]:
+             run_golden: Callable[[], Trace], name: Callable[[int], str],
+             on_mutant: Callable[[], None] = lambda: None) -> list[Mutant]:
     """The campaign's mutants; `run_golden` runs the golden on the campaign's first variant with
-    that run's seed (targeted generation reads its timeline and verdicts)."""
+    that run's seed (targeted generation reads its timeline and verdicts); random generation
+    calls `on_mutant()` after each mutant (progress)."""
     count, seed, ops = config["mutants"], config["seed"], config["ops_per_mutant"]
     if config["strategy"] == "random":
-        return operators.generate(golden, interface, count, seed, ops, config["time_mutations"], name=name)
+        return operators.generate(golden, interface, count, seed, ops, config["time_mutations"], name=name,
+                                  on_mutant=on_mutant)
     trace = run_golden()
     verdicts = Judge(interface, properties).verdicts([trace])[0]
     return targeted.generate(golden, trace, verdicts, interface, properties, count, seed, ops, name=name)

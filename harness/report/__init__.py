@@ -1,51 +1,139 @@
 """`python -m harness report`: HTML pages and CSV tables from the DuckDB store alone (read-only).
 
-Layout of --out: index.html and one CSV per table; traces/ holds a page per (variant, family)
-cell of Tables III/IV, a page of bad traces per variant, and a page per trace worth reading
-(hung, with an FN, FP or TP, or asked for with --trace).
+Layout of --out (default: the store's folder): index.html and one CSV per table; traces/ holds a
+page per (variant, family) cell of Tables III/IV, a page of bad traces per variant, and a page
+per trace worth reading (see docs/report.md). The report is written into a folder beside --out
+and swapped in at the end, so a report killed while writing leaves the previous one whole.
+`--trace ID` writes only those trace pages, into the existing report (on demand).
 """
 from __future__ import annotations
 
+import os
+import shutil
 import time
+from concurrent.futures import ProcessPoolExecutor
+from contextlib import nullcontext
+from multiprocessing import get_context
 from pathlib import Path
 
 from harness.analyzer import family_order, sut_order
-from harness.errors import StoreError
+from harness.errors import StoreError, UntimelyError
 from harness.explain import explanations
+from harness.files import make_folder
 from harness.report import pages, queries
 from harness.store import connect
+
+PARALLEL_FROM = 400  # trace pages per worker process; fewer are not worth starting one for
 
 
 def main(args) -> int:
     started = time.perf_counter()
+    out = Path(args.out) if args.out else Path(args.db).resolve().parent
     con = connect(args.db, read_only=True)
     try:
         queries.check_analysed(con, args.db)
-        written = write_report(con, Path(args.out), args.trace)
+        make_folder(out, "the report")
+        if args.trace:
+            written = write_pages(con, out, args.trace)
+            print(f"wrote {', '.join(str(out / pages.trace_href(i)) for i in written)} "
+                  f"in {time.perf_counter() - started:.1f} s")
+            return 0
+        written = write_report(con, out, args.db)
+    except OSError as e:
+        raise UntimelyError(f"cannot write the report in {str(out)!r}: {e.strerror} ({e.filename}); "
+                            "free space or pass another --out") from None
     finally:
         con.close()
-    print(f"wrote {Path(args.out) / 'index.html'}: {written['traces']} trace pages, "
-          f"{written['lists']} list pages, {written['csv']} CSV files "
-          f"in {time.perf_counter() - started:.1f} s")
+    print(f"wrote {out / 'index.html'}: {written['traces']} trace pages, {written['lists']} list pages, "
+          f"{written['csv']} CSV files in {time.perf_counter() - started:.1f} s")
     return 0
 
 
-def write_report(con, out: Path, extra_traces: list[int]) -> dict[str, int]:
-    """Write the whole report under `out`; returns how many files of each sort it wrote."""
+def write_pages(con, out: Path, trace_ids: list[int]) -> list[int]:
+    """The pages of the traces asked for, into out/traces (on demand, the rest untouched)."""
+    missing = set(trace_ids) - set(queries.trace_ids(con, trace_ids))
+    if missing:
+        raise StoreError(f"no trace {sorted(missing)} in the store; pick ids from "
+                         f"python -m harness sql \"select trace_id, sut, outcome from traces\"")
+    make_folder(out / "traces", "the trace pages")
+    wanted = sorted(set(trace_ids))
+    _write_trace_pages(con, out, wanted)
+    return wanted
+
+
+def _write_trace_pages(con, out: Path, trace_ids: list[int]) -> None:
+    modules, shrunk = queries.module_order(con), pages.reproducers(queries.shrunk(con))
+    for details in queries.trace_details(con, trace_ids):
+        why = explanations(con, [v for t in details for v in t["verdicts"] if pages.explained(v)])
+        pages.write_traces(out, details, modules, why, shrunk)
+
+
+def write_share(db: str, out: str, trace_ids: list[int]) -> None:
+    """A worker process's share of the trace pages, from its own read-only connection."""
+    con = connect(db, read_only=True)
+    try:
+        _write_trace_pages(con, Path(out), trace_ids)
+    finally:
+        con.close()
+
+
+def write_report(con, out: Path, db: str) -> dict[str, int]:
+    """Write the whole report beside `out`, then swap it in; returns how many files of each sort.
+    `db` is the store's path, for the worker processes that write trace pages in parallel."""
+    staging = out / ".report-writing"  # a killed report's leftovers go at the next run
+    shutil.rmtree(staging, ignore_errors=True)
+    try:
+        written = _write_all(con, staging, db)
+        _swap_in(staging, out)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    return written
+
+
+FOLDERS = ("traces", "shrunk")  # swapped in whole: no page outlives the verdicts it showed
+
+
+def _swap_in(staging: Path, out: Path) -> None:
+    """Replace the old report by the new one: CSV files, then the folders, then index.html last."""
+    for csv in staging.glob("*.csv"):
+        os.replace(csv, out / csv.name)
+    for folder in FOLDERS:
+        if (out / folder).exists():
+            os.replace(out / folder, staging / f"old-{folder}")
+        if (staging / folder).exists():
+            os.replace(staging / folder, out / folder)
+    os.replace(staging / "index.html", out / "index.html")
+
+
+def _write_all(con, out: Path, db: str) -> dict[str, int]:
+    """Many trace pages are written by worker processes (spawned: this one holds a DuckDB
+    connection), one per core with PARALLEL_FROM pages or more each, while this one writes the rest."""
+    page_ids = sorted(queries.paged_traces(con))
+    make_folder(out / "traces", "the trace pages")
+    workers = min(len(os.sched_getaffinity(0)), len(page_ids) // PARALLEL_FROM)
+    parallel = workers > 1
+    with ProcessPoolExecutor(workers, mp_context=get_context("spawn")) if parallel else nullcontext() as pool:
+        shares = [pool.submit(write_share, str(db), str(out), page_ids[w::workers])
+                  for w in range(workers if parallel else 0)]
+        written = _write_rest(con, out, set(page_ids))
+        if not shares:
+            _write_trace_pages(con, out, page_ids)
+        for share in shares:
+            share.result()
+    return written
+
+
+def _write_rest(con, out: Path, page_ids: set[int]) -> dict[str, int]:
+    """Everything but the trace pages: index, lists, CSV files."""
     suts, families = sut_order(con), family_order(con)
     table2 = queries.view(con, "trace_robustness", percent=frozenset({"t_rob"}))
     tp = queries.view(con, "tp_rates", percent=frozenset({"tp_rate"}))
     fp = queries.view(con, "fp_rates", percent=frozenset({"fp_rate"}))
     bad = queries.bad_traces(con)
     family_traces = queries.family_traces(con)
-    page_ids = set(bad.column("trace_id")) | {r["trace_id"] for found in family_traces.values()
-                                               for r in found}
-    missing = set(extra_traces) - set(queries.trace_ids(con, list(extra_traces)))
-    if missing:
-        raise StoreError(f"no trace {sorted(missing)} in the store; pick ids from "
-                         f"python -m harness sql \"select trace_id, sut, outcome from traces\"")
-    page_ids |= set(extra_traces)
 
+    def page_link(trace_id):
+        return pages.trace_href(trace_id) if trace_id in page_ids else None
     tables = {
         "trace_outcomes": queries.trace_counts(con),
         "invalid_mutants": queries.invalid_mutants(con),
@@ -53,30 +141,21 @@ def write_report(con, out: Path, extra_traces: list[int]) -> dict[str, int]:
         "table3": pages.pivot(tp, "tp_rate", "table3", suts, families),
         "table4": pages.pivot(fp, "fp_rate", "table4", suts, families),
         "properties": queries.per_property(con),
-        "shrunk": queries.shrunk(con),
-        "suspicious": queries.suspicious(con),
-        "inversions": queries.inversions(con),
+        "shrunk": queries.shrunk(con).link_column("script_id", pages.shrunk_href).link_column("trace_id", page_link),
+        "suspicious": queries.suspicious(con).link_column("trace_id", page_link),
+        "inversions": queries.inversions(con).link_column("trace_id", page_link),
     }
     tables["verdict_transitions"], tables["table_changes"] = queries.changes(con)
-    tables["suspicious"].link_column("trace_id", lambda i: pages.trace_href(i) if i in page_ids else None)
-    shrunk = pages.write_shrunk(con, out, tables["shrunk"])
-    tables["shrunk"].link_column("script_id", pages.shrunk_href)
-    tables["shrunk"].link_column("trace_id", lambda i: pages.trace_href(i) if i in page_ids else None)
+    pages.write_shrunk(con, out, tables["shrunk"])
     csv_tables = [table2, tp, fp, tables["properties"], tables["suspicious"], tables["invalid_mutants"],
                   tables["trace_outcomes"], bad, queries.bad_verdicts(con), tables["inversions"],
-                  tables["verdict_transitions"], tables["table_changes"], tables["shrunk"]]
+                  tables["verdict_transitions"], tables["table_changes"], tables["shrunk"], family_traces]
 
-    (out / "traces").mkdir(parents=True, exist_ok=True)
-    for stale in (out / "traces").glob("*.html"):  # pages of traces no longer bad would mislead
-        stale.unlink()
     for table in csv_tables:
         table.write_csv(out)
-    lists = pages.write_lists(out, family_traces, bad, suts, families, (tp, fp))
-    details = queries.trace_details(con, sorted(page_ids))
-    why = explanations(con, [v for t in details for v in t["verdicts"] if pages.explained(v)])
-    pages.write_traces(out, details, queries.module_order(con), why, shrunk)
+    lists = pages.write_lists(out, family_traces, bad, suts, families, (tp, fp), page_ids)
     pages.write_index(out, dict(
         campaigns=queries.campaigns(con), analysis=queries.analysis(con), tables=tables, bad=bad, suts=suts,
         charts=pages.index_charts(suts, families, tp, fp, table2, queries.verdict_mix(con)),
-        csv=[t.name for t in csv_tables]))
+        csv=[t.name for t in csv_tables], pages=len(page_ids)))
     return {"traces": len(page_ids), "lists": lists, "csv": len(csv_tables)}

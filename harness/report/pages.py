@@ -1,6 +1,7 @@
 """Writes the report's files: index.html, a list page per (variant, family), trace pages, CSV."""
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 
@@ -8,7 +9,8 @@ from jinja2 import Environment, FileSystemLoader, StrictUndefined
 from markupsafe import Markup
 
 from harness.report import charts, queries
-from harness.report.tables import Table
+from harness.report.svg import text
+from harness.report.tables import Table, yes_no
 from harness.report.timeline import timeline
 from harness.shrink import Behaviour, mission_file, original, write_mission
 from harness.textable import percent, rate_interval
@@ -18,6 +20,26 @@ SHOWN_ROWS = 200  # longer tables are cut on the page; their CSV has every row
 _env = Environment(loader=FileSystemLoader(TEMPLATES), undefined=StrictUndefined, autoescape=True,
                    trim_blocks=True, lstrip_blocks=True)
 _env.filters["percent"] = percent
+
+
+def duration(seconds: float) -> str:
+    """A wall-clock duration with three significant digits: 1.14 ms, 2.31 s."""
+    return f"{1000 * seconds:.3g} ms" if seconds < 1 else f"{seconds:.1f} s"
+
+
+def mutation(operations: str | None) -> str:
+    """A script's recorded mutations (JSON) as one line: each operation, where, and the step."""
+    found = json.loads(operations) if operations else []
+    parts = []
+    for o in found:
+        where = " ".join(f"{k} {', '.join(map(str, v)) if isinstance(v, list) else v}"
+                         for k, v in o.items() if k not in ("op", "step", "steps"))
+        step = o.get("step") or " / ".join(o.get("steps", []))
+        parts.append(f"{o.get('op', '?')} {where}: {step}" if step else f"{o.get('op', '?')} {where}")
+    return "; ".join(parts)
+
+
+_env.filters.update(yes_no=yes_no, duration=duration, mutation=mutation)
 
 
 def slug(name: str) -> str:
@@ -40,7 +62,8 @@ def shrunk_href(script_id: int) -> str:
     return "shrunk/" + mission_file(Path(), script_id).name
 
 
-_env.globals.update(trace_href=trace_href, list_href=list_href, bad_href=bad_href, shrunk_href=shrunk_href)
+_env.globals.update(trace_href=trace_href, list_href=list_href, bad_href=bad_href, shrunk_href=shrunk_href,
+                    shown_rows=SHOWN_ROWS)
 
 
 def _rates(view: Table, rate: str) -> dict[tuple[str, str], float | None]:
@@ -77,26 +100,43 @@ def pivot(view: Table, rate: str, name: str, suts: list[str], families: list[str
     return table
 
 
+def event_rows(events: list[dict]) -> Markup:
+    """A trace's event log as table rows, built here rather than in the template: a large report
+    writes hundreds of thousands of them."""
+    return Markup("".join(
+        f'<tr><td>{e["seq"]}</td><td>{e["t"]:.4f}</td><td class="text">{text(e["kind"])}</td>'
+        f'<td class="text">#{e["rqst_id"]} {text(e["module"])}.{text(e["service"])}</td>'
+        f'<td class="text">{text(e["args"] or "")}</td><td class="text">{text(e["reply"] or "")}</td>'
+        f'<td>{text(e["class"] or "")}</td></tr>\n' for e in events))
+
+
 def render(template: str, path: Path, **context) -> None:
-    path.write_text(_env.get_template(template).render(**context))
+    path.write_text(_env.get_template(template).render(**context), encoding="utf-8")
 
 
 def write_index(out: Path, context: dict) -> None:
     render("index.html.j2", out / "index.html", shown_rows=SHOWN_ROWS, **context)
 
 
-def write_lists(out: Path, family_traces: dict, bad: Table, suts: list[str], families: list[str],
-                rate_views: tuple[Table, ...]) -> int:
-    """The pages a Table II-IV cell links to: per (variant, family), and bad traces per variant."""
+def write_lists(out: Path, family_traces: Table, bad: Table, suts: list[str], families: list[str],
+                rate_views: tuple[Table, ...], page_ids: set[int]) -> int:
+    """The pages a Table II-IV cell links to: per (variant, family), and bad traces per variant.
+    A trace without a page is named with the command that writes it."""
+    by_cell: dict[tuple[str, str], list[dict]] = {}
+    for r in family_traces.records():
+        by_cell.setdefault((r["sut"], r["family"]), []).append(r)
     counts: dict[tuple[str, str], dict] = {}
     for view in rate_views:
         for r in view.records():
             counts.setdefault((r["sut"], r["family"]), {}).update(r)
     for sut in suts:
         for family in families:
-            render("list.html.j2", out / list_href(sut, family), sut=sut, family=family,
-                   traces=family_traces.get((sut, family), []), counts=counts.get((sut, family)))
-        render("bad.html.j2", out / bad_href(sut), sut=sut, traces=[r for r in bad.records() if r["sut"] == sut])
+            traces = by_cell.get((sut, family), [])
+            render("list.html.j2", out / list_href(sut, family), sut=sut, family=family, paged=page_ids,
+                   flagged=[t for t in traces if t["fn"] or t["fp"]],
+                   tp_only=[t for t in traces if not (t["fn"] or t["fp"])], counts=counts.get((sut, family)))
+        render("bad.html.j2", out / bad_href(sut), sut=sut, paged=page_ids,
+               traces=[r for r in bad.records() if r["sut"] == sut])
     return len(suts) * (len(families) + 1)
 
 
@@ -105,13 +145,18 @@ def explained(verdict: dict) -> bool:
     return verdict["verdict"] in ("FN", "FP") or verdict["suspicious"]
 
 
-def write_shrunk(con, out: Path, table: Table) -> dict[int, list[dict]]:
-    """Each shrunk reproducer's .mission file under out/shrunk (replayable with `run`); returns
-    the reproducers by the trace they were shrunk from."""
-    by_trace: dict[int, list[dict]] = {}
+def write_shrunk(con, out: Path, table: Table) -> None:
+    """Each shrunk reproducer's .mission file under out/shrunk (replayable with `run`)."""
     for r in table.records():
         behaviour = Behaviour(r["sut"], r["verdict"], r["property_id"])
         write_mission(out / "shrunk", original(con, r["trace_id"]), behaviour, r["script_id"], r["body"], r["runs"])
+
+
+def reproducers(table: Table) -> dict[int, list[dict]]:
+    """The shrunk reproducers (queries.shrunk) by the trace they were shrunk from."""
+    by_trace: dict[int, list[dict]] = {}
+    for r in table.records():
+        behaviour = Behaviour(r["sut"], r["verdict"], r["property_id"])
         by_trace.setdefault(r["trace_id"], []).append({**r, "behaviour": str(behaviour)})
     return by_trace
 
@@ -128,7 +173,7 @@ def write_traces(out: Path, details: list[dict], modules: list[str], why: dict,
         counts = {v: sum(1 for x in t["verdicts"] if x["verdict"] == v) for v in queries.VERDICTS}
         texts = [why.get((v["trace_id"], v["property_id"], v["rqst_id"])) for v in t["verdicts"] if explained(v)]
         render("trace.html.j2", out / trace_href(t["trace_id"]), t=t, timeline=svg, verdicts=shown,
-               counts=counts, explained=[text for text in texts if text])
+               counts=counts, explained=[found for found in texts if found], events=event_rows(t["events"]))
 
 
 def index_charts(suts: list[str], families: list[str], tp: Table, fp: Table, table2: Table,

@@ -3,7 +3,9 @@ from __future__ import annotations
 
 import difflib
 import json
+from bisect import bisect_left, bisect_right
 from collections import defaultdict
+from collections.abc import Iterator
 
 from harness.analyzer import ordered
 from harness.errors import StoreError
@@ -29,7 +31,8 @@ def rows(con, sql: str, params=()) -> list[dict]:
 
 
 def check_analysed(con, db: str) -> None:
-    """Refuse a store whose verdicts were never materialised: the report would be empty."""
+    """Refuse a store whose verdicts were never materialised: the report would be empty. A store
+    analysed before view trace_scope existed gets it as a temporary view counting every trace."""
     have = _names(con)
     missing = [name for name in ("traces", *ANALYSED) if name not in have]
     if "traces" in missing:
@@ -38,6 +41,9 @@ def check_analysed(con, db: str) -> None:
         lacking = ", ".join(missing) or "any verdict row"
         raise StoreError(f"{db!r} has no verdicts yet (lacks {lacking}); "
                          f"run python -m harness analyze --db {db} first")
+    if "trace_scope" not in have:  # analysed by an earlier bench, whose views count every trace
+        con.execute("create temp view trace_scope as select trace_id, sut, campaign_id, true as counted, "
+                    "null::varchar as left_out from traces")
 
 
 def per_property(con) -> Table:
@@ -68,13 +74,16 @@ def campaigns(con) -> list[dict]:
 
 
 def trace_counts(con) -> Table:
+    """Traces per campaign, variant and outcome, and which of them Tables II-IV leave out, and why."""
     return query_table(con, "trace_outcomes", """
-        select campaign_id, sut, count(*) as traces,
+        select t.campaign_id, t.sut, count(*) as traces,
                count(*) filter (where outcome = 'completed') as completed,
                count(*) filter (where outcome = 'hung') as hung,
                count(*) filter (where outcome = 'crashed') as crashed,
-               count(*) filter (where trace_id not in (select trace_id from verdicts)) as without_verdicts
-        from traces group by all order by campaign_id, min(trace_id)""")
+               count(*) filter (where not s.counted) as not_counted,
+               string_agg(distinct s.left_out, '; ') as left_out_because
+        from traces t join trace_scope s using (trace_id)
+        group by t.campaign_id, t.sut order by t.campaign_id, min(t.trace_id)""")
 
 
 def invalid_mutants(con) -> Table:
@@ -123,23 +132,36 @@ def changes(con) -> tuple[Table, ...]:
 
 
 def suspicious(con) -> Table:
+    """Suspicious verdicts, the FN and FP (which make a trace bad) first."""
     return query_table(con, "suspicious", """
         select v.trace_id, t.sut, v.property_id, v.rqst_id, v.module, v.service, v.c_holds,
                v.verdict, v.margin_s
         from verdicts v join traces t using (trace_id)
-        where v.suspicious order by v.trace_id, v.rqst_id, v.property_id""")
+        where v.suspicious
+        order by case v.verdict when 'FN' then 0 when 'FP' then 1 else 2 end, v.trace_id, v.rqst_id,
+                 v.property_id""")
+
+
+# What lies behind a trace's row in a list: its FN/FP verdicts' properties (else its TPs'), and
+# the mutation that made its script (reads verdicts v and scripts s).
+_BEHIND = """coalesce(string_agg(distinct v.property_id, ' ' order by v.property_id) filter (where v.verdict in ('FN', 'FP')),
+                      string_agg(distinct v.property_id, ' ' order by v.property_id) filter (where v.verdict = 'TP')) as properties,
+             s.mutations"""
 
 
 def bad_traces(con) -> Table:
     """Table II's bad traces (hung, with FN, with FP) and crashed runs, with their world events."""
-    return query_table(con, "bad_traces", """
+    return query_table(con, "bad_traces", f"""
         with judged as (
             select t.trace_id, t.sut, t.outcome, t.script_id,
-                   count(*) filter (where v.verdict = 'FN') as fn,
-                   count(*) filter (where v.verdict = 'FP') as fp,
-                   count(*) filter (where v.verdict = 'TP') as tp,
-                   count(*) filter (where v.suspicious and v.verdict in ('FN', 'FP')) as suspicious
-            from traces t left join verdicts v using (trace_id) group by all)
+                   count(v.verdict) filter (where v.verdict = 'FN') as fn,
+                   count(v.verdict) filter (where v.verdict = 'FP') as fp,
+                   count(v.verdict) filter (where v.verdict = 'TP') as tp,
+                   count(v.verdict) filter (where v.suspicious and v.verdict in ('FN', 'FP')) as suspicious,
+                   {_BEHIND}
+            from traces t semi join (select trace_id from trace_scope where counted) using (trace_id)
+            left join verdicts v using (trace_id) left join scripts s using (script_id)
+            group by t.trace_id, t.sut, t.outcome, t.script_id, s.mutations)
         select j.*, (select count(*) from world_events w where w.trace_id = j.trace_id) as world_events
         from judged j where outcome <> 'completed' or fn > 0 or fp > 0 order by trace_id""")
 
@@ -152,48 +174,77 @@ def bad_verdicts(con) -> Table:
         where v.verdict in ('FN', 'FP') order by v.trace_id, v.rqst_id, v.property_id""")
 
 
-def family_traces(con) -> dict[tuple[str, str], list[dict]]:
-    """Per (variant, family or All): the traces with a TP, FN or FP in that family, worst first."""
-    found = rows(con, """
+def family_traces(con) -> Table:
+    """Per (variant, family or All): the counted traces with a TP, FN or FP in that family, worst first."""
+    return query_table(con, "family_traces", f"""
         select t.sut, coalesce(v.family, 'All') as family, v.trace_id, any_value(t.outcome) as outcome,
                count(*) filter (where v.verdict = 'FN') as fn, count(*) filter (where v.verdict = 'TP') as tp,
-               count(*) filter (where v.verdict = 'FP') as fp, count(*) filter (where v.verdict = 'TN') as tn
-        from verdicts v join traces t using (trace_id)
-        group by grouping sets ((t.sut, v.family, v.trace_id), (t.sut, v.trace_id))
+               count(*) filter (where v.verdict = 'FP') as fp, count(*) filter (where v.verdict = 'TN') as tn,
+               {_BEHIND}
+        from verdicts v join trace_scope c using (trace_id) join traces t using (trace_id)
+        left join scripts s using (script_id)
+        where c.counted
+        group by grouping sets ((t.sut, v.family, v.trace_id, s.mutations), (t.sut, v.trace_id, s.mutations))
         having fn + tp + fp > 0
-        order by fn desc, fp desc, tp desc, v.trace_id""")
-    return _grouped(found, lambda r: (r["sut"], r["family"]))
+        order by fn desc, fp desc, tp desc, v.trace_id, t.sut, family""")
 
 
-def trace_details(con, ids: list[int]) -> list[dict]:
-    """Everything a trace page shows, fetched for all pages at once."""
-    wanted = "trace_id in (select unnest(?::integer[]))"
-    traces = rows(con, f"""
-        select t.*, s.kind as script_kind, s.body, s.mutations, s.parent, g.body as golden
-        from traces t left join scripts s using (script_id)
-        left join scripts g on g.campaign_id = t.campaign_id and g.kind = 'golden'
-        where t.{wanted} order by t.trace_id""", [ids])
-    events = _by_trace(rows(con, f"""
+def paged_traces(con) -> list[int]:
+    """The traces that get a page: the bad ones (hung, crashed, with an FN or FP, suspicious or not),
+    those whose verdicts the observation delay inverted, and the runs of golden and shrunk scripts.
+    The others get one on demand (report --trace ID)."""
+    return [r[0] for r in con.execute("""
+        select trace_id from traces where outcome <> 'completed'
+        union select trace_id from verdicts where verdict in ('FN', 'FP')
+        union select trace_id from inversions
+        union select t.trace_id from traces t join scripts s using (script_id) where s.kind in ('golden', 'shrunk')
+        order by trace_id""").fetchall()]
+
+
+# What a trace page shows, one query per kind of data for all the pages (ordered by trace id).
+_WANTED = "trace_id in (select unnest($ids::integer[]))"
+_DETAILS = {
+    "events": f"""
         select e.trace_id, e.seq, e.t, e.kind, e.rqst_id, e.module, e.service, e.args, e.reply, c.class
         from events e left join reply_codes c using (module, service, reply)
-        where e.{wanted} order by e.trace_id, e.seq""", [ids]))
+        where e.{_WANTED} order by e.trace_id, e.seq""",
     # the analyzer's requests view pairs each request with its final reply as the oracles do
-    requests = _by_trace(rows(con, f"""
+    "requests": f"""
         select r.trace_id, r.rqst_id, r.module, r.service, e.args, r.t as start, r.final_t as "end",
                r.reply, r.class as reply_class
         from requests r left join events e on e.trace_id = r.trace_id and e.seq = r.seq
-        where r.{wanted} order by r.trace_id, r.t, r.seq""", [ids]))
-    verdicts = _by_trace(rows(con, f"""
-        select * from verdicts where {wanted} order by trace_id, rqst_id, property_id""", [ids]))
-    world = _by_trace(rows(con, f"select * from world_events where {wanted} order by trace_id, t",
-                           [ids]))
-    for t in traces:
-        i = t["trace_id"]
-        t.update(events=events.get(i, []), verdicts=verdicts.get(i, []), world=world.get(i, []),
-                 requests=[Request(**{k: v for k, v in r.items() if k != "trace_id"})
-                           for r in requests.get(i, [])],
-                 diff=_diff(t))
-    return traces
+        where r.{_WANTED} order by r.trace_id, r.t, r.seq""",
+    "verdicts": f"select * from verdicts where {_WANTED} order by trace_id, rqst_id, property_id",
+    "world": f"select * from world_events where {_WANTED} order by trace_id, t",
+}
+
+
+def trace_details(con, ids: list[int], batch: int = 500) -> Iterator[list[dict]]:
+    """Everything the pages of `ids` show, `batch` traces at a time. Each kind of data is one
+    query for all of them, kept as Arrow tables (compact); only a batch becomes Python dicts."""
+    ids, con = sorted(ids), con.cursor()  # its own results: the caller's may be unfinished
+    traces = con.sql(f"""
+        select t.*, s.kind as script_kind, s.body, s.mutations, s.parent, g.body as golden
+        from traces t left join scripts s using (script_id)
+        left join scripts g on g.campaign_id = t.campaign_id and g.kind = 'golden'
+        where t.{_WANTED} order by t.trace_id""", params={"ids": ids}).to_arrow_table()
+    found = {name: con.sql(sql, params={"ids": ids}).to_arrow_table() for name, sql in _DETAILS.items()}
+    keys = {name: table.column("trace_id").to_pylist() for name, table in found.items()}
+    for start in range(0, traces.num_rows, batch):
+        page_rows = traces.slice(start, batch).to_pylist()
+        first, last = page_rows[0]["trace_id"], page_rows[-1]["trace_id"]
+        by_trace = {}
+        for name, table in found.items():
+            lo, hi = bisect_left(keys[name], first), bisect_right(keys[name], last)
+            by_trace[name] = _by_trace(table.slice(lo, hi - lo).to_pylist())
+        for t in page_rows:
+            i = t["trace_id"]
+            t.update(events=by_trace["events"].get(i, []), verdicts=by_trace["verdicts"].get(i, []),
+                     world=by_trace["world"].get(i, []),
+                     requests=[Request(**{k: v for k, v in r.items() if k != "trace_id"})
+                               for r in by_trace["requests"].get(i, [])],
+                     diff=_diff(t))
+        yield page_rows
 
 
 def _grouped(found: list[dict], key) -> dict:

@@ -40,7 +40,7 @@ class Table:
 
     def write_csv(self, folder: Path) -> Path:
         path = folder / f"{self.name}.csv"
-        with open(path, "w", newline="") as f:
+        with open(path, "w", newline="", encoding="utf-8") as f:
             writer = csv.writer(f)
             writer.writerow(self.columns)
             writer.writerows(["" if v is None else v for v in row] for row in self.rows)
@@ -52,13 +52,18 @@ def query_table(con, name: str, sql: str, params=(), **options) -> Table:
     return Table(name, [d[0] for d in cursor.description], cursor.fetchall(), **options)
 
 
+def yes_no(value: bool | None) -> str:
+    """A boolean as the report shows it; NULL (undecidable) stays empty."""
+    return "" if value is None else "yes" if value else "no"
+
+
 def _text(value, is_rate: bool) -> str:
     if is_rate:
         return percent(value)
     if value is None:
         return ""
     if isinstance(value, bool):
-        return "yes" if value else "no"
+        return yes_no(value)
     if isinstance(value, float):
         return f"{value:.4g}"
     return str(value)

@@ -7,12 +7,14 @@ from dataclasses import dataclass
 from markupsafe import Markup
 
 from harness.report.svg import add, markup, nice_step, svg
+from harness.report.tables import yes_no
 
 LEFT, PLOT_W, RIGHT = 120, 1040, 20
 AXIS_H, ROW_H, BAR_H, LANE_PAD = 36, 16, 12, 5
 MIN_BAR_W = 3  # a rejection is instantaneous; keep it visible and hoverable
 MARKED = ("FN", "FP", "TP")  # the verdicts a tester hunts for; TN, op, na, omega stay in tooltips
 MARK_W = 17
+LABEL_CHAR_W = 6  # an upper bound of the width of one character of a 9 px bar label
 
 
 @dataclass
@@ -50,8 +52,21 @@ class Bar:
         return self.x0 + 1 if inside else self.x1 + 1
 
     @property
+    def marks_end(self) -> float:
+        return self.marks_x + len(self.marked) * (MARK_W + 1)
+
+    @property
     def right(self) -> float:
-        return max(self.x1, self.marks_x + len(self.marked) * (MARK_W + 1))
+        return max(self.x1, self.marks_end)
+
+    def label_x(self, room_until: float) -> float | None:
+        """Where the service name goes: inside the bar after its marks when it fits, else after
+        the bar when there is room before `room_until` (the next bar of its row), else nowhere."""
+        width = LABEL_CHAR_W * len(self.request.service)
+        inside = max(self.x0, self.marks_end) + 2
+        if self.x1 - inside > width:
+            return inside
+        return self.right + 2 if self.right + 2 + width < room_until else None
 
 
 def _pack(bars: list[Bar]) -> list[list[Bar]]:
@@ -76,7 +91,7 @@ def _bar_title(r: Request, verdicts: list[dict]) -> str:
 def _verdict_title(v: dict) -> str:
     margin = "" if v["margin_s"] is None else f", margin {v['margin_s']:.4f} s"
     flag = " - SUSPICIOUS: may be a false observation" if v["suspicious"] else ""
-    return f"{v['verdict']} {v['property_id']} on #{v['rqst_id']}: C holds = {v['c_holds']}{margin}{flag}"
+    return f"{v['verdict']} {v['property_id']} on #{v['rqst_id']}: C holds: {yes_no(v['c_holds']) or 'undecided'}{margin}{flag}"
 
 
 def _world_title(w: dict) -> str:
@@ -109,8 +124,8 @@ def timeline(modules: list[str], requests: list[Request], verdicts: list[dict], 
         add(lane, "text", module, css_class="lane-label", x=6, y=y + lane_h / 2 + 4)
         for i, row in enumerate(rows):
             top = y + LANE_PAD + i * ROW_H + (ROW_H - BAR_H) / 2
-            for bar in row:
-                _bar(lane, bar, top)
+            for bar, after in zip(row, row[1:] + [None]):
+                _bar(lane, bar, top, LEFT + PLOT_W + RIGHT if after is None else after.x0)
         y += lane_h
     _world_lane(root, world, x, y, height)
     if outcome != "completed":
@@ -130,7 +145,7 @@ def _axis(root, x, end_t: float, height: float) -> None:
         title=f"end of the trace at {end_t:.3f} s")
 
 
-def _bar(lane, bar: Bar, top: float) -> None:
+def _bar(lane, bar: Bar, top: float, room_until: float) -> None:
     r = bar.request
     css = f"bar reply-{r.reply_class or 'unknown'}" if r.end is not None else "bar open"
     group = add(lane, "g", css_class="request", data_rqst=r.rqst_id)
@@ -143,8 +158,8 @@ def _bar(lane, bar: Bar, top: float) -> None:
         add(mark, "rect", x=mx, y=top, width=MARK_W, height=BAR_H, rx=3, title=_verdict_title(v))
         add(mark, "text", v["verdict"], css_class="mark-label", x=mx + MARK_W / 2, y=top + BAR_H - 3,
             text_anchor="middle")
-    label_x = max(bar.x0, bar.marks_x + len(bar.marked) * (MARK_W + 1)) + 2
-    if bar.x1 - label_x > 6 * len(r.service):  # label only bars wide enough to hold it
+    label_x = bar.label_x(room_until)
+    if label_x is not None:
         add(group, "text", r.service, css_class="bar-label", x=label_x, y=top + BAR_H - 2)
 
 

@@ -1,9 +1,11 @@
-{#- Per variant and property: how many verdicts of each kind, and how many are suspicious. -#}
+{#- Per variant and property: how many verdicts of each kind, and how many are suspicious,
+    over the traces Tables II-IV count (trace_scope). -#}
 create or replace view property_verdicts as
 select t.sut, v.family, v.property_id, count(*) as verdicts,
 {% for verdict in verdict_names %}
        count(*) filter (where v.verdict = {{ verdict | lit }}) as {{ verdict | lower }},
 {% endfor %}
        count(*) filter (where v.suspicious) as suspicious
-from verdicts v join traces t using (trace_id)
+from verdicts v join trace_scope t using (trace_id)
+where t.counted
 group by t.sut, v.family, v.property_id
