@@ -93,7 +93,8 @@ def _keep_previous(con) -> None:
 
 
 def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsilon: float,
-                interface: Interface | None = None, properties_file: Path | None = None) -> float:
+                interface: Interface | None = None, properties_file: Path | None = None,
+                interface_file: Path | None = None) -> float:
     """(Re)build the verdict tables and the views in one transaction, keeping the previous verdicts
     for the diff; a failure keeps the old ones. Returns the seconds it took."""
     started = time.perf_counter()
@@ -117,7 +118,7 @@ def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsi
             for name in VIEWS:
                 con.execute(render_view(name))
             seconds = time.perf_counter() - started
-            record(con, properties_file, epsilon, len(properties), seconds)
+            record(con, properties_file, epsilon, len(properties), seconds, interface_file)
     except duckdb.Error as e:
         raise StoreError(f"the oracle queries failed on this store: {e}") from None
     return seconds
@@ -224,7 +225,7 @@ def main(args) -> int:
                              "of an interface description: pass --interface FILE (default: beside the properties)")
     interface = load_interface(interface_path)
     properties = load_properties(properties_path, interface)
-    elapsed = materialise(con, properties, epsilon, interface, properties_path)
+    elapsed = materialise(con, properties, epsilon, interface, properties_path, interface_path)
     traces, events = con.execute("select (select count(*) from traces), (select count(*) from events)").fetchone()
     verdicts = con.execute("select count(*) from verdicts").fetchone()[0]
     print(f"Judged {events} events of {traces} traces against {len(properties)} properties of "

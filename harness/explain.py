@@ -26,11 +26,13 @@ def judged_properties(con) -> tuple[Interface, dict[str, Property]]:
     """The interface and properties the stored verdicts were made from (the last analysis's file
     when it is recorded and still there, else the campaign mission's)."""
     recorded = con.execute("select count(*) from information_schema.tables where table_name = 'analysis_files'")
-    found = con.execute("""select path from analysis_files where role = 'properties'
-                           and analysis_id = (select max(analysis_id) from analyses)""").fetchone() \
-        if recorded.fetchone()[0] else None
-    path = Path(found[0]) if found and Path(found[0]).is_file() else default_properties(con)
-    interface = load_interface(path.parent / "interface.toml")
+    found = dict(con.execute("""select role, path from analysis_files where role in ('properties', 'interface')
+                                and analysis_id = (select max(analysis_id) from analyses)""").fetchall()) \
+        if recorded.fetchone()[0] else {}
+    usable = "properties" in found and Path(found["properties"]).is_file()
+    path = Path(found["properties"]) if usable else default_properties(con)
+    interface_file = Path(found.get("interface") or path.parent / "interface.toml") if usable else None
+    interface = load_interface(interface_file or path.parent / "interface.toml")
     return interface, {p.id: p for p in load_properties(path, interface)}
 
 

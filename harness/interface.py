@@ -115,8 +115,8 @@ def parse_toml(path: Path, content: bytes) -> dict:
 
 # The keys each table of an interface description may hold: a typo (`agrs`) must not pass unseen.
 INTERFACE_KEYS = {"the top level": ("replies", "modules"), "a module": ("doc", "poster", "services"),
-                  "a service": ("kind", "args", "doc"), "a float argument": ("type", "min", "max", "doc"),
-                  "a str argument": ("type", "choices", "doc")}
+                  "a service": ("kind", "args", "until_stopped", "doc"),
+                  "a float argument": ("type", "min", "max", "doc"), "a str argument": ("type", "choices", "doc")}
 
 
 def _known_keys(path, where, table: dict, what: str) -> None:

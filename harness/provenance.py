@@ -20,14 +20,17 @@ def _sha256(path: Path) -> str | None:
         return None
 
 
-def sources(properties_file: Path) -> list[tuple[str, str, str]]:
-    """(role, path, sha256) of every file that decides the verdicts."""
-    files = [("properties", properties_file), ("interface", properties_file.parent / "interface.toml")]
+def sources(properties_file: Path, interface_file: Path | None = None) -> list[tuple[str, str, str]]:
+    """(role, path, sha256) of every file that decides the verdicts (the interface: beside the
+    properties unless given)."""
+    files = [("properties", properties_file),
+             ("interface", interface_file or properties_file.parent / "interface.toml")]
     files += [("template", t) for t in sorted(SQL_DIR.glob("*/*.sql"))]
     return [(role, str(path.resolve()), _sha256(path)) for role, path in files]
 
 
-def record(con, properties_file: Path | None, epsilon: float, properties: int, seconds: float) -> None:
+def record(con, properties_file: Path | None, epsilon: float, properties: int, seconds: float,
+           interface_file: Path | None = None) -> None:
     """Add the analysis just made to `analyses` (its files when it was judged from a properties
     file); the caller owns the transaction."""
     analysis_id = con.execute("select coalesce(max(analysis_id), 0) + 1 from analyses").fetchone()[0]
@@ -36,7 +39,7 @@ def record(con, properties_file: Path | None, epsilon: float, properties: int, s
                 [analysis_id, epsilon, properties, seconds])
     if properties_file is not None:
         con.executemany("insert into analysis_files (analysis_id, role, path, sha256) values (?, ?, ?, ?)",
-                        [[analysis_id, *source] for source in sources(properties_file)])
+                        [[analysis_id, *source] for source in sources(properties_file, interface_file)])
 
 
 def stale_files(con) -> list[tuple[str, str]]:

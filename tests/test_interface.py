@@ -41,7 +41,7 @@ def test_dala_interface_and_21_properties(interface, properties):
     (GOOD.replace('ok = "T"', ""), "the catalogue must contain ok"),
     (GOOD.replace('ok = "T"', 'ok = "R"'), "the catalogue must contain ok = \"T\", not ok = 'R'"),
     (GOOD.replace('kind = "exec", args', 'kind = "exec", agrs'),
-     "[modules.m] services.Go: unknown key(s) ['agrs']; a service takes kind, args, doc"),
+     "[modules.m] services.Go: unknown key(s) ['agrs']; a service takes kind, args, until_stopped, doc"),
     (GOOD.replace("[modules.m]", "[modules.m]\nposter = \"P\"\nposters = \"Q\""),
      "[modules.m]: unknown key(s) ['posters']; a module takes doc, poster, services"),
     (GOOD.replace("max = 1.0", "max = 1.0, choices = [\"a\"]"),
