@@ -69,15 +69,19 @@ class Explainer:
             for row in cursor.fetchall():
                 pair = dict(zip(names, row))
                 pairs[(pair["trace_id"], property_id, pair["rqst_id"])].append(pair)
-        return {k: self._text(k, verdicts[k], requests, pairs[k]) for k in keys if k in verdicts}
+        oks = defaultdict(list)  # (trace, service) -> the instants of its ok final replies
+        for (trace_id, _), (service, _, final_t, reply, _) in requests.items():
+            if reply == "ok":
+                oks[(trace_id, service)].append(final_t)
+        return {k: self._text(k, verdicts[k], requests, oks, pairs[k]) for k in keys if k in verdicts}
 
-    def _items(self, trace_id: int, prop: Property, pairs: list[dict], requests: dict) -> list[tuple]:
+    def _items(self, trace_id: int, prop: Property, pairs: list[dict], requests: dict,
+               oks: dict) -> list[tuple]:
         rows = []
         for pair in pairs:
             if prop.type == "PC":
-                oks = sorted(final_t for (t, _), (service, _, final_t, reply, _) in requests.items()
-                             if t == trace_id and service == pair["item"] and reply == "ok")
-                what, events = f"q {pair['item']}", "ok at " + (", ".join(map(_seconds, oks)) or "never")
+                found = sorted(oks.get((trace_id, pair["item"]), []))
+                what, events = f"q {pair['item']}", "ok at " + (", ".join(map(_seconds, found)) or "never")
             else:
                 service, t, final_t, reply, cls = requests[(trace_id, int(pair["item"]))]
                 what = f"y {service} #{pair['item']}"
@@ -89,7 +93,7 @@ class Explainer:
                          shift, "yes" if near else "no"))
         return rows
 
-    def _text(self, key: Key, verdict_row: tuple, requests: dict, pairs: list[dict]) -> str:
+    def _text(self, key: Key, verdict_row: tuple, requests: dict, oks: dict, pairs: list[dict]) -> str:
         trace_id, property_id, rqst_id = key
         verdict, c_holds, margin, suspicious = verdict_row
         prop = self.properties[property_id]
@@ -100,7 +104,7 @@ class Explainer:
                  + (f"{reply} (class {cls or 'not in the catalogue'}) at {_seconds(final_t)} s" if reply else "none"),
                  f"  C is {condition}; margin {_seconds(margin)} s; "
                  + ("suspicious" if suspicious else "not suspicious") + f" (epsilon {self.epsilon:g} s)"]
-        rows = self._items(trace_id, prop, pairs, requests)
+        rows = self._items(trace_id, prop, pairs, requests, oks)
         if rows:
             head = (["part"] if "part" in pairs[0] else []) + ["item", "events", "makes C false", "rejected",
                                                                "shift s", "near"]

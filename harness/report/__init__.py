@@ -63,8 +63,9 @@ def write_pages(con, out: Path, trace_ids: list[int]) -> list[int]:
 
 def _write_trace_pages(con, out: Path, trace_ids: list[int]) -> None:
     modules, shrunk = queries.module_order(con), pages.reproducers(queries.shrunk(con))
+    # one explainer pass for all the pages: each pass runs every property's oracle once
+    why = explanations(con, [v for v in queries.verdict_keys(con, trace_ids) if pages.explained(v)])
     for details in queries.trace_details(con, trace_ids):
-        why = explanations(con, [v for t in details for v in t["verdicts"] if pages.explained(v)])
         pages.write_traces(out, details, modules, why, shrunk)
 
 

@@ -219,6 +219,12 @@ _DETAILS = {
 }
 
 
+def verdict_keys(con, ids: list[int]) -> list[dict]:
+    """The verdicts of these traces, with what decides whether a page explains them."""
+    return rows(con, f"select trace_id, property_id, rqst_id, verdict, suspicious from verdicts "
+                     f"where {_WANTED.replace('$ids', '?')}", [ids])
+
+
 def trace_details(con, ids: list[int], batch: int = 500) -> Iterator[list[dict]]:
     """Everything the pages of `ids` show, `batch` traces at a time. Each kind of data is one
     query for all of them, kept as Arrow tables (compact); only a batch becomes Python dicts."""
