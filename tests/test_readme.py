@@ -19,13 +19,13 @@ def test_the_readme_shows_every_subcommand_through_the_venv_or_make():
     for command in COMMANDS:
         assert command.startswith(("make ", ".venv/bin/")), \
             f"{command!r} needs a Python or a tool a fresh clone does not have; use .venv/bin/... or make"
-    shown = {shlex.split(c)[3] for c in COMMANDS if c.startswith(".venv/bin/python -m harness ")}
+    shown = {shlex.split(c, comments=True)[3] for c in COMMANDS if c.startswith(".venv/bin/python -m harness ")}
     assert {"run", "campaign", "import", "analyze", "report", "sql"} <= shown
 
 
 @pytest.mark.parametrize("command", [c for c in COMMANDS if c.startswith(".venv/bin/python -m harness ")])
 def test_each_harness_command_of_the_readme_parses_and_names_existing_files(command):
-    argv = shlex.split(command.split(" #")[0])[3:]
+    argv = shlex.split(command, comments=True)[3:]
     args = _parser().parse_args(argv)
     for name in ("mission", "file", "interface"):
         if getattr(args, name, None):

@@ -88,8 +88,9 @@ def test_a_report_killed_while_writing_leaves_the_previous_one_whole(tmp_path, m
     before = {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()}
     (out / ".report-writing" / "traces").mkdir(parents=True)  # a killed report's leftovers
 
-    def killed(folder, details, modules, why):
-        pages.render("trace.html.j2", folder / "traces" / "half.html", t=details[0], timeline="", verdicts=[],
+    def killed(folder, details, *context):
+        pages.render("trace.html.j2", folder / "traces" / "half.html", t={**details[0], "shrunk": []},
+                     timeline="", verdicts=[],
                      counts={}, events="", explained=[])
         raise KeyboardInterrupt
     monkeypatch.setattr(pages, "write_traces", killed)
