@@ -13,7 +13,7 @@ conditions as (
     group by all
 ),
 cells as (
-    select s.sut, p.family, p.property_id,
+    select s.sut, p.family, p.property_id, p.rowid as property_rank,
            coalesce(c.c_false, 0) as c_false, coalesce(c.c_true, 0) as c_true,
 {% for verdict in verdict_names %}
            coalesce(pv.{{ verdict | lower }}, 0) as {{ verdict | lower }},
@@ -23,9 +23,10 @@ cells as (
     left join conditions c using (sut, property_id)
     left join property_verdicts pv using (sut, property_id)
 )
-select *,
+select * exclude (property_rank),
        tp / nullif(tp + fn, 0) as tp_rate, tp + fn as tp_n,
        wilson_low(tp, tp + fn) as tp_rate_low, wilson_high(tp, tp + fn) as tp_rate_high,
        fp / nullif(fp + tn, 0) as fp_rate, fp + tn as fp_n,
        wilson_low(fp, fp + tn) as fp_rate_low, wilson_high(fp, fp + tn) as fp_rate_high
 from cells
+order by sut, property_rank  -- the properties file's order, whatever the plan
