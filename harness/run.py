@@ -67,12 +67,15 @@ def main(args) -> int:
         raise UntimelyError(f"--sut {args.sut!r}: run takes one SUT; a campaign takes several")
     sut = names[0]
     config = {"kind": "run", "sut": sut, "max_delay": args.max_delay}
+    # Opened before the run: a store another process writes is refused before a long real-time
+    # run, and an external SUT is told the trace id it is making (its hello's `run`).
+    con = store.connect(args.db)
     if sut in external:
-        trace = run_external(script, external[sut], args.seed, interface)
+        trace_id = store.next_id(con, "traces", "trace_id")
+        trace = run_external(script, external[sut], args.seed, interface, run=trace_id)
         config["external"] = {sut: external[sut].config()}
     else:
         trace = run_script(script, sut, args.seed, interface, world_file, max_delay=args.max_delay)
-    con = store.connect(args.db)
     with store.transaction(con):
         campaign_id = store.next_id(con, "campaigns", "campaign_id")
         store.add_campaign(con, campaign_id, str(script_path), args.seed, config)

@@ -82,7 +82,8 @@ def schema_version(con) -> int | None:
     tables = {r[0] for r in con.execute("select table_name from duckdb_tables() "
                                         "where database_name = current_database()").fetchall()}
     if "schema_version" in tables:
-        return con.execute("select max(version) from schema_version").fetchone()[0]
+        # fetchall: a result left open by fetchone breaks the next con.sql on this connection
+        return con.execute("select max(version) from schema_version").fetchall()[0][0]
     return 0 if "traces" in tables else None
 
 
