@@ -4,7 +4,8 @@
 (1 = real time, 10 = ten times faster). An event is processed when the clock reaches its time,
 never before; a late one runs as soon as it can, at its own time. Other threads (the reader of
 a SUT's output, a ROS callback) hand work in with `post`: the callback runs on the kernel's
-thread at the clock's reading, so the event log stays ordered and single-threaded.
+thread, before any due event, at the clock's reading (or the kernel's time if it is late), so
+the event log stays ordered and single-threaded.
 """
 from __future__ import annotations
 
@@ -40,29 +41,33 @@ class RealtimeEnvironment(Environment):
         """Thread-safe: run `callback` on the kernel's thread as soon as it is free."""
         self._posted.put(callback)
 
-    def _run_posted(self, wait_s: float) -> None:
-        """Run one posted callback, waiting at most `wait_s` wall seconds for one. Only called when
-        no event is due, so the clock's reading is later than every processed event: time never
-        goes back."""
+    def _run_posted(self, wait_s: float) -> bool:
+        """Run one posted callback, waiting at most `wait_s` wall seconds for one; False if none.
+        It runs at the clock's reading or, when the kernel is late (an event is already due), at
+        the kernel's own time: a late kernel still takes messages in (a busy machine must not
+        starve a SUT's pings), and time never goes back."""
         try:
             callback = self._posted.get(timeout=wait_s) if wait_s > 0 else self._posted.get_nowait()
         except queue.Empty:
-            return
-        self.now = max(self.now, self.clock())
+            return False
+        self.now = max(self.now, min(self.clock(), self.peek()))
         callback()
+        return True
 
     def run(self, until: float | Event | None = None) -> None:
         """Process events as the clock reaches them, until an event is processed or a time is
         reached (`None`: until nothing is scheduled or posted)."""
         limit = until if isinstance(until, (int, float)) else float("inf")
         while not (isinstance(until, Event) and until.processed):
+            if self._run_posted(0):
+                continue
             clock = self.clock()
             if self.peek() <= min(limit, clock):
                 self.step()
             elif self.peek() > limit and limit <= clock:
                 self.now = max(self.now, limit)
                 return
-            elif until is None and self.peek() == float("inf") and self._posted.empty():
+            elif until is None and self.peek() == float("inf"):
                 return
             else:
                 self._run_posted(min((min(self.peek(), limit) - clock) / self.time_scale, 1.0))
