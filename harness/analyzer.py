@@ -17,7 +17,7 @@ import duckdb
 from harness import SQL_DIR, diff  # diff as a module: it imports this one
 from harness.errors import InputFileError, PropertyError, StoreError
 from harness.interface import Interface, Property, load_interface, load_properties
-from harness.oracles import render_property, render_view
+from harness.oracles import VERDICT_COLUMNS, render_property, render_view
 from harness.provenance import default_properties, last_epsilon, record
 from harness.store import connect, transaction
 from harness.textable import format_table, percent, rate_interval
@@ -25,18 +25,13 @@ from harness.textable import format_table, percent, rate_interval
 # (events source, verdicts table): the observed timeline and the ground truth.
 SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
 # Creation order: each view reads only tables or views created before it.
-VIEWS = ("wilson", "judged_traces", "trace_scope", "requests", "activities", "property_verdicts",
-         "family_verdicts", "trace_robustness", "tp_rates", "fp_rates", "inversions", "interface_latency",
-         "coverage", "bad_behaviours", "table_values",
-         "verdict_transitions", "table_changes", "analysis")
-# Rank queries ordering the views' rows: variants as they were run, properties and families in
-# the order of the properties file (the verdicts table is filled in that order); All comes last.
-RANKS = {"sut": "select sut, min(trace_id) as sut_rank from traces group by sut",
-         "family": "select family, min(rowid) as family_rank from verdicts group by family",
-         "property_id": "select property_id, min(rowid) as property_id_rank from verdicts group by property_id"}
-# Every property, also one without verdicts (coverage), in file order: stores analysed since the
-# properties table exists; older ones, read as they are, rank by their verdicts.
-PROPERTY_RANK = "select property_id, rowid as property_id_rank from properties"
+VIEWS = ("wilson", "property_positions", "family_positions", "judged_traces", "trace_scope", "requests",
+         "activities", "property_verdicts", "family_verdicts", "trace_badness", "trace_robustness",
+         "tp_rates", "fp_rates", "inversions", "interface_latency", "coverage", "bad_behaviours",
+         "table_values", "verdict_transitions", "table_changes", "analysis")
+# What orders the views' rows, by column: variants as the campaign ran them, properties and
+# families in the order of the properties file, All last (the store's positions tables and views).
+POSITIONS = {"sut": "variant_positions", "family": "family_positions", "property_id": "property_positions"}
 _LINE = re.compile(r"LINE (\d+):")
 
 
@@ -54,7 +49,7 @@ class Oracle:
         where = ""
         line = _LINE.search(str(error))
         if line:
-            number = int(line.group(1)) - 1  # the rendered query comes after "insert into ...\n"
+            number = int(line.group(1)) - 1  # the rendered query comes after "insert into ... (columns)\n"
             lines = self.sql.splitlines()
             text = lines[number - 1].strip() if 0 < number <= len(lines) else ""
             # the line comes from the type's template or from a template it imports
@@ -109,7 +104,7 @@ def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsi
                 con.execute(render_view("verdicts", target=target))
             for oracle in rendered:
                 try:
-                    con.execute(f"insert into {oracle.target}\n{oracle.sql}")
+                    con.execute(f"insert into {oracle.target} ({VERDICT_COLUMNS})\n{oracle.sql}")
                 except duckdb.Error as e:
                     raise oracle.failed(e) from None
             for _, target in SOURCES:
@@ -133,23 +128,21 @@ def judges_every_trace(con: duckdb.DuckDBPyConnection) -> bool:
 
 def sut_order(con) -> list[str]:
     """Variants in the order the campaign ran them."""
-    return [r[0] for r in con.execute(f"select sut from ({RANKS['sut']}) order by sut_rank").fetchall()]
+    return [r[0] for r in con.execute("select sut from variant_positions semi join traces using (sut) "
+                                      "order by position").fetchall()]
 
 
 def family_order(con) -> list[str]:
-    """Families in the order the properties file lists them (verdict insertion order), then All."""
-    found = con.execute(f"select family from ({RANKS['family']}) order by family_rank").fetchall()
-    return [r[0] for r in found] + ["All"]
+    """Families in the order the properties file lists them, then All."""
+    return [r[0] for r in con.execute("select family from family_positions order by position").fetchall()]
 
 
 def ordered(con, view: str) -> str:
-    """The query of a whole view (or table), its rows in the order of RANKS, ties by its columns."""
+    """The query of a whole view (or table), its rows in the order of POSITIONS, ties by its columns."""
     columns = [d[0] for d in con.execute(f"select * from {view} limit 0").description]
-    ranks = RANKS
-    if con.execute("select count(*) from information_schema.tables where table_name = 'properties'").fetchall()[0][0]:
-        ranks = {**RANKS, "property_id": PROPERTY_RANK}
-    ranked = [c for c in ranks if c in columns]
-    joins = " ".join(f"left join ({ranks[c]}) using ({c})" for c in ranked)
+    ranked = [c for c in POSITIONS if c in columns]
+    joins = " ".join(f"left join (select {c}, position as {c}_rank from {POSITIONS[c]}) using ({c})"
+                     for c in ranked)
     order = [f"{c}_rank nulls last" for c in ranked] + [str(n) for n in range(1, len(columns) + 1)]
     return f"select v.* from {view} v {joins} order by {', '.join(order)}"
 
@@ -208,8 +201,8 @@ def least_covered(con: duckdb.DuckDBPyConnection, shown: int = 5) -> str:
     """The properties whose condition was false on the fewest requests, on their worst variant."""
     found = con.execute(f"""
         select property_id, min(c_false) as c_false, arg_min(sut, c_false) as sut
-        from coverage left join ({PROPERTY_RANK}) using (property_id) group by property_id
-        order by c_false, min(property_id_rank) limit {int(shown)}""").fetchall()
+        from coverage left join property_positions using (property_id) group by property_id
+        order by c_false, min(position) limit {int(shown)}""").fetchall()
     listed = ", ".join(f"{p} {n} ({sut})" for p, n, sut in found)
     return (f"Least covered (requests with C false, on the variant with fewest; view coverage): {listed}. "
             "More cases: python -m harness campaign --strategy targeted")

@@ -144,6 +144,7 @@ def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[M
         campaign_id = store.next_id(con, "campaigns", "campaign_id")
         store.add_campaign(con, campaign_id, config["mission"], config["seed"], config)
         store.add_reply_codes(con, interface)
+        store.place(con, "variant_positions", "sut", config["sut"])
         rows = [(golden_id, campaign_id, "golden", None, "[]", golden_text, True, None)]
         rows += [(golden_id + n, campaign_id, "mutant", golden_id, json.dumps(m.operations), m.body,
                   m.valid, m.invalid_reason) for n, m in enumerate(mutants, 1)]
@@ -222,7 +223,8 @@ def summary(con, campaign_id: int, session: Session) -> str:
     for sut, runs, completed, hung, crashed, sim in con.execute(
             "select sut, count(*), count(*) filter (where outcome = 'completed'), "
             "count(*) filter (where outcome = 'hung'), count(*) filter (where outcome = 'crashed'), "
-            "sum(sim_s) from traces where campaign_id = ? group by sut order by min(trace_id)",
+            "sum(sim_s) from traces join variant_positions using (sut) where campaign_id = ? "
+            "group by sut order by any_value(position)",
             [campaign_id]).fetchall():
         lines.append(f"{sut:<9} {runs} runs: {completed} completed, {hung} hung, {crashed} crashed; "
                      f"{sim:,.0f} simulated s")

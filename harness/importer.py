@@ -23,7 +23,7 @@ from harness.errors import InputFileError
 from harness.export import with_exported_traces
 from harness.files import read_text
 from harness.interface import Interface, load_interface
-from harness.store import add_campaign, add_reply_codes, connect, next_id, transaction
+from harness.store import add_campaign, add_reply_codes, connect, next_id, place, transaction
 from harness.trace import OUTCOMES
 
 REQUIRED = ("trace_id", "seq", "t", "kind", "rqst_id", "module", "service")
@@ -219,6 +219,8 @@ def load(con, path: Path, interface: Interface) -> tuple[int, int, int]:
                        from staged group by trace_id""", [first, path.stem])
         con.execute("""insert into traces (trace_id, campaign_id, sut, outcome, sim_s, label)
                        select id, ?, sut, outcome, sim_s, label from imported_ids order by id""", [campaign_id])
+        place(con, "variant_positions", "sut",
+              [r[0] for r in con.execute("select sut from imported_ids group by sut order by min(id)").fetchall()])
         con.execute("""insert into events (trace_id, seq, t, kind, rqst_id, module, service, args, reply)
                        select i.id, s.seq::integer, s.t::double, s.kind, s.rqst_id::integer, s.module, s.service,
                               s.args::json, s.reply

@@ -17,6 +17,8 @@ from harness.errors import PropertyError
 from harness.interface import Interface, Property
 
 VERDICTS = ("TN", "TP", "FN", "FP", "op", "na", "omega")
+# The columns of the verdicts table in the order every oracle query returns them (sql/views/verdicts.sql).
+VERDICT_COLUMNS = "trace_id, property_id, family, rqst_id, module, service, c_holds, verdict, margin_s, suspicious"
 PARAMETERS = ("x", "y", "q", "r_p", "z_p")
 _TABLE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _SERVICE = re.compile(r"[^.\s']+\.[^.\s']+")

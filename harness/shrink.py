@@ -243,9 +243,9 @@ def representatives(con, properties: list[Property], out: Path, runner=run_scrip
         "select mutations from scripts where kind = 'shrunk'").fetchall() for r in json.loads(text)}
     todo = [(Behaviour(sut, verdict, property_id), original(con, trace_id))
             for sut, property_id, verdict, trace_id in con.execute(
-                "select sut, property_id, verdict, representative from bad_behaviours b "
-                "join (select sut, min(trace_id) as sut_rank from traces group by sut) using (sut) "
-                "order by sut_rank, verdict = 'hung' desc, verdict, property_id").fetchall()
+                "select sut, property_id, verdict, representative from bad_behaviours "
+                "join variant_positions using (sut) "
+                "order by position, verdict = 'hung' desc, verdict, property_id").fetchall()
             if (sut, verdict, property_id) not in done]
     if not todo:
         return

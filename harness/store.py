@@ -16,13 +16,15 @@ from harness import SQL_DIR
 from harness.errors import StoreError
 from harness.files import make_folder
 from harness.interface import Interface
+from harness.oracles import ENV
 from harness.trace import EVENT_COLUMNS, WORLD_EVENT_COLUMNS, Trace
 
 # DuckDB 2.0 writes its newest storage format unless told otherwise, and no 1.x client reads
 # that; DuckDB 1.0 cannot read the primary keys 2.0 writes. So stores are written for 1.1.
 STORAGE_VERSION = "v1.1.0"
 # The layout of sql/schema.sql; each store lists the versions it went through in schema_version.
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
+POSITIONS_SINCE = 3  # the first schema version with variant_positions and module_positions
 
 EVENT_SCHEMA = pa.schema([("trace_id", pa.int32()), ("seq", pa.int32()), ("t", pa.float64()),
                           ("kind", pa.string()), ("rqst_id", pa.int32()), ("module", pa.string()),
@@ -47,6 +49,8 @@ def connect(path: str | Path = ":memory:", read_only: bool = False,
         raise StoreError(f"the store {str(path)!r} has schema version {found}, written by a newer Untimely "
                          f"than this one (schema version {SCHEMA_VERSION}); update the bench to open it")
     if read_only:
+        if found is not None:
+            _older_positions(con, _missing_positions(con), temp=True)
         return con
     if found == 0:
         con.close()
@@ -61,12 +65,30 @@ def connect(path: str | Path = ":memory:", read_only: bool = False,
 
 
 def _apply_schema(con, found: int | None) -> None:
-    """The schema on the current database, idempotently; the version is recorded when it changes."""
+    """The schema on the current database, idempotently; the version is recorded when it changes,
+    and a store from before positions were kept gets them, derived as its bench ordered its rows."""
+    missing = _missing_positions(con) if found is not None and found < POSITIONS_SINCE else set()
     con.execute((SQL_DIR / "schema.sql").read_text())
     if found != SCHEMA_VERSION:
         note = "created" if found is None else f"migrated from schema version {found}"
         con.execute("insert into schema_version (version, applied_at, note) values (?, ?, ?)",
                     [SCHEMA_VERSION, datetime.now(timezone.utc).replace(tzinfo=None), note])
+    _older_positions(con, missing, temp=False)
+
+
+def _missing_positions(con) -> set[str]:
+    """Which positions relations (and their sources) a store lacks."""
+    have = {r[0] for r in con.execute("select table_name from information_schema.tables "
+                                      "where table_catalog = current_database()").fetchall()}
+    return {"variant_positions", "module_positions", "property_positions", "family_positions",
+            "properties", "verdicts"} - have
+
+
+def _older_positions(con, missing: set[str], temp: bool) -> None:
+    """The positions of variants, modules, properties and families that a store written or analysed
+    by an earlier bench lacks (sql/older_positions.sql): for good, or as temporary views."""
+    if missing - {"properties", "verdicts"}:
+        con.execute(ENV.get_template("older_positions.sql").render(missing=missing, temp=temp))
 
 
 def _open(path: str | Path, read_only: bool) -> duckdb.DuckDBPyConnection:
@@ -180,7 +202,8 @@ def add_campaign(con, campaign_id: int, mission: str, seed: int, config: dict) -
 
 
 def add_reply_codes(con, interface: Interface) -> None:
-    """Record the interface's reply catalogue; a code whose class changed is refused."""
+    """Record the interface's reply catalogue and its modules' order; a code whose class changed
+    is refused."""
     rows = interface.reply_codes()
     codes = pa.table({"position": range(len(rows)), **{  # noqa: F841 (read by DuckDB)
         name: [r[i] for r in rows] for i, name in enumerate(("module", "service", "reply", "class"))}})
@@ -191,10 +214,20 @@ def add_reply_codes(con, interface: Interface) -> None:
         module, service, reply, cls, known = changed
         raise StoreError(f"{interface.path}: reply {reply!r} of {module}.{service} has class {cls!r}, "
                          f"but the store already has class {known!r}; use a fresh --db")
-    # Set-based, in the interface's order (readers rely on insertion order).
     con.execute("""insert into reply_codes (module, service, reply, class)
                    select module, service, reply, class from codes
-                   anti join reply_codes using (module, service, reply) order by position""")
+                   anti join reply_codes using (module, service, reply)""")
+    place(con, "module_positions", "module", [r[0] for r in rows])
+
+
+def place(con, table: str, column: str, names: list[str]) -> None:
+    """Give the names a positions table (variant_positions, module_positions) does not hold yet
+    the next positions, in the order given: the first order a store saw is the one it keeps."""
+    names = list(dict.fromkeys(names))
+    given = pa.table({"name": names, "given": range(len(names))})  # noqa: F841 (read by DuckDB)
+    con.execute(f"""insert into {table} ({column}, position)
+                    select name, (select coalesce(max(position), 0) from {table}) + row_number() over (order by given)
+                    from given where name not in (select {column} from {table})""")
 
 
 TRACE_SCHEMA = pa.schema([("trace_id", pa.int32()), ("campaign_id", pa.int32()), ("script_id", pa.int32()),
@@ -221,6 +254,7 @@ def insert_traces(con, campaign_id: int, runs: list[tuple[int, int | None, Trace
     world events and provenance, one bulk insert per table; the caller owns the transaction."""
     rows = [(trace_id, campaign_id, script_id, t.sut, t.seed, t.outcome, t.sim_s, t.wall_s, t.error, label)
             for trace_id, script_id, t, label in runs]
+    place(con, "variant_positions", "sut", [t.sut for _, _, t, _ in sorted(runs, key=lambda run: run[0])])
     trace_rows = pa.Table.from_arrays([pa.array(c, f.type) for c, f in zip(zip(*rows), TRACE_SCHEMA)],  # noqa: F841
                                       schema=TRACE_SCHEMA)
     con.execute(f"insert into traces ({', '.join(TRACE_SCHEMA.names)}) select * from trace_rows")

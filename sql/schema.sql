@@ -114,3 +114,17 @@ create table if not exists analysis_files (
     path         varchar not null,
     sha256       varchar not null
 );
+
+-- The order of the variants: the order in which a campaign (or run, or import) first stored
+-- them. Tables and the report list variants in it (schema version 3).
+create table if not exists variant_positions (
+    sut       varchar primary key,
+    position  integer not null
+);
+
+-- The order of the modules in the interface description: trace timelines list them in it
+-- (schema version 3).
+create table if not exists module_positions (
+    module    varchar primary key,
+    position  integer not null
+);

@@ -20,6 +20,7 @@ from harness.export import relations
 # Written by main at 58d696f, before schema versions, in DuckDB 2.0's own storage format:
 # campaign --mutants 3 --sut reference,genom --seed 2012 --jobs 1.
 SCHEMA0_STORE = Path(__file__).parent / "stores" / "schema0-main-58d696f.duckdb.gz"
+POSITIONS = ("variant_positions", "module_positions", "property_positions", "family_positions")
 V1_FORMAT = "v1.0.0+"  # storage version 64: DuckDB 1.0 and 1.1 write it, every later version reads it
 DUCKDB_CLI = Path(sys.executable).parent / "duckdb"  # PyPI's duckdb-cli, a dev dependency
 
@@ -91,8 +92,8 @@ def test_a_new_store_records_its_schema_version_once(tmp_path):
     path = tmp_path / "new.duckdb"
     store.connect(path).close()
     con = store.connect(path)
-    assert store.schema_version(con) == store.SCHEMA_VERSION == 2
-    assert con.execute("select version, note from schema_version").fetchall() == [(2, "created")]
+    assert store.schema_version(con) == store.SCHEMA_VERSION == 3
+    assert con.execute("select version, note from schema_version").fetchall() == [(3, "created")]
 
 
 def test_a_store_from_before_schema_versions_is_read_as_is_without_writing_it(schema0_store, tmp_path):
@@ -109,19 +110,35 @@ def test_a_store_from_before_schema_versions_is_read_as_is_without_writing_it(sc
     assert storage_format(schema0_store) == "v2.0.0+", "the fixture is in the format 1.x clients refuse"
 
 
+def read_positions(path: Path) -> dict[str, list[dict]]:
+    """The order of variants, modules, properties and families as the store gives it (temporary
+    views on an old store)."""
+    con = store.connect(path, read_only=True)
+    try:
+        return {name: con.sql(f"select * from {name} order by position").to_arrow_table().to_pylist()
+                for name in POSITIONS}
+    finally:
+        con.close()
+
+
 def test_writing_to_it_migrates_it_for_1x_clients_and_keeps_the_original(schema0_store, capsys):
-    original = contents(schema0_store)
+    original, read_before = contents(schema0_store), read_positions(schema0_store)
     before = digest(schema0_store)
     store.connect(schema0_store).close()
     backup = schema0_store.with_name("old.schema0.duckdb")
     assert capsys.readouterr().err == (
-        f"migrated the store {str(schema0_store)!r} from schema version 0 to 2: rewritten in the storage "
+        f"migrated the store {str(schema0_store)!r} from schema version 0 to 3: rewritten in the storage "
         f"format of DuckDB v1.1.0, which DuckDB clients from v1.1.0 on open; the original is kept as "
         f"{str(backup)!r} (delete it when you no longer need it)\n")
     assert digest(backup) == before
     migrated = contents(schema0_store)
     versions = migrated.pop("schema_version").select(["version", "note"]).to_pylist()
-    assert versions == [{"version": 2, "note": "migrated from schema version 0"}]
+    assert versions == [{"version": 3, "note": "migrated from schema version 0"}]
+    positions = {name: sorted(migrated.pop(name).to_pylist(), key=lambda r: r["position"])
+                 for name in POSITIONS}
+    assert positions == read_before, "the order the original was read in, kept as data"
+    assert [r["sut"] for r in positions["variant_positions"]] == ["reference", "genom"]
+    assert [r["family"] for r in positions["family_positions"]][-1] == "All"
     added = {name: migrated.pop(name) for name in set(migrated) - set(original)}
     fresh = {r[0] for r in store.connect().execute("select table_name from duckdb_tables()").fetchall()}
     assert set(added) <= fresh and all(t.num_rows == 0 for t in added.values()), "new tables of the schema"
@@ -145,11 +162,11 @@ def test_migration_never_overwrites_a_kept_original(schema0_store):
 def test_a_store_from_a_newer_bench_is_refused_not_misread(tmp_path):
     path = tmp_path / "future.duckdb"
     con = store.connect(path)
-    con.execute("insert into schema_version values (3, now()::timestamp, 'a later layout')")
+    con.execute("insert into schema_version values (4, now()::timestamp, 'a later layout')")
     con.close()
     for read_only in (True, False):
-        with pytest.raises(StoreError, match=r"the store '.*future.duckdb' has schema version 3, written by a "
-                                             r"newer Untimely than this one \(schema version 2\); update the bench"):
+        with pytest.raises(StoreError, match=r"the store '.*future.duckdb' has schema version 4, written by a "
+                                             r"newer Untimely than this one \(schema version 3\); update the bench"):
             store.connect(path, read_only=read_only)
 
 
@@ -162,6 +179,6 @@ def test_a_schema_1_store_gains_the_analyses_tables_when_written(tmp_path):
     con.close()
     con = store.connect(path)
     assert con.execute("select version, note from schema_version order by version").fetchall() == [
-        (1, "created"), (2, "migrated from schema version 1")]
+        (1, "created"), (3, "migrated from schema version 1")]
     assert con.execute("select count(*) from analyses").fetchone()[0] == 0
     assert con.execute("select count(*) from analysis_files").fetchone()[0] == 0

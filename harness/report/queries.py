@@ -6,9 +6,11 @@ import json
 from bisect import bisect_left, bisect_right
 from collections import defaultdict
 from collections.abc import Iterator
+from functools import cache
 
 from harness.analyzer import ordered
 from harness.errors import StoreError
+from harness.oracles import ENV, render_view
 from harness.provenance import stale_files
 from harness.report.tables import Table, query_table
 from harness.report.timeline import Request
@@ -24,6 +26,13 @@ CHANGES = ("verdict_transitions", "table_changes")
 COVERAGE_RATES = frozenset(f"{rate}{end}" for rate in ("tp_rate", "fp_rate") for end in ("", "_low", "_high"))
 
 
+@cache
+def report_sql(name: str) -> str:
+    """The report's query sql/report/<name>.sql (a rule about stored data shared with other
+    readers is a view of sql/views/ instead)."""
+    return ENV.get_template(f"report/{name}.sql").render()
+
+
 def rows(con, sql: str, params=()) -> list[dict]:
     cursor = con.execute(sql, list(params))
     names = [d[0] for d in cursor.description]
@@ -32,7 +41,8 @@ def rows(con, sql: str, params=()) -> list[dict]:
 
 def check_analysed(con, db: str) -> None:
     """Refuse a store whose verdicts were never materialised: the report would be empty. A store
-    analysed before view trace_scope existed gets it as a temporary view counting every trace."""
+    analysed before view trace_scope existed gets it as a temporary view counting every trace,
+    and one analysed before view trace_badness gets that view as a temporary one."""
     have = _names(con)
     missing = [name for name in ("traces", *ANALYSED) if name not in have]
     if "traces" in missing:
@@ -44,6 +54,8 @@ def check_analysed(con, db: str) -> None:
     if "trace_scope" not in have:  # analysed by an earlier bench, whose views count every trace
         con.execute("create temp view trace_scope as select trace_id, sut, campaign_id, true as counted, "
                     "null::varchar as left_out from traces")
+    if "trace_badness" not in have:  # the rule, as a temporary view, for a store analysed before it
+        con.execute(render_view("trace_badness").replace("create or replace view", "create temp view", 1))
 
 
 def per_property(con) -> Table:
@@ -54,42 +66,23 @@ def per_property(con) -> Table:
 
 
 def module_order(con) -> list[str]:
-    """Modules in the order the interface description declares them (reply_codes insertion order)."""
-    return [r[0] for r in con.execute("select module from reply_codes group by module "
-                                      "order by min(rowid)").fetchall()]
+    """Modules in the order the interface description declares them."""
+    return [r[0] for r in con.execute(report_sql("module_order")).fetchall()]
 
 
 def campaigns(con) -> list[dict]:
-    found = rows(con, """
-        select c.campaign_id, c.created_at, c.mission, c.seed, c.config,
-               count(*) filter (where s.kind = 'golden') as golden,
-               count(*) filter (where s.kind = 'mutant') as mutants,
-               count(*) filter (where s.kind = 'mutant' and not s.valid) as invalid
-        from campaigns c left join scripts s using (campaign_id)
-        where c.config->>'kind' is distinct from 'shrink'  -- listed with the shrunk reproducers
-        group by all order by c.campaign_id""")
+    found = rows(con, report_sql("campaigns"))
     for c in found:
         c["config"] = json.loads(c["config"]) if c["config"] else {}
     return found
 
 
 def trace_counts(con) -> Table:
-    """Traces per campaign, variant and outcome, and which of them Tables II-IV leave out, and why."""
-    return query_table(con, "trace_outcomes", """
-        select t.campaign_id, t.sut, count(*) as traces,
-               count(*) filter (where outcome = 'completed') as completed,
-               count(*) filter (where outcome = 'hung') as hung,
-               count(*) filter (where outcome = 'crashed') as crashed,
-               count(*) filter (where not s.counted) as not_counted,
-               string_agg(distinct s.left_out, '; ') as left_out_because
-        from traces t join trace_scope s using (trace_id)
-        group by t.campaign_id, t.sut order by t.campaign_id, min(t.trace_id)""")
+    return query_table(con, "trace_outcomes", report_sql("trace_outcomes"))
 
 
 def invalid_mutants(con) -> Table:
-    return query_table(con, "invalid_mutants", """
-        select script_id, campaign_id, mutations, invalid_reason
-        from scripts where not valid order by script_id""")
+    return query_table(con, "invalid_mutants", report_sql("invalid_mutants"))
 
 
 def view(con, name: str, **options) -> Table:
@@ -99,7 +92,7 @@ def view(con, name: str, **options) -> Table:
 
 def verdict_mix(con) -> dict[tuple[str, str], int]:
     """(variant, verdict) -> how many verdicts, over all families."""
-    found = rows(con, "select * from family_verdicts where family = 'All'")
+    found = rows(con, report_sql("verdict_mix"))
     return {(r["sut"], v): r[v.lower()] for r in found for v in VERDICTS}
 
 
@@ -132,73 +125,23 @@ def changes(con) -> tuple[Table, ...]:
 
 
 def suspicious(con) -> Table:
-    """Suspicious verdicts, the FN and FP (which make a trace bad) first."""
-    return query_table(con, "suspicious", """
-        select v.trace_id, t.sut, v.property_id, v.rqst_id, v.module, v.service, v.c_holds,
-               v.verdict, v.margin_s
-        from verdicts v join traces t using (trace_id)
-        where v.suspicious
-        order by case v.verdict when 'FN' then 0 when 'FP' then 1 else 2 end, v.trace_id, v.rqst_id,
-                 v.property_id""")
-
-
-# What lies behind a trace's row in a list: its FN/FP verdicts' properties (else its TPs'), and
-# the mutation that made its script (reads verdicts v and scripts s).
-_BEHIND = """coalesce(string_agg(distinct v.property_id, ' ' order by v.property_id) filter (where v.verdict in ('FN', 'FP')),
-                      string_agg(distinct v.property_id, ' ' order by v.property_id) filter (where v.verdict = 'TP')) as properties,
-             s.mutations"""
+    return query_table(con, "suspicious", report_sql("suspicious"))
 
 
 def bad_traces(con) -> Table:
-    """Table II's bad traces (hung, with FN, with FP) and crashed runs, with their world events."""
-    return query_table(con, "bad_traces", f"""
-        with judged as (
-            select t.trace_id, t.sut, t.outcome, t.script_id,
-                   count(v.verdict) filter (where v.verdict = 'FN') as fn,
-                   count(v.verdict) filter (where v.verdict = 'FP') as fp,
-                   count(v.verdict) filter (where v.verdict = 'TP') as tp,
-                   count(v.verdict) filter (where v.suspicious and v.verdict in ('FN', 'FP')) as suspicious,
-                   {_BEHIND}
-            from traces t semi join (select trace_id from trace_scope where counted) using (trace_id)
-            left join verdicts v using (trace_id) left join scripts s using (script_id)
-            group by t.trace_id, t.sut, t.outcome, t.script_id, s.mutations)
-        select j.*, (select count(*) from world_events w where w.trace_id = j.trace_id) as world_events
-        from judged j where outcome <> 'completed' or fn > 0 or fp > 0 order by trace_id""")
+    return query_table(con, "bad_traces", report_sql("bad_traces"))
 
 
 def bad_verdicts(con) -> Table:
-    return query_table(con, "bad_trace_verdicts", """
-        select v.trace_id, t.sut, t.outcome, v.property_id, v.family, v.rqst_id, v.module, v.service,
-               v.c_holds, v.verdict, v.margin_s, v.suspicious
-        from verdicts v join traces t using (trace_id)
-        where v.verdict in ('FN', 'FP') order by v.trace_id, v.rqst_id, v.property_id""")
+    return query_table(con, "bad_trace_verdicts", report_sql("bad_trace_verdicts"))
 
 
 def family_traces(con) -> Table:
-    """Per (variant, family or All): the counted traces with a TP, FN or FP in that family, worst first."""
-    return query_table(con, "family_traces", f"""
-        select t.sut, coalesce(v.family, 'All') as family, v.trace_id, any_value(t.outcome) as outcome,
-               count(*) filter (where v.verdict = 'FN') as fn, count(*) filter (where v.verdict = 'TP') as tp,
-               count(*) filter (where v.verdict = 'FP') as fp, count(*) filter (where v.verdict = 'TN') as tn,
-               {_BEHIND}
-        from verdicts v join trace_scope c using (trace_id) join traces t using (trace_id)
-        left join scripts s using (script_id)
-        where c.counted
-        group by grouping sets ((t.sut, v.family, v.trace_id, s.mutations), (t.sut, v.trace_id, s.mutations))
-        having fn + tp + fp > 0
-        order by fn desc, fp desc, tp desc, v.trace_id, t.sut, family""")
+    return query_table(con, "family_traces", report_sql("family_traces"))
 
 
 def paged_traces(con) -> list[int]:
-    """The traces that get a page: the bad ones (hung, crashed, with an FN or FP, suspicious or not),
-    those whose verdicts the observation delay inverted, and the runs of golden and shrunk scripts.
-    The others get one on demand (report --trace ID)."""
-    return [r[0] for r in con.execute("""
-        select trace_id from traces where outcome <> 'completed'
-        union select trace_id from verdicts where verdict in ('FN', 'FP')
-        union select trace_id from inversions
-        union select t.trace_id from traces t join scripts s using (script_id) where s.kind in ('golden', 'shrunk')
-        order by trace_id""").fetchall()]
+    return [r[0] for r in con.execute(report_sql("paged_traces")).fetchall()]
 
 
 # What a trace page shows, one query per kind of data for all the pages (ordered by trace id).
@@ -285,18 +228,8 @@ def trace_ids(con, ids: list[int]) -> list[int]:
 
 
 def inversions(con) -> Table:
-    return query_table(con, "inversions", """
-        select t.sut, i.* from inversions i join traces t using (trace_id)
-        order by i.trace_id, i.rqst_id, i.property_id""")
+    return query_table(con, "inversions", report_sql("inversions"))
 
 
 def shrunk(con) -> Table:
-    """Every shrunk reproducer: the behaviour, the trace it was shrunk from, steps before and after."""
-    return query_table(con, "shrunk_reproducers", """
-        with records as (
-            select script_id, body, unnest(from_json(mutations, '["json"]')) as r from scripts where kind = 'shrunk'
-        )
-        select script_id, r->>'sut' as sut, r->>'verdict' as verdict, r->>'property' as property_id,
-               (r->>'trace')::integer as trace_id, (r->>'steps_before')::integer as steps_before,
-               (r->>'steps_after')::integer as steps_after, (r->>'runs')::integer as runs, body
-        from records order by script_id""")
+    return query_table(con, "shrunk_reproducers", report_sql("shrunk_reproducers"))

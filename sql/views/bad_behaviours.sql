@@ -1,6 +1,8 @@
 -- Distinct bad behaviours (issue 10): a variant hung, or gave an FN or an FP on a property. One
 -- row per behaviour with how many traces show it and a representative to shrink: the trace of
--- the shortest script (fewest characters), then the smallest trace id.
+-- the shortest script (fewest characters), then the smallest trace id. Not the rule of a bad
+-- trace (view trace_badness): a behaviour is per property, a crash is no behaviour to shrink, and
+-- every stored trace may show one, counted in Tables II-IV or not.
 create or replace view bad_behaviours as
 with shown as (
     select distinct v.trace_id, t.sut, v.property_id, v.verdict

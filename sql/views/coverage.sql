@@ -3,7 +3,7 @@
     verdict cell, and the TP and FP rates with n and their 95% Wilson intervals. -#}
 create or replace view coverage as
 with variants as (
-    select distinct sut from traces
+    select sut, position as variant_rank from variant_positions semi join traces using (sut)
 ),
 conditions as (
     select t.sut, v.property_id,
@@ -13,7 +13,7 @@ conditions as (
     group by all
 ),
 cells as (
-    select s.sut, p.family, p.property_id, p.rowid as property_rank,
+    select s.sut, s.variant_rank, p.family, p.property_id, p.position as property_rank,
            coalesce(c.c_false, 0) as c_false, coalesce(c.c_true, 0) as c_true,
 {% for verdict in verdict_names %}
            coalesce(pv.{{ verdict | lower }}, 0) as {{ verdict | lower }},
@@ -23,10 +23,10 @@ cells as (
     left join conditions c using (sut, property_id)
     left join property_verdicts pv using (sut, property_id)
 )
-select * exclude (property_rank),
+select * exclude (variant_rank, property_rank),
        tp / nullif(tp + fn, 0) as tp_rate, tp + fn as tp_n,
        wilson_low(tp, tp + fn) as tp_rate_low, wilson_high(tp, tp + fn) as tp_rate_high,
        fp / nullif(fp + tn, 0) as fp_rate, fp + tn as fp_n,
        wilson_low(fp, fp + tn) as fp_rate_low, wilson_high(fp, fp + tn) as fp_rate_high
 from cells
-order by sut, property_rank  -- the properties file's order, whatever the plan
+order by variant_rank, property_rank  -- the campaign's and the properties file's order, whatever the plan
