@@ -59,7 +59,7 @@ def campaign(db: Path, strategy: str) -> float:
 def compare(dbs: dict[str, Path]) -> bool:
     cons = {s: store.connect(db, read_only=True) for s, db in dbs.items()}
     covered = {s: con.execute("select property_id, c_false from coverage join properties using (property_id) "
-                              "where sut = 'reference' order by properties.rowid").fetchall()
+                              "where sut = 'reference' order by properties.position").fetchall()
                for s, con in cons.items()}
     print(f"\n{'requests with C false on reference':<46}" + "".join(f"{s:>10}" for s in STRATEGIES))
     for (prop, a), (_, b) in zip(*covered.values()):

@@ -30,6 +30,7 @@ from harness.interface import Interface
 from harness.mission import load_mission
 from harness.mutator import strategies
 from harness.mutator.operators import Mutant
+from harness.oracles import render_query
 from harness.progress import Progress
 from harness.provenance import last_epsilon
 from harness.suts import ExternalSut, resolve
@@ -221,11 +222,7 @@ def summary(con, campaign_id: int, session: Session) -> str:
     lines = [f"scripts   {scripts}: golden + {scripts - 1} mutants, {valid - 1} valid, "
              f"{scripts - valid} invalid (stored, not run), {distinct} distinct bodies"]
     for sut, runs, completed, hung, crashed, sim in con.execute(
-            "select sut, count(*), count(*) filter (where outcome = 'completed'), "
-            "count(*) filter (where outcome = 'hung'), count(*) filter (where outcome = 'crashed'), "
-            "sum(sim_s) from traces join variant_positions using (sut) where campaign_id = ? "
-            "group by sut order by any_value(position)",
-            [campaign_id]).fetchall():
+            render_query("campaign_runs"), {"campaign": campaign_id}).fetchall():
         lines.append(f"{sut:<9} {runs} runs: {completed} completed, {hung} hung, {crashed} crashed; "
                      f"{sim:,.0f} simulated s")
     wall = time.monotonic() - session.start

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import re
+from functools import cache
 
 import jinja2
 
@@ -86,3 +87,10 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
 def render_view(name: str, **parameters) -> str:
     """The statement creating sql/views/<name>.sql (a view, or the verdicts table)."""
     return ENV.get_template(f"views/{name}.sql").render(verdict_names=list(VERDICTS), **parameters)
+
+
+@cache
+def render_query(name: str) -> str:
+    """The read-only query sql/report/<name>.sql, of the report or of a command's summary (a rule
+    about stored data that other readers want is a view of sql/views/ instead)."""
+    return ENV.get_template(f"report/{name}.sql").render()

@@ -19,6 +19,20 @@ def test_trace_robustness_is_table_ii(con):
     assert rows == [("A", 4, 1, 0, 1, 1, 3, 0.25), ("B", 2, 0, 1, 0, 0, 1, 0.5)]
 
 
+def test_trace_badness_is_the_one_rule_of_a_bad_trace(con):
+    rows = con.execute("""select label, hung, crashed, with_fn, with_fp, bad, fn, fp, tp
+                          from trace_badness join traces using (trace_id) order by trace_id""").fetchall()
+    assert rows == [("a_good", False, False, False, False, False, 0, 0, 0),
+                    ("a_fn", False, False, True, False, True, 1, 0, 0),
+                    ("a_fp", False, False, False, True, True, 0, 1, 1),
+                    ("a_hung", True, False, False, False, True, 0, 0, 1),
+                    ("b_good", False, False, False, False, False, 0, 0, 1),
+                    ("b_crashed", False, True, False, False, True, 0, 0, 0)]
+    per_variant = con.execute("select sut, count(*) filter (where bad) from trace_badness group by sut "
+                              "order by sut").fetchall()
+    assert per_variant == con.execute("select sut, bad from trace_robustness order by sut").fetchall()
+
+
 def test_tp_rates_are_table_iii(con):
     rows = con.execute("select sut, family, tp, fn, tp_rate from tp_rates order by sut, family").fetchall()
     assert rows == [("A", "AIB", 1, 0, 1.0), ("A", "All", 2, 1, pytest.approx(2 / 3)), ("A", "PEX", 1, 1, 0.5),
@@ -59,9 +73,11 @@ def test_a_rejected_request_is_no_activity_and_an_unanswered_one_has_no_end():
     assert ran == {"pc_true_none": None, "pc_true_accepted": 2.0}
 
 
-def test_verdicts_follow_the_properties_file_order(con):
-    firsts = con.execute("select property_id from verdicts group by property_id order by min(rowid)").fetchall()
-    assert firsts == [("PEX(rflex)",), ("AIB(ndd.GotoPosition)",)]
+def test_properties_and_families_keep_the_properties_file_order_as_data(con):
+    assert con.execute("select property_id, family, position from property_positions order by position").fetchall() \
+        == [("PEX(rflex)", "PEX", 1), ("AIB(ndd.GotoPosition)", "AIB", 2)]
+    assert con.execute("select family, position from family_positions order by position").fetchall() == [
+        ("PEX", 1), ("AIB", 2), ("All", 3)]
 
 
 def test_rates_carry_n_and_the_wilson_interval(con):

@@ -62,6 +62,19 @@ def test_reply_codes_come_from_the_interface_and_a_changed_class_is_refused(inte
         store.add_reply_codes(con, load_interface(changed))
 
 
+def test_variants_and_modules_keep_the_order_a_store_first_saw(interface):
+    con = store.connect()
+    store.add_reply_codes(con, interface)
+    modules = [r[0] for r in con.execute("select module from module_positions order by position").fetchall()]
+    assert modules == list(dict.fromkeys(m for m, *_ in interface.reply_codes()))
+    store.place(con, "variant_positions", "sut", ["genom", "reference"])
+    store.insert_traces(con, 1, [(n, None, Trace(sut, 0), None)
+                                 for n, sut in enumerate(["bip-b", "reference", "bip-a", "bip-b"], 1)])
+    store.place(con, "variant_positions", "sut", ["bip-a", "genom"])
+    assert con.execute("select sut, position from variant_positions order by position").fetchall() == [
+        ("genom", 1), ("reference", 2), ("bip-b", 3), ("bip-a", 4)]
+
+
 def test_read_only_open_of_a_missing_store_says_what_to_do(tmp_path):
     with pytest.raises(StoreError, match="no store at .*run a campaign or import traces first, or pass --db"):
         store.connect(tmp_path / "folder" / "missing.duckdb", read_only=True)

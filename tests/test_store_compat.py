@@ -182,3 +182,33 @@ def test_a_schema_1_store_gains_the_analyses_tables_when_written(tmp_path):
         (1, "created"), (3, "migrated from schema version 1")]
     assert con.execute("select count(*) from analyses").fetchone()[0] == 0
     assert con.execute("select count(*) from analysis_files").fetchone()[0] == 0
+
+
+def test_a_schema_2_store_is_read_in_its_order_and_keeps_it_when_migrated(campaign_store, tmp_path):
+    path = tmp_path / "v2.duckdb"
+    shutil.copy(campaign_store, path)
+    con = store.connect(path, read_only=True)
+    expected = {view: con.execute(ordered(con, view)).fetchall() for view in ("trace_robustness", "tp_rates")}
+    expected_order = read_positions(path)
+    con.close()
+    con = store.connect(path)  # as the bench of schema version 2 left it: no positions
+    con.execute("drop table variant_positions; drop table module_positions; drop view family_positions; "
+                "drop view property_positions; alter table properties drop column position; "
+                "delete from schema_version; insert into schema_version values (2, now()::timestamp, 'created')")
+    con.close()
+    con = store.connect(path, read_only=True)
+    assert {view: con.execute(ordered(con, view)).fetchall() for view in expected} == expected
+    assert [r[0] for r in con.execute("select sut from variant_positions order by position").fetchall()] == [
+        "genom", "bip-a"]
+    assert {r[0] for r in con.execute("select view_name from duckdb_views() where temporary and not internal")
+            .fetchall()} == set(POSITIONS), "derived for reading, the file untouched"
+    con.close()
+    assert read_positions(path) == expected_order
+    store.connect(path).close()
+    con = store.connect(path, read_only=True)
+    assert con.execute("select version, note from schema_version order by version").fetchall() == [
+        (2, "created"), (3, "migrated from schema version 2")]
+    assert con.execute("select count(*) from duckdb_views() where temporary and not internal").fetchone()[0] == 0, \
+        "the migrated store holds its positions itself"
+    con.close()
+    assert read_positions(path) == expected_order

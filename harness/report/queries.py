@@ -6,11 +6,10 @@ import json
 from bisect import bisect_left, bisect_right
 from collections import defaultdict
 from collections.abc import Iterator
-from functools import cache
 
 from harness.analyzer import ordered
 from harness.errors import StoreError
-from harness.oracles import ENV, render_view
+from harness.oracles import render_query, render_view
 from harness.provenance import stale_files
 from harness.report.tables import Table, query_table
 from harness.report.timeline import Request
@@ -24,13 +23,6 @@ ANALYSED = ("verdicts", "requests", "property_verdicts", "family_verdicts", "tra
 CHANGES = ("verdict_transitions", "table_changes")
 # The rate columns of the coverage view, shown as percentages.
 COVERAGE_RATES = frozenset(f"{rate}{end}" for rate in ("tp_rate", "fp_rate") for end in ("", "_low", "_high"))
-
-
-@cache
-def report_sql(name: str) -> str:
-    """The report's query sql/report/<name>.sql (a rule about stored data shared with other
-    readers is a view of sql/views/ instead)."""
-    return ENV.get_template(f"report/{name}.sql").render()
 
 
 def rows(con, sql: str, params=()) -> list[dict]:
@@ -67,22 +59,22 @@ def per_property(con) -> Table:
 
 def module_order(con) -> list[str]:
     """Modules in the order the interface description declares them."""
-    return [r[0] for r in con.execute(report_sql("module_order")).fetchall()]
+    return [r[0] for r in con.execute(render_query("module_order")).fetchall()]
 
 
 def campaigns(con) -> list[dict]:
-    found = rows(con, report_sql("campaigns"))
+    found = rows(con, render_query("campaigns"))
     for c in found:
         c["config"] = json.loads(c["config"]) if c["config"] else {}
     return found
 
 
 def trace_counts(con) -> Table:
-    return query_table(con, "trace_outcomes", report_sql("trace_outcomes"))
+    return query_table(con, "trace_outcomes", render_query("trace_outcomes"))
 
 
 def invalid_mutants(con) -> Table:
-    return query_table(con, "invalid_mutants", report_sql("invalid_mutants"))
+    return query_table(con, "invalid_mutants", render_query("invalid_mutants"))
 
 
 def view(con, name: str, **options) -> Table:
@@ -92,7 +84,7 @@ def view(con, name: str, **options) -> Table:
 
 def verdict_mix(con) -> dict[tuple[str, str], int]:
     """(variant, verdict) -> how many verdicts, over all families."""
-    found = rows(con, report_sql("verdict_mix"))
+    found = rows(con, render_query("verdict_mix"))
     return {(r["sut"], v): r[v.lower()] for r in found for v in VERDICTS}
 
 
@@ -125,23 +117,23 @@ def changes(con) -> tuple[Table, ...]:
 
 
 def suspicious(con) -> Table:
-    return query_table(con, "suspicious", report_sql("suspicious"))
+    return query_table(con, "suspicious", render_query("suspicious"))
 
 
 def bad_traces(con) -> Table:
-    return query_table(con, "bad_traces", report_sql("bad_traces"))
+    return query_table(con, "bad_traces", render_query("bad_traces"))
 
 
 def bad_verdicts(con) -> Table:
-    return query_table(con, "bad_trace_verdicts", report_sql("bad_trace_verdicts"))
+    return query_table(con, "bad_trace_verdicts", render_query("bad_trace_verdicts"))
 
 
 def family_traces(con) -> Table:
-    return query_table(con, "family_traces", report_sql("family_traces"))
+    return query_table(con, "family_traces", render_query("family_traces"))
 
 
 def paged_traces(con) -> list[int]:
-    return [r[0] for r in con.execute(report_sql("paged_traces")).fetchall()]
+    return [r[0] for r in con.execute(render_query("paged_traces")).fetchall()]
 
 
 # What a trace page shows, one query per kind of data for all the pages (ordered by trace id).
@@ -228,8 +220,8 @@ def trace_ids(con, ids: list[int]) -> list[int]:
 
 
 def inversions(con) -> Table:
-    return query_table(con, "inversions", report_sql("inversions"))
+    return query_table(con, "inversions", render_query("inversions"))
 
 
 def shrunk(con) -> Table:
-    return query_table(con, "shrunk_reproducers", report_sql("shrunk_reproducers"))
+    return query_table(con, "shrunk_reproducers", render_query("shrunk_reproducers"))

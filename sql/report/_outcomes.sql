@@ -1,0 +1,6 @@
+{#- How many traces ended each way (DESIGN §5 traces.outcome), over the rows of `outcome`. -#}
+{% macro counts(outcome='outcome') -%}
+count(*) filter (where {{ outcome }} = 'completed') as completed,
+       count(*) filter (where {{ outcome }} = 'hung') as hung,
+       count(*) filter (where {{ outcome }} = 'crashed') as crashed
+{%- endmacro %}
