@@ -21,7 +21,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from harness import DEFAULT_MISSION_DIR  # noqa: E402
 from harness.analyzer import materialise  # noqa: E402
 from harness.interface import load_interface, load_properties  # noqa: E402
-from harness.store import add_campaign, add_reply_codes, connect  # noqa: E402
+from harness.store import add_campaign, add_reply_codes, connect, place  # noqa: E402
 
 # Reply shares (percent, cumulative): mostly ok, some interruptions and rejections, some unanswered.
 REPLIES = [(70, "ok"), (78, "interrupted"), (82, "interrupted_excl"), (87, "wait_init"),
@@ -37,6 +37,7 @@ def synthesise(con, interface, traces: int, requests: int, seed: int) -> int:
     con.execute(f"""
         insert into traces (trace_id, campaign_id, sut, seed, outcome)
         select trace_id, 1, 'variant-' || (trace_id % 3), {seed}, 'completed' from range(1, {traces} + 1) r(trace_id)""")
+    place(con, "variant_positions", "sut", [f"variant-{n % 3}" for n in range(1, 4)])  # as their first traces
     con.execute(f"""
         create temporary table synthetic_requests as
         with drawn as (
@@ -53,7 +54,7 @@ def synthesise(con, interface, traces: int, requests: int, seed: int) -> int:
                case {replies.replace('u_reply', '(d.h >> 32) % 100')} end as reply
         from drawn d join services s on s.position = d.h % (select count(*) from services)""")
     con.execute("""
-        insert into events
+        insert into events (trace_id, seq, t, kind, rqst_id, module, service, args, reply)
         with logged as (
             select trace_id, t, 'request' as kind, rqst_id, module, service, null as reply from synthetic_requests
             union all

@@ -40,9 +40,10 @@ def build(db: Path, traces: int, mutants: int) -> tuple[int, int]:
     copies = -(-traces // original) - 1
     con.execute("create temporary table copies as select range as k from range(1, ?)", [copies + 1])
     offset = f"t.trace_id + k * {top}"
-    con.execute(f"insert into traces select {offset}, t.* exclude (trace_id) from traces t, copies")
+    con.execute(f"insert into traces by name select {offset} as trace_id, t.* exclude (trace_id) from traces t, copies")
     for table in ("events", "internal_events", "world_events"):
-        con.execute(f"insert into {table} select {offset}, t.* exclude (trace_id) from {table} t, copies")
+        con.execute(f"insert into {table} by name select {offset} as trace_id, t.* exclude (trace_id) "
+                    f"from {table} t, copies")
     interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
     materialise(con, load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface), 0.01)
     found = con.execute("select (select count(*) from traces), (select count(*) from events)").fetchone()

@@ -325,8 +325,8 @@ def test_a_finished_campaign_judges_traces_added_after_its_verdicts(mission, tmp
     campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)
     con = store.connect(db)
     extra = con.execute("select max(trace_id) + 100 from traces").fetchone()[0]
-    con.execute("insert into traces select * replace (? as trace_id) from traces where trace_id = 1", [extra])
-    con.execute("insert into events select * replace (? as trace_id) from events where trace_id = 1", [extra])
+    con.execute("insert into traces by name select * replace (? as trace_id) from traces where trace_id = 1", [extra])
+    con.execute("insert into events by name select * replace (? as trace_id) from events where trace_id = 1", [extra])
     con.close()
     capsys.readouterr()
     campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)

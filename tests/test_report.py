@@ -88,7 +88,8 @@ def make_store(path) -> None:
                (4, "mutant", 1, [{"op": "delete", "line": 1}], GOLDEN[22:], False,
                 "line 2: unknown handle 'ri'; send it before waiting on it")]
     for sid, kind, parent, ops, body, valid, reason in scripts:
-        con.execute("insert into scripts values (?, 1, ?, ?, ?, ?, ?, ?)",
+        con.execute("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
+                    "invalid_reason) values (?, 1, ?, ?, ?, ?, ?, ?)",
                     [sid, kind, parent, json.dumps(ops), body, valid, reason])
     for trace_id, (sut, outcome, script_id, requests, world) in TRACES.items():
         trace = Trace(sut, seed=trace_id if script_id else None, outcome=outcome,

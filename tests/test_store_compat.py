@@ -162,7 +162,7 @@ def test_migration_never_overwrites_a_kept_original(schema0_store):
 def test_a_store_from_a_newer_bench_is_refused_not_misread(tmp_path):
     path = tmp_path / "future.duckdb"
     con = store.connect(path)
-    con.execute("insert into schema_version values (4, now()::timestamp, 'a later layout')")
+    con.execute("insert into schema_version (version, applied_at, note) values (4, now()::timestamp, 'a later layout')")
     con.close()
     for read_only in (True, False):
         with pytest.raises(StoreError, match=r"the store '.*future.duckdb' has schema version 4, written by a "
@@ -175,7 +175,7 @@ def test_a_schema_1_store_gains_the_analyses_tables_when_written(tmp_path):
     path = tmp_path / "v1.duckdb"
     con = store.connect(path)
     con.execute("drop table analyses; drop table analysis_files; delete from schema_version")
-    con.execute("insert into schema_version values (1, now()::timestamp, 'created')")
+    con.execute("insert into schema_version (version, applied_at, note) values (1, now()::timestamp, 'created')")
     con.close()
     con = store.connect(path)
     assert con.execute("select version, note from schema_version order by version").fetchall() == [
@@ -194,7 +194,8 @@ def test_a_schema_2_store_is_read_in_its_order_and_keeps_it_when_migrated(campai
     con = store.connect(path)  # as the bench of schema version 2 left it: no positions
     con.execute("drop table variant_positions; drop table module_positions; drop view family_positions; "
                 "drop view property_positions; alter table properties drop column position; "
-                "delete from schema_version; insert into schema_version values (2, now()::timestamp, 'created')")
+                "delete from schema_version; insert into schema_version (version, applied_at, note) "
+                "values (2, now()::timestamp, 'created')")
     con.close()
     con = store.connect(path, read_only=True)
     assert {view: con.execute(ordered(con, view)).fetchall() for view in expected} == expected

@@ -54,11 +54,11 @@ class Event:
 class Timeout(Event):
     __slots__ = ("delay",)
 
-    def __init__(self, env: "Environment", delay: float, value: Any = None):
+    def __init__(self, env: "Environment", delay: float):
         if delay < 0:
             raise ValueError(f"negative timeout delay {delay!r}")
         # Event.__init__ and Environment._schedule inlined: the kernel's most frequent path.
-        self.env, self.callbacks, self.triggered, self.ok, self.value, self.delay = env, [], True, True, value, delay
+        self.env, self.callbacks, self.triggered, self.ok, self.value, self.delay = env, [], True, True, None, delay
         heappush(env._heap, (env.now + delay, NORMAL, next(env._seq), self))
 
     def __repr__(self) -> str:
@@ -140,8 +140,8 @@ class Environment:
     def event(self) -> Event:
         return Event(self)
 
-    def timeout(self, delay: float, value: Any = None) -> Timeout:
-        return Timeout(self, delay, value)
+    def timeout(self, delay: float) -> Timeout:
+        return Timeout(self, delay)
 
     def process(self, generator: Generator, name: str = "") -> Process:
         return Process(self, generator, name)
