@@ -5,13 +5,14 @@
     a store opened read-only; otherwise the migration to version 3 keeps them for good (the next
     analysis replaces the properties' and families' views by its own). -#}
 {% set view = 'create temp view' if temp else 'create or replace view' %}
+{% macro kept(table, columns) %}{{ view ~ ' ' ~ table ~ ' as' if temp else 'insert into ' ~ table ~ ' (' ~ columns ~ ')' }}{% endmacro %}
 {% if 'variant_positions' in missing %}
-{{ view if temp else 'insert into variant_positions (sut, position)' }}{{ ' variant_positions as' if temp }}
+{{ kept('variant_positions', 'sut, position') }}
 select sut, row_number() over (order by min(trace_id))::integer as position
 from traces group by sut;
 {% endif %}
 {% if 'module_positions' in missing %}
-{{ view if temp else 'insert into module_positions (module, position)' }}{{ ' module_positions as' if temp }}
+{{ kept('module_positions', 'module, position') }}
 select module, row_number() over (order by min(rowid))::integer as position
 from reply_codes group by module;
 {% endif %}

@@ -47,7 +47,7 @@ def check_analysed(con, db: str) -> None:
         con.execute("create temp view trace_scope as select trace_id, sut, campaign_id, true as counted, "
                     "null::varchar as left_out from traces")
     if "trace_badness" not in have:  # the rule, as a temporary view, for a store analysed before it
-        con.execute(render_view("trace_badness").replace("create or replace view", "create temp view", 1))
+        con.execute(render_view("trace_badness", temp=True))
 
 
 def per_property(con) -> Table:

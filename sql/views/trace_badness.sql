@@ -1,6 +1,7 @@
--- The one definition of a bad trace (paper Table II): it hung, crashed, or holds at least one FN
--- or FP verdict. One row per trace Tables II-IV count (trace_scope), with its verdict counts.
-create or replace view trace_badness as
+{#- The one definition of a bad trace (paper Table II): it hung, crashed, or holds at least one FN
+    or FP verdict. One row per trace Tables II-IV count (trace_scope), with its verdict counts.
+    `temp`: a temporary view, for a store analysed before this view existed and read as it is. -#}
+create or replace {{ 'temp ' if temp | default(false) }}view trace_badness as
 with counted as (
     select t.trace_id, t.sut, t.outcome, t.script_id
     from traces t semi join (select trace_id from trace_scope where counted) using (trace_id)
