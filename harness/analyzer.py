@@ -198,9 +198,10 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
 
 
 def least_covered(con: duckdb.DuckDBPyConnection, shown: int = 5) -> str:
-    """The properties whose condition was false on the fewest requests, on their worst variant."""
+    """The properties whose condition was false on the fewest requests, on their worst variant
+    (of equally bad ones, the first by name)."""
     found = con.execute(f"""
-        select property_id, min(c_false) as c_false, arg_min(sut, c_false) as sut
+        select property_id, min(c_false) as c_false, arg_min(sut, (c_false, sut)) as sut
         from coverage left join property_positions using (property_id) group by property_id
         order by c_false, min(position) limit {int(shown)}""").fetchall()
     listed = ", ".join(f"{p} {n} ({sut})" for p, n, sut in found)

@@ -20,12 +20,18 @@ def _sha256(path: Path) -> str | None:
         return None
 
 
+def templates() -> list[Path]:
+    """The templates the verdicts and the analyzer's views are made from; not the report's queries
+    (sql/report/), which change no stored value."""
+    return [t for folder in ("oracles", "views") for t in sorted((SQL_DIR / folder).glob("*.sql"))]
+
+
 def sources(properties_file: Path, interface_file: Path | None = None) -> list[tuple[str, str, str]]:
     """(role, path, sha256) of every file that decides the verdicts (the interface: beside the
     properties unless given)."""
     files = [("properties", properties_file),
              ("interface", interface_file or properties_file.parent / "interface.toml")]
-    files += [("template", t) for t in sorted(SQL_DIR.glob("*/*.sql"))]
+    files += [("template", t) for t in templates()]
     return [(role, str(path.resolve()), _sha256(path)) for role, path in files]
 
 
@@ -49,8 +55,7 @@ def stale_files(con) -> list[tuple[str, str]]:
     stale = [(role, path) for role, path, sha in found if _sha256(Path(path)) != sha]
     recorded = {path for _, path, _ in found}
     if found:  # a template added since the analysis changes what the oracles may do
-        stale += [("template", str(t.resolve())) for t in sorted(SQL_DIR.glob("*/*.sql"))
-                  if str(t.resolve()) not in recorded]
+        stale += [("template", str(t.resolve())) for t in templates() if str(t.resolve()) not in recorded]
     return stale
 
 
