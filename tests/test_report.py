@@ -315,6 +315,16 @@ def test_every_bad_trace_is_listed_under_its_variant(site):
         assert f"traces/trace-{r['trace_id']}.html" in [row[0][1] for row in page.tables["traces"][1:]]
 
 
+def test_the_bad_traces_csv_and_table_ii_read_the_one_rule_of_a_bad_trace(site):
+    db, out = site
+    _, bad = _query(db, "select trace_id, sut from trace_badness where bad")
+    _, table2 = _query(db, "select sut, bad from trace_robustness")
+    with open(out / "bad_traces.csv", newline="") as f:
+        written = [(int(r["trace_id"]), r["sut"]) for r in csv.DictReader(f)]
+    assert written == sorted((r["trace_id"], r["sut"]) for r in bad) == [(2, "genom"), (3, "genom"), (5, "bip-a")]
+    assert Counter(sut for _, sut in written) == {r["sut"]: r["bad"] for r in table2 if r["bad"]}
+
+
 def test_the_index_names_the_campaign_and_the_invalid_mutant(site):
     _, out = site
     index = _page(out / "index.html")
