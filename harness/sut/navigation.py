@@ -19,9 +19,10 @@ TURN_IN_PLACE = math.radians(60)  # beyond this heading error the rover turns wi
 
 _FAR = CLEARANCE_M + 1  # the clearance of a cell no mapped obstacle is near
 _REACH = math.ceil(CLEARANCE_M / CELL_M)
-# _nearness is keyed by i * _STRIDE + j rather than (i, j): an int key is cheaper than a tuple.
-# Unique while |j| < _STRIDE / 2, i.e. within 400,000 km of the origin.
-_STRIDE = 1 << 32
+# Cells are keyed by i * _STRIDE + j rather than (i, j): an int key is cheaper than a tuple, all the
+# more while it fits in one 30-bit digit of a Python int (|x| < 200 m). Unique while |j| < _STRIDE / 2,
+# i.e. within 100 km of the origin.
+_STRIDE = 1 << 20
 _DISC = tuple((di * _STRIDE + dj, math.hypot(di, dj) * CELL_M)  # (key offset, distance) of the cells
               for di in range(-_REACH, _REACH + 1) for dj in range(-_REACH, _REACH + 1)  # within reach
               if math.hypot(di, dj) * CELL_M <= CLEARANCE_M)
@@ -39,26 +40,33 @@ class OccupancyMap:
     """Poster CartA."""
 
     def __init__(self) -> None:
-        self.occupied: set[tuple[int, int]] = set()
+        self._occupied: set[int] = set()  # cell keys, as _nearness's
         self._nearness: dict[int, float] = {}  # cell key -> distance to the nearest occupied cell
 
+    @property
+    def occupied(self) -> set[tuple[int, int]]:
+        """The occupied cells (i, j)."""
+        return {((key + _STRIDE // 2) // _STRIDE, (key + _STRIDE // 2) % _STRIDE - _STRIDE // 2)
+                for key in self._occupied}
+
     def clear(self) -> None:
-        self.occupied.clear()
+        self._occupied.clear()
         self._nearness.clear()
 
     def fuse(self, pose: tuple[float, float, float], hits) -> None:
         """Mark the cells of laser hits (bearing, distance) seen from `pose`."""
         x, y, heading = pose
-        nearness, occupied, cos, sin, floor = self._nearness, self.occupied, math.cos, math.sin, math.floor
+        occupied, nearness, cos, sin, floor = self._occupied, self._nearness, math.cos, math.sin, math.floor
+        get = nearness.get
         for bearing, distance in hits:
             angle = heading + bearing
-            i, j = floor((x + distance * cos(angle)) / CELL_M), floor((y + distance * sin(angle)) / CELL_M)  # _cell
-            if (i, j) in occupied:
-                continue
-            occupied.add((i, j))
-            centre = i * _STRIDE + j
+            centre = (floor((x + distance * cos(angle)) / CELL_M) * _STRIDE  # _cell, as a key
+                      + floor((y + distance * sin(angle)) / CELL_M))
+            if centre in occupied:
+                continue  # most hits fall on walls and rocks already mapped
+            occupied.add(centre)
             for offset, d in _DISC:
-                if d < nearness.get(centre + offset, _FAR):
+                if d < get(centre + offset, _FAR):
                     nearness[centre + offset] = d
 
     def clearance(self, x: float, y: float) -> float:
@@ -76,7 +84,7 @@ class OccupancyMap:
         return True
 
     def __repr__(self) -> str:
-        return f"<OccupancyMap {len(self.occupied)} occupied cells>"
+        return f"<OccupancyMap {len(self._occupied)} occupied cells>"
 
 
 def steer(pose, goal, cart: OccupancyMap, speed: float, side: int) -> tuple[float, float, int]:
