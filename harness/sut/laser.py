@@ -30,18 +30,28 @@ def wall(a: tuple[float, float], b: tuple[float, float]) -> tuple[float, ...]:
     return a[0], a[1], b[0], b[1], vy, -vx, min(a[0], b[0]), min(a[1], b[1]), max(a[0], b[0]), max(a[1], b[1])
 
 
-def _spread(by_ray: list[list], item, low: float, width: float, step: float) -> None:
+def _spread(by_ray: list, item, low: float, width: float, step: float) -> None:
     """Give `item` to the rays (`step` apart) whose angle from the first ray is within
-    [low, low + width] modulo 2 pi (0 <= low < 2 pi), widened by ANGLE_MARGIN on each side."""
+    [low, low + width] modulo 2 pi (0 <= low < 2 pi), widened by ANGLE_MARGIN on each side.
+    A ray's list is made at its first item (None until then): most rays get none."""
     last = len(by_ray) - 1
     span = last * step
-    for start in (low - TAU, low, low + TAU):
+    # The interval's turn before it or after it can reach the field of view only when it wraps past
+    # 2 pi or the field of view is nearly a full turn: tested first, they are rarely looked at.
+    turns = (low,)
+    if (low - TAU) + width + ANGLE_MARGIN >= 0.0 or (low + TAU) - ANGLE_MARGIN <= span:
+        turns = (low - TAU, low, low + TAU)
+    for start in turns:
         start, end = start - ANGLE_MARGIN, start + width + ANGLE_MARGIN
         if end < 0.0 or start > span:
             continue  # this turn of the interval lies outside the field of view
-        first_ray = 0 if start <= 0.0 else math.ceil(start / step)
-        for n in range(first_ray, last + 1 if end >= span else math.floor(end / step) + 1):
-            by_ray[n].append(item)
+        for n in range(0 if start <= 0.0 else math.ceil(start / step),
+                       last + 1 if end >= span else math.floor(end / step) + 1):
+            listed = by_ray[n]
+            if listed is None:
+                by_ray[n] = [item]
+            else:
+                listed.append(item)
 
 
 class Laser:
@@ -75,12 +85,13 @@ class Laser:
         for cx, cy, r in self.circles:
             ax, ay = x - cx, y - cy
             aa = ax * ax + ay * ay
-            gap = math.sqrt(aa) - r
+            centre_m = math.sqrt(aa)
+            gap = centre_m - r
             if gap <= 0.0:
                 return False
             if gap > reach:
                 continue
-            half = math.asin(r / math.sqrt(aa))
+            half = math.asin(r / centre_m)
             _spread(by_ray, (cx, cy, ax, ay, aa, aa - r * r), (math.atan2(-ay, -ax) - half - first_angle) % TAU,
                     2 * half, step)
         return True
@@ -92,14 +103,14 @@ class Laser:
         rays = max(1, int(fov_deg / step_deg)) + 1  # both edges of the field of view
         first = -math.radians(fov_deg) / 2
         step = math.radians(fov_deg) / (rays - 1)
-        circles_by_ray, walls_by_ray = [[] for _ in range(rays)], [[] for _ in range(rays)]
+        circles_by_ray, walls_by_ray = [None] * rays, [None] * rays
         if not self._circles_by_ray(x, y, reach, step, heading + first, circles_by_ray):
             return tuple((first + n * step, 0.0) for n in range(rays))
         self._walls_by_ray(x, y, reach, step, heading + first, walls_by_ray)
         cos, sin, sqrt = math.cos, math.sin, math.sqrt
         hits = []
         for n in range(rays):
-            walls, circles = walls_by_ray[n], circles_by_ray[n]
+            walls, circles = walls_by_ray[n] or (), circles_by_ray[n] or ()
             if not walls and not circles:
                 continue
             bearing = first + n * step
