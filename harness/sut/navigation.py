@@ -23,9 +23,25 @@ _REACH = math.ceil(CLEARANCE_M / CELL_M)
 # more while it fits in one 30-bit digit of a Python int (|x| < 200 m). Unique while |j| < _STRIDE / 2,
 # i.e. within 100 km of the origin.
 _STRIDE = 1 << 20
-_DISC = tuple((di * _STRIDE + dj, math.hypot(di, dj) * CELL_M)  # (key offset, distance) of the cells
-              for di in range(-_REACH, _REACH + 1) for dj in range(-_REACH, _REACH + 1)  # within reach
-              if math.hypot(di, dj) * CELL_M <= CLEARANCE_M)
+
+
+def _distance(di: int, dj: int) -> float:
+    return math.hypot(di, dj) * CELL_M
+
+
+def _disc(beside: tuple[int, int] | None = None) -> tuple[tuple[int, float], ...]:
+    """(key offset, distance) of the cells within CLEARANCE_M of a cell; `beside` (di, dj): only
+    those nearer to it than to its occupied neighbour at (di, dj), the only ones it can update."""
+    return tuple((di * _STRIDE + dj, _distance(di, dj))
+                 for di in range(-_REACH, _REACH + 1) for dj in range(-_REACH, _REACH + 1)
+                 if _distance(di, dj) <= CLEARANCE_M
+                 and (beside is None or _distance(di, dj) < _distance(di - beside[0], dj - beside[1])))
+
+
+_DISC = _disc()
+# A new obstacle cell next to an occupied one needs only the 21 or 22 cells of its disc nearer to
+# it than to that neighbour (of 37): the others already keep a distance at most as large.
+_DISC_BESIDE = tuple((di * _STRIDE + dj, _disc((di, dj))) for di in (-1, 0, 1) for dj in (-1, 0, 1) if di or dj)
 
 
 def _cell(x: float, y: float) -> tuple[int, int]:
@@ -65,7 +81,12 @@ class OccupancyMap:
             if centre in occupied:
                 continue  # most hits fall on walls and rocks already mapped
             occupied.add(centre)
-            for offset, d in _DISC:
+            disc = _DISC
+            for neighbour, nearer in _DISC_BESIDE:
+                if centre + neighbour in occupied:
+                    disc = nearer
+                    break
+            for offset, d in disc:
                 if d < get(centre + offset, _FAR):
                     nearness[centre + offset] = d
 
