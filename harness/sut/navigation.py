@@ -44,8 +44,9 @@ _DISC = _disc()
 _DISC_BESIDE = tuple((di * _STRIDE + dj, _disc((di, dj))) for di in (-1, 0, 1) for dj in (-1, 0, 1) if di or dj)
 
 
-def _cell(x: float, y: float) -> tuple[int, int]:
-    return math.floor(x / CELL_M), math.floor(y / CELL_M)
+def _key(x: float, y: float) -> int:
+    """The key of the cell holding (x, y)."""
+    return math.floor(x / CELL_M) * _STRIDE + math.floor(y / CELL_M)
 
 
 def wrap(angle: float) -> float:
@@ -76,7 +77,7 @@ class OccupancyMap:
         get = nearness.get
         for bearing, distance in hits:
             angle = heading + bearing
-            centre = (floor((x + distance * cos(angle)) / CELL_M) * _STRIDE  # _cell, as a key
+            centre = (floor((x + distance * cos(angle)) / CELL_M) * _STRIDE  # _key inlined
                       + floor((y + distance * sin(angle)) / CELL_M))
             if centre in occupied:
                 continue  # most hits fall on walls and rocks already mapped
@@ -92,14 +93,13 @@ class OccupancyMap:
 
     def clearance(self, x: float, y: float) -> float:
         """Distance from (x, y) to the nearest mapped obstacle, capped just above CLEARANCE_M."""
-        i, j = _cell(x, y)
-        return self._nearness.get(i * _STRIDE + j, _FAR)
+        return self._nearness.get(_key(x, y), _FAR)
 
     def path_is_clear(self, x: float, y: float, heading: float, reach: float, floor: float) -> bool:
         """Whether every cell-spaced point up to `reach` along `heading` keeps `floor` clearance."""
         nearness, down = self._nearness, math.floor
         dx, dy = CELL_M * math.cos(heading), CELL_M * math.sin(heading)
-        for n in range(1, int(reach / CELL_M) + 1):  # _cell inlined: the map's most frequent look-up
+        for n in range(1, int(reach / CELL_M) + 1):  # _key inlined: the map's most frequent look-up
             if nearness.get(down((x + n * dx) / CELL_M) * _STRIDE + down((y + n * dy) / CELL_M), _FAR) < floor:
                 return False
         return True
