@@ -51,7 +51,3 @@ def calibrate(repeats: int = REPEATS) -> Calibration:
         cpus.append(time.process_time() - cpu)
     return Calibration(tuple(walls), tuple(cpus))
 
-
-def calibration_s() -> float:
-    """Median wall time of the fixed workload, in seconds."""
-    return calibrate().wall_s
