@@ -1,9 +1,10 @@
 """The map poster (CartA) and ndd's steering law, without the simulation around them."""
 import math
+import random
 
 import pytest
 
-from harness.sut.navigation import CLEARANCE_M, OccupancyMap, steer, wrap
+from harness.sut.navigation import CELL_M, CLEARANCE_M, OccupancyMap, steer, wrap
 
 
 def wall(cart: OccupancyMap, x: float, y0: float, y1: float) -> None:
@@ -21,6 +22,28 @@ def test_fused_hits_mark_cells_and_their_clearance():
     assert cart.clearance(1.1, 5.0) > CLEARANCE_M  # far from anything mapped
     cart.clear()
     assert not cart.occupied and cart.clearance(1.1, 3.1) > CLEARANCE_M
+
+
+def test_cells_on_the_negative_side_are_keyed_apart():
+    cart = OccupancyMap()
+    cart.fuse((0.0, 0.0, 0.0), [(math.pi, 0.5), (-math.pi / 2, 0.5), (3 * math.pi / 4, 1.0)])
+    assert cart.occupied == {(-3, 0), (0, -3), (-4, 3)}
+
+
+def test_clearances_are_the_distances_to_the_nearest_occupied_cell():
+    """Against the definition, after many fuses: a new cell beside an occupied one updates only
+    part of its disc (navigation._DISC_BESIDE), which must not change any clearance."""
+    rng = random.Random(14)
+    cart = OccupancyMap()
+    for _ in range(60):
+        pose = (rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(-math.pi, math.pi))
+        cart.fuse(pose, [(rng.uniform(-math.pi, math.pi), rng.uniform(0.0, 2.0)) for _ in range(rng.randint(1, 8))])
+    occupied = cart.occupied
+    for i in range(-30, 31):
+        for j in range(-30, 31):
+            nearest = min((math.hypot(i - oi, j - oj) * CELL_M for oi, oj in occupied), default=math.inf)
+            expected = nearest if nearest <= CLEARANCE_M else pytest.approx(CLEARANCE_M + 1)
+            assert cart.clearance((i + 0.5) * CELL_M, (j + 0.5) * CELL_M) == expected, (i, j)
 
 
 def test_steer_heads_for_the_goal_when_nothing_is_mapped():
