@@ -109,7 +109,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("rqst_id", type=int, nargs="?", help="a request id (default: every request judged)")
     db(c)
 
-    c = command("report", "write the HTML report and CSV tables from the store alone", "harness.report:main")
+    c = command("report", "write the HTML report and CSV tables from the store alone", "harness.report.build:main")
     c.add_argument("--out", help="output folder (default: the folder of the --db store)")
     c.add_argument("--trace", type=int, action="append", default=[],
                    help="write only the page of this trace id into the report, on demand (repeatable)")

@@ -40,6 +40,13 @@ def _seconds(value) -> str:
     return "-" if value is None else f"{value:.6f}"
 
 
+def _item_order(pair: dict) -> tuple:
+    """Items by part (ES, EE), then request id (y) or service (q): the oracle's query gives them
+    in an order that depends on DuckDB's plan and threads."""
+    item = str(pair["item"])
+    return str(pair.get("part", "")), not item.isdigit(), int(item) if item.isdigit() else 0, item
+
+
 class Explainer:
     """Explanations of many verdicts at once: one oracle query per property, one read of the
     requests of all the traces concerned."""
@@ -52,14 +59,16 @@ class Explainer:
         keys = [k for k in keys if k[1] in self.properties]
         if not keys:
             return {}
-        traces = sorted({t for t, _, _ in keys})
-        cursor = self.con.execute("""select trace_id, rqst_id, module || '.' || service as service, t, final_t,
-                                            reply, class from requests
-                                     where trace_id in (select unnest(?::integer[]))""", [traces])
+        # the ids as a list of numbers: DuckDB pushes that filter into the requests view's scan
+        traces = ", ".join(str(int(t)) for t in sorted({t for t, _, _ in keys}))
+        cursor = self.con.execute(f"""select trace_id, rqst_id, module || '.' || service as service, t, final_t,
+                                             reply, class from requests where trace_id in ({traces})""")
         requests = {(r[0], r[1]): r[2:] for r in cursor.fetchall()}
         verdicts = {(t, p, r): rest for t, p, r, *rest in self.con.execute(
             """select trace_id, property_id, rqst_id, verdict, c_holds, margin_s, suspicious from verdicts
-               where trace_id in (select unnest(?::integer[]))""", [traces]).fetchall()}
+               semi join (select unnest(?::integer[]) as trace_id, unnest(?::varchar[]) as property_id,
+                                 unnest(?::integer[]) as rqst_id) using (trace_id, property_id, rqst_id)""",
+            [list(column) for column in zip(*keys)]).fetchall()}
         pairs: dict[Key, list[dict]] = defaultdict(list)
         for property_id in dict.fromkeys(p for _, p, _ in keys):
             wanted = [(t, r) for t, p, r in keys if p == property_id]
@@ -69,6 +78,8 @@ class Explainer:
             for row in cursor.fetchall():
                 pair = dict(zip(names, row))
                 pairs[(pair["trace_id"], property_id, pair["rqst_id"])].append(pair)
+        for found in pairs.values():
+            found.sort(key=_item_order)
         oks = defaultdict(list)  # (trace, service) -> the instants of its ok final replies
         for (trace_id, _), (service, _, final_t, reply, _) in requests.items():
             if reply == "ok":

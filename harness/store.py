@@ -7,10 +7,11 @@ import re
 import sys
 from contextlib import contextmanager
 from datetime import datetime, timezone
+from functools import cache
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import duckdb
-import pyarrow as pa
 
 from harness import SQL_DIR
 from harness.errors import StoreError
@@ -19,18 +20,15 @@ from harness.interface import Interface
 from harness.oracles import ENV
 from harness.trace import EVENT_COLUMNS, WORLD_EVENT_COLUMNS, Trace
 
+if TYPE_CHECKING:
+    import pyarrow as pa
+
 # DuckDB 2.0 writes its newest storage format unless told otherwise, and no 1.x client reads
 # that; DuckDB 1.0 cannot read the primary keys 2.0 writes. So stores are written for 1.1.
 STORAGE_VERSION = "v1.1.0"
 # The layout of sql/schema.sql; each store lists the versions it went through in schema_version.
 SCHEMA_VERSION = 3
 POSITIONS_SINCE = 3  # the first schema version with variant_positions and module_positions
-
-EVENT_SCHEMA = pa.schema([("trace_id", pa.int32()), ("seq", pa.int32()), ("t", pa.float64()),
-                          ("kind", pa.string()), ("rqst_id", pa.int32()), ("module", pa.string()),
-                          ("service", pa.string()), ("args", pa.string()), ("reply", pa.string())])
-WORLD_SCHEMA = pa.schema([("trace_id", pa.int32()), ("t", pa.float64()), ("kind", pa.string()),
-                          ("detail", pa.string())])
 
 
 def connect(path: str | Path = ":memory:", read_only: bool = False,
@@ -204,6 +202,7 @@ def add_campaign(con, campaign_id: int, mission: str, seed: int, config: dict) -
 def add_reply_codes(con, interface: Interface) -> None:
     """Record the interface's reply catalogue and its modules' order; a code whose class changed
     is refused."""
+    import pyarrow as pa
     rows = interface.reply_codes()
     codes = pa.table({"position": range(len(rows)), **{  # noqa: F841 (read by DuckDB)
         name: [r[i] for r in rows] for i, name in enumerate(("module", "service", "reply", "class"))}})
@@ -223,6 +222,7 @@ def add_reply_codes(con, interface: Interface) -> None:
 def place(con, table: str, column: str, names: list[str]) -> None:
     """Give the names a positions table (variant_positions, module_positions) does not hold yet
     the next positions, in the order given: the first order a store saw is the one it keeps."""
+    import pyarrow as pa
     names = list(dict.fromkeys(names))
     given = pa.table({"name": names, "given": range(len(names))})  # noqa: F841 (read by DuckDB)
     con.execute(f"""insert into {table} ({column}, position)
@@ -230,14 +230,26 @@ def place(con, table: str, column: str, names: list[str]) -> None:
                     from given where name not in (select {column} from {table})""")
 
 
-TRACE_SCHEMA = pa.schema([("trace_id", pa.int32()), ("campaign_id", pa.int32()), ("script_id", pa.int32()),
-                          ("sut", pa.string()), ("seed", pa.int64()), ("outcome", pa.string()),
-                          ("sim_s", pa.float64()), ("wall_s", pa.float64()), ("error", pa.string()),
-                          ("label", pa.string())])
+@cache
+def _schemas() -> dict[str, pa.Schema]:
+    """The Arrow schemas of the trace tables. pyarrow is imported by the functions that write a
+    store: a process that only reads one, such as the report, is some 50 MB smaller without it."""
+    import pyarrow as pa
+    events = pa.schema([("trace_id", pa.int32()), ("seq", pa.int32()), ("t", pa.float64()),
+                        ("kind", pa.string()), ("rqst_id", pa.int32()), ("module", pa.string()),
+                        ("service", pa.string()), ("args", pa.string()), ("reply", pa.string())])
+    return {"traces": pa.schema([("trace_id", pa.int32()), ("campaign_id", pa.int32()), ("script_id", pa.int32()),
+                                 ("sut", pa.string()), ("seed", pa.int64()), ("outcome", pa.string()),
+                                 ("sim_s", pa.float64()), ("wall_s", pa.float64()), ("error", pa.string()),
+                                 ("label", pa.string())]),
+            "events": events, "internal_events": events,
+            "world_events": pa.schema([("trace_id", pa.int32()), ("t", pa.float64()), ("kind", pa.string()),
+                                       ("detail", pa.string())])}
 
 
 def _table(rows: list[tuple], columns: tuple[str, ...], schema: pa.Schema, trace_ids: list[int]) -> pa.Table:
     """Rows (without their trace id) of several traces as one Arrow table; `trace_ids` row by row."""
+    import pyarrow as pa
     arrays = [pa.array(trace_ids, pa.int32())]
     arrays += [pa.array(values, schema.field(name).type) for name, values in zip(columns, zip(*rows))]
     return pa.Table.from_arrays(arrays, schema=schema)
@@ -252,15 +264,17 @@ def insert_trace(con, trace_id: int, campaign_id: int, script_id: int | None, tr
 def insert_traces(con, campaign_id: int, runs: list[tuple[int, int | None, Trace, str | None]]) -> None:
     """Write traces, given as (trace_id, script_id, trace, label): their rows, events, ground truth,
     world events and provenance, one bulk insert per table; the caller owns the transaction."""
+    import pyarrow as pa
+    schemas = _schemas()
     rows = [(trace_id, campaign_id, script_id, t.sut, t.seed, t.outcome, t.sim_s, t.wall_s, t.error, label)
             for trace_id, script_id, t, label in runs]
     place(con, "variant_positions", "sut", [t.sut for _, _, t, _ in sorted(runs, key=lambda run: run[0])])
-    trace_rows = pa.Table.from_arrays([pa.array(c, f.type) for c, f in zip(zip(*rows), TRACE_SCHEMA)],  # noqa: F841
-                                      schema=TRACE_SCHEMA)
-    con.execute(f"insert into traces ({', '.join(TRACE_SCHEMA.names)}) select * from trace_rows")
-    for table, columns, schema in (("events", EVENT_COLUMNS, EVENT_SCHEMA),
-                                   ("internal_events", EVENT_COLUMNS, EVENT_SCHEMA),
-                                   ("world_events", WORLD_EVENT_COLUMNS, WORLD_SCHEMA)):
+    trace_rows = pa.Table.from_arrays([pa.array(c, f.type) for c, f in zip(zip(*rows), schemas["traces"])],  # noqa: F841
+                                      schema=schemas["traces"])
+    con.execute(f"insert into traces ({', '.join(schemas['traces'].names)}) select * from trace_rows")
+    for table, columns in (("events", EVENT_COLUMNS), ("internal_events", EVENT_COLUMNS),
+                           ("world_events", WORLD_EVENT_COLUMNS)):
+        schema = schemas[table]
         rows, trace_ids = [], []
         for trace_id, _, trace, _ in runs:
             these = getattr(trace, table)

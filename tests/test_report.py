@@ -12,7 +12,8 @@ from types import SimpleNamespace
 
 import pytest
 
-from harness import DEFAULT_MISSION_DIR, report
+from harness import DEFAULT_MISSION_DIR
+from harness.report import build as report
 from harness.analyzer import materialise
 from harness.errors import StoreError
 from harness.interface import load_interface, load_properties

@@ -13,7 +13,7 @@ import pytest
 from harness import DEFAULT_MISSION_DIR
 from harness.analyzer import materialise, summary
 from harness.interface import load_interface, load_properties
-from harness.report import charts, pages
+from harness.report import charts, html, trace_pages
 from harness.store import add_campaign, add_reply_codes, connect, insert_trace
 from harness.trace import Trace
 from test_report import TRACES, Page, _events, analysed_store, make_store, write_report
@@ -46,10 +46,10 @@ def test_inversion_trace_ids_link_to_their_pages(out):
 
 
 def test_list_pages_name_the_properties_and_mutation_behind_each_trace(out):
-    page = _page(out / pages.list_href("genom", "PRE"))
+    page = _page(out / html.list_href("genom", "PRE"))
     assert page.texts("traces")[1] == ["2", "completed", "1", "0", "0", "1", "PRE(ndd.GotoPosition)",
                                        "swap lines 5, 9"]
-    aib = _page(out / pages.list_href("genom", "AIB"))
+    aib = _page(out / html.list_href("genom", "AIB"))
     assert [row[0] for row in aib.texts("traces")[1:]] == ["3"]  # the FP
     tp_only = aib.texts("tp-only")
     assert [row[0] for row in tp_only[1:]] == ["1", "2"]
@@ -57,9 +57,9 @@ def test_list_pages_name_the_properties_and_mutation_behind_each_trace(out):
 
 
 def test_a_trace_without_a_page_names_the_command_that_writes_it(out):
-    text = (out / pages.list_href("genom", "All")).read_text()
+    text = (out / html.list_href("genom", "All")).read_text()
     assert 'title="no page yet: python -m harness report --trace' not in text  # every genom trace has one
-    assert pages.mutation(json.dumps([{"op": "insert_request", "position": 8, "step": "send aspect.Stop"}])) == \
+    assert html.mutation(json.dumps([{"op": "insert_request", "position": 8, "step": "send aspect.Stop"}])) == \
         "insert_request position 8: send aspect.Stop"
 
 
@@ -88,12 +88,12 @@ def test_a_report_killed_while_writing_leaves_the_previous_one_whole(tmp_path, m
     before = {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()}
     (out / ".report-writing" / "traces").mkdir(parents=True)  # a killed report's leftovers
 
-    def killed(folder, details, *context):
-        pages.render("trace.html.j2", folder / "traces" / "half.html", t={**details[0], "shrunk": []},
+    def killed(folder, batch, *context):
+        html.render("trace.html.j2", folder / "traces" / "half.html", t={**trace_pages.traces(batch)[0], "shrunk": []},
                      timeline="", verdicts=[],
                      counts={}, events="", explained=[])
         raise KeyboardInterrupt
-    monkeypatch.setattr(pages, "write_traces", killed)
+    monkeypatch.setattr(trace_pages, "write_traces", killed)
     with pytest.raises(KeyboardInterrupt):
         write_report(db, out)
     after = {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()}
@@ -184,16 +184,13 @@ def test_a_store_of_ad_hoc_runs_alone_counts_them(tmp_path):
 
 
 def test_pages_written_by_worker_processes_equal_those_written_in_one(tmp_path, monkeypatch):
-    from harness import report
+    from harness.report import build as report
     db = analysed_store(tmp_path / "store.duckdb")
     serial = write_report(db, tmp_path / "serial")
     monkeypatch.setattr(report, "PARALLEL_FROM", 1)
     monkeypatch.setattr(report.os, "sched_getaffinity", lambda pid: {0, 1})
     parallel = write_report(db, tmp_path / "parallel")
-
-    def files(out):
-        return {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()}
-    assert len(files(serial)) > 20 and files(parallel) == files(serial)
+    assert len(_files(serial)) > 20 and _files(parallel) == _files(serial)
 
 
 def test_the_report_goes_beside_its_store_wherever_it_is_run_from(tmp_path, monkeypatch, capsys):
@@ -203,3 +200,17 @@ def test_the_report_goes_beside_its_store_wherever_it_is_run_from(tmp_path, monk
     assert main(["report", "--db", str(db)]) == 0
     assert (tmp_path / "store" / "index.html").exists() and not (tmp_path / "reports").exists()
     assert f"wrote {tmp_path / 'store' / 'index.html'}" in capsys.readouterr().out
+
+
+def test_a_store_beyond_the_memory_limit_is_reported_all_the_same(tmp_path, monkeypatch, capsys):
+    from harness.report import build as report
+    db = analysed_store(tmp_path / "store.duckdb")
+    within = write_report(db, tmp_path / "within")
+    monkeypatch.setattr(report, "MEMORY_LIMIT", "1MB")
+    beyond = write_report(db, tmp_path / "beyond")
+    assert "needs more than 1MB of DuckDB memory for this store; writing it again" in capsys.readouterr().err
+    assert _files(beyond) == _files(within)
+
+
+def _files(out: Path) -> dict[Path, bytes]:
+    return {p.relative_to(out): p.read_bytes() for p in out.rglob("*") if p.is_file()}

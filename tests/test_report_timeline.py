@@ -5,8 +5,9 @@ from xml.etree import ElementTree as ET
 
 import pytest
 
-from harness.report.queries import trace_details
+from harness.report.queries import trace_rows
 from harness.report.timeline import LEFT, PLOT_W, timeline
+from harness.report.trace_pages import traces
 from harness.store import connect
 from test_report import TRACES, analysed_store
 
@@ -16,7 +17,7 @@ MODULES = ["rflex", "sick", "aspect", "ndd", "antenna"]
 @pytest.fixture(scope="module")
 def details(tmp_path_factory):
     con = connect(analysed_store(tmp_path_factory.mktemp("store") / "store.duckdb"), read_only=True)
-    found = {t["trace_id"]: t for batch in trace_details(con, list(TRACES)) for t in batch}
+    found = {t["trace_id"]: t for batch in trace_rows(con, list(TRACES)) for t in traces(batch)}
     con.close()
     return found
 

@@ -1,69 +1,19 @@
-"""Writes the report's files: index.html, a list page per (variant, family), trace pages, CSV."""
+"""Writes the report's index.html, a list page per (variant, family), the shrunk reproducers; the
+trace pages are harness/report/trace_pages.py's."""
 from __future__ import annotations
 
-import json
-import re
 from pathlib import Path
 
-from jinja2 import Environment, FileSystemLoader, StrictUndefined
 from markupsafe import Markup
 
-from harness.report import charts, queries
-from harness.report.svg import text
-from harness.report.tables import Table, yes_no
-from harness.report.timeline import timeline
+from harness.report import charts
+from harness.report.html import SHOWN_ROWS, VERDICTS, bad_href, list_href, rate_text, render
+from harness.report.tables import Table
 from harness.shrink import Behaviour, mission_file, original, write_mission
-from harness.textable import percent, rate_interval
-
-TEMPLATES = Path(__file__).parent / "templates"
-SHOWN_ROWS = 200  # longer tables are cut on the page; their CSV has every row
-_env = Environment(loader=FileSystemLoader(TEMPLATES), undefined=StrictUndefined, autoescape=True,
-                   trim_blocks=True, lstrip_blocks=True)
-_env.filters["percent"] = percent
-
-
-def duration(seconds: float) -> str:
-    """A wall-clock duration with three significant digits: 1.14 ms, 2.31 s."""
-    return f"{1000 * seconds:.3g} ms" if seconds < 1 else f"{seconds:.1f} s"
-
-
-def mutation(operations: str | None) -> str:
-    """A script's recorded mutations (JSON) as one line: each operation, where, and the step."""
-    found = json.loads(operations) if operations else []
-    parts = []
-    for o in found:
-        where = " ".join(f"{k} {', '.join(map(str, v)) if isinstance(v, list) else v}"
-                         for k, v in o.items() if k not in ("op", "step", "steps"))
-        step = o.get("step") or " / ".join(o.get("steps", []))
-        parts.append(f"{o.get('op', '?')} {where}: {step}" if step else f"{o.get('op', '?')} {where}")
-    return "; ".join(parts)
-
-
-_env.filters.update(yes_no=yes_no, duration=duration, mutation=mutation)
-
-
-def slug(name: str) -> str:
-    return re.sub(r"[^A-Za-z0-9_.-]", "_", name)
-
-
-def trace_href(trace_id: int) -> str:
-    return f"traces/trace-{trace_id}.html"
-
-
-def list_href(sut: str, family: str) -> str:
-    return f"traces/{slug(sut)}-{slug(family)}.html"
-
-
-def bad_href(sut: str) -> str:
-    return f"traces/bad-{slug(sut)}.html"
 
 
 def shrunk_href(script_id: int) -> str:
     return "shrunk/" + mission_file(Path(), script_id).name
-
-
-_env.globals.update(trace_href=trace_href, list_href=list_href, bad_href=bad_href, shrunk_href=shrunk_href,
-                    shown_rows=SHOWN_ROWS)
 
 
 def _rates(view: Table, rate: str) -> dict[tuple[str, str], float | None]:
@@ -74,17 +24,6 @@ def _rates(view: Table, rate: str) -> dict[tuple[str, str], float | None]:
 def _intervals(view: Table, rate: str) -> dict[tuple[str, str], tuple[float, float]]:
     """(family, variant) -> the rate's 95% interval, where it has cases."""
     return {(r["family"], r["sut"]): (r[f"{rate}_low"], r[f"{rate}_high"]) for r in view.records() if r.get("n")}
-
-
-def rate_text(r: dict, rate: str, n: int) -> str:
-    """A rate of a tp_rates/fp_rates row with its interval and n (a store analysed before the
-    views had intervals: the rate alone)."""
-    if f"{rate}_low" not in r:
-        return percent(r[rate])
-    return rate_interval(r[rate], r[f"{rate}_low"], r[f"{rate}_high"], n)
-
-
-_env.globals["rate_text"] = rate_text
 
 
 def pivot(view: Table, rate: str, name: str, suts: list[str], families: list[str]) -> Table:
@@ -98,20 +37,6 @@ def pivot(view: Table, rate: str, name: str, suts: list[str], families: list[str
         for c, sut in enumerate(suts, start=1):
             table.links[(r, c)] = list_href(sut, family)
     return table
-
-
-def event_rows(events: list[dict]) -> Markup:
-    """A trace's event log as table rows, built here rather than in the template: a large report
-    writes hundreds of thousands of them."""
-    return Markup("".join(
-        f'<tr><td>{e["seq"]}</td><td>{e["t"]:.4f}</td><td class="text">{text(e["kind"])}</td>'
-        f'<td class="text">#{e["rqst_id"]} {text(e["module"])}.{text(e["service"])}</td>'
-        f'<td class="text">{text(e["args"] or "")}</td><td class="text">{text(e["reply"] or "")}</td>'
-        f'<td>{text(e["class"] or "")}</td></tr>\n' for e in events))
-
-
-def render(template: str, path: Path, **context) -> None:
-    path.write_text(_env.get_template(template).render(**context), encoding="utf-8")
 
 
 def write_index(out: Path, context: dict) -> None:
@@ -140,11 +65,6 @@ def write_lists(out: Path, family_traces: Table, bad: Table, suts: list[str], fa
     return len(suts) * (len(families) + 1)
 
 
-def explained(verdict: dict) -> bool:
-    """The verdicts a trace page explains: the bad ones and the suspicious ones."""
-    return verdict["verdict"] in ("FN", "FP") or verdict["suspicious"]
-
-
 def write_shrunk(con, out: Path, table: Table) -> None:
     """Each shrunk reproducer's .mission file under out/shrunk (replayable with `run`)."""
     for r in table.records():
@@ -157,23 +77,8 @@ def reproducers(table: Table) -> dict[int, list[dict]]:
     by_trace: dict[int, list[dict]] = {}
     for r in table.records():
         behaviour = Behaviour(r["sut"], r["verdict"], r["property_id"])
-        by_trace.setdefault(r["trace_id"], []).append({**r, "behaviour": str(behaviour)})
+        by_trace.setdefault(r["trace_id"], []).append({**r, "behaviour": str(behaviour), "href": shrunk_href(r["script_id"])})
     return by_trace
-
-
-def write_traces(out: Path, details: list[dict], modules: list[str], why: dict,
-                 shrunk: dict[int, list[dict]]) -> None:
-    """A page per trace; `why`: (trace_id, property_id, rqst_id) -> the explanation of a verdict;
-    `shrunk`: trace_id -> the reproducers shrunk from it."""
-    for t in details:
-        t["shrunk"] = shrunk.get(t["trace_id"], [])
-        end_t = t["sim_s"] if t["sim_s"] is not None else 0.0
-        svg = timeline(modules, t["requests"], t["verdicts"], t["world"], end_t, t["outcome"])
-        shown = [v for v in t["verdicts"] if v["verdict"] != "TN" or v["suspicious"]]
-        counts = {v: sum(1 for x in t["verdicts"] if x["verdict"] == v) for v in queries.VERDICTS}
-        texts = [why.get((v["trace_id"], v["property_id"], v["rqst_id"])) for v in t["verdicts"] if explained(v)]
-        render("trace.html.j2", out / trace_href(t["trace_id"]), t=t, timeline=svg, verdicts=shown,
-               counts=counts, explained=[found for found in texts if found], events=event_rows(t["events"]))
 
 
 def index_charts(suts: list[str], families: list[str], tp: Table, fp: Table, table2: Table,
@@ -188,4 +93,4 @@ def index_charts(suts: list[str], families: list[str], tp: Table, fp: Table, tab
                   _rates(tp, "tp_rate"), intervals=_intervals(tp, "tp_rate")),
             chart("False positive rate per family (95% interval)", charts.grouped_bars, families, suts,
                   _rates(fp, "fp_rate"), full_scale=False, intervals=_intervals(fp, "fp_rate")),
-            chart("Verdict mix per variant", charts.stacked_bars, suts, list(queries.VERDICTS), mix)]
+            chart("Verdict mix per variant", charts.stacked_bars, suts, list(VERDICTS), mix)]

@@ -1,20 +1,18 @@
 """Everything the report reads from the store: read-only queries over the contract tables and views."""
 from __future__ import annotations
 
-import difflib
 import json
-from bisect import bisect_left, bisect_right
-from collections import defaultdict
 from collections.abc import Iterator
+from itertools import islice
 
 from harness.analyzer import ordered
 from harness.errors import StoreError
 from harness.oracles import render_query, render_view
 from harness.provenance import stale_files
+from harness.report.html import VERDICTS
 from harness.report.tables import Table, query_table
-from harness.report.timeline import Request
+from harness.report.trace_pages import Rows
 
-VERDICTS = ("TP", "FN", "FP", "TN", "op", "na", "omega")
 # What `python -m harness analyze` materialises and the report reads.
 ANALYSED = ("verdicts", "requests", "property_verdicts", "family_verdicts", "trace_robustness",
             "tp_rates", "fp_rates", "inversions", "analysis")
@@ -136,9 +134,16 @@ def paged_traces(con) -> list[int]:
     return [r[0] for r in con.execute(render_query("paged_traces")).fetchall()]
 
 
-# What a trace page shows, one query per kind of data for all the pages (ordered by trace id).
-_WANTED = "trace_id in (select unnest($ids::integer[]))"
+# What a trace page shows, one query per kind of data for a chunk of pages (ordered by trace id).
+# The ids are written into the query as a list of numbers: DuckDB pushes such a filter through
+# the requests view into its scan of the events (a parameter it joins after the whole view).
+_WANTED = "trace_id in ({ids})"
 _DETAILS = {
+    "traces": f"""
+        select t.*, s.kind as script_kind, s.body, s.mutations, s.parent, g.body as golden
+        from traces t left join scripts s using (script_id)
+        left join scripts g on g.campaign_id = t.campaign_id and g.kind = 'golden'
+        where t.{_WANTED} order by t.trace_id""",
     "events": f"""
         select e.trace_id, e.seq, e.t, e.kind, e.rqst_id, e.module, e.service, e.args, e.reply, c.class
         from events e left join reply_codes c using (module, service, reply)
@@ -154,64 +159,50 @@ _DETAILS = {
 }
 
 
-def verdict_keys(con, ids: list[int]) -> list[dict]:
-    """The verdicts of these traces, with what decides whether a page explains them."""
-    return rows(con, f"select trace_id, property_id, rqst_id, verdict, suspicious from verdicts "
-                     f"where {_WANTED.replace('$ids', '?')}", [ids])
+def explained_verdicts(con, ids: list[int]) -> list[dict]:
+    """The verdicts a page of these traces explains: the bad ones and the suspicious ones."""
+    return rows(con, f"select trace_id, property_id, rqst_id from verdicts where {_WANTED} "
+                     f"and (verdict in ('FN', 'FP') or suspicious)".format(ids=_listed(ids)))
 
 
-def trace_details(con, ids: list[int], batch: int = 500) -> Iterator[list[dict]]:
-    """Everything the pages of `ids` show, `batch` traces at a time. Each kind of data is one
-    query for all of them, kept as Arrow tables (compact); only a batch becomes Python dicts."""
-    ids, con = sorted(ids), con.cursor()  # its own results: the caller's may be unfinished
-    traces = con.sql(f"""
-        select t.*, s.kind as script_kind, s.body, s.mutations, s.parent, g.body as golden
-        from traces t left join scripts s using (script_id)
-        left join scripts g on g.campaign_id = t.campaign_id and g.kind = 'golden'
-        where t.{_WANTED} order by t.trace_id""", params={"ids": ids}).to_arrow_table()
-    found = {name: con.sql(sql, params={"ids": ids}).to_arrow_table() for name, sql in _DETAILS.items()}
-    keys = {name: table.column("trace_id").to_pylist() for name, table in found.items()}
-    for start in range(0, traces.num_rows, batch):
-        page_rows = traces.slice(start, batch).to_pylist()
-        first, last = page_rows[0]["trace_id"], page_rows[-1]["trace_id"]
-        by_trace = {}
-        for name, table in found.items():
-            lo, hi = bisect_left(keys[name], first), bisect_right(keys[name], last)
-            by_trace[name] = _by_trace(table.slice(lo, hi - lo).to_pylist())
-        for t in page_rows:
-            i = t["trace_id"]
-            t.update(events=by_trace["events"].get(i, []), verdicts=by_trace["verdicts"].get(i, []),
-                     world=by_trace["world"].get(i, []),
-                     requests=[Request(**{k: v for k, v in r.items() if k != "trace_id"})
-                               for r in by_trace["requests"].get(i, [])],
-                     diff=_diff(t))
-        yield page_rows
+def trace_rows(con, ids: list[int], batch: int = 50, chunk: int = 500) -> Iterator[dict[str, Rows]]:
+    """Everything the pages of `ids` show, `batch` traces at a time: per kind of data, its
+    columns and rows (as tuples, cheap to hand to another process; trace_pages.traces makes the
+    pages' records of them). Each kind is one query per `chunk` traces, read as it streams in
+    trace id order: only a batch is held as Python objects, and DuckDB holds a chunk's results."""
+    ids = sorted(ids)
+    for start in range(0, len(ids), chunk):
+        yield from _chunk_rows(con, ids[start:start + chunk], batch)
 
 
-def _grouped(found: list[dict], key) -> dict:
-    grouped = defaultdict(list)
-    for r in found:
-        grouped[key(r)].append(r)
-    return grouped
+def _chunk_rows(con, ids: list[int], batch: int) -> Iterator[dict[str, Rows]]:
+    cursors = {name: con.cursor().execute(sql.format(ids=_listed(ids))) for name, sql in _DETAILS.items()}
+    columns = {name: [d[0] for d in cursor.description] for name, cursor in cursors.items()}
+    streams = {name: _streamed(cursor) for name, cursor in cursors.items()}
+    heads = {name: next(stream, None) for name, stream in streams.items() if name != "traces"}
+
+    def rows_until(name: str, last: int) -> list[tuple]:
+        """The rows of the traces up to `last` (every kind lists its traces in id order)."""
+        key, found = columns[name].index("trace_id"), []
+        while heads[name] is not None and heads[name][key] <= last:
+            found.append(heads[name])
+            heads[name] = next(streams[name], None)
+        return found
+
+    while (traces := Rows(columns["traces"], list(islice(streams["traces"], batch)))).rows:
+        last = traces.trace_ids()[-1]
+        yield {"traces": traces, **{name: Rows(columns[name], rows_until(name, last)) for name in heads}}
 
 
-def _by_trace(found: list[dict]) -> dict[int, list[dict]]:
-    return _grouped(found, lambda r: r["trace_id"])
+def _listed(ids: list[int]) -> str:
+    return ", ".join(str(int(i)) for i in ids) or "null"
 
 
-def _steps(body: str) -> list[str]:
-    """The script's step lines: mutants are re-rendered without the golden's comment lines."""
-    return [line for line in body.splitlines() if line.strip() and not line.lstrip().startswith("#")]
-
-
-def _diff(trace: dict) -> list[tuple[str, str]]:
-    """The mutant's unified diff against the golden script, each line with its CSS class."""
-    if trace["body"] is None or trace["golden"] is None or trace["script_kind"] == "golden":
-        return []
-    lines = difflib.unified_diff(_steps(trace["golden"]), _steps(trace["body"]), "golden.mission",
-                                 f"script-{trace['script_id']}.mission", lineterm="")
-    css = {"@": "hunk", "+": "add", "-": "del"}
-    return [(css.get(line[:1], "same"), line) for line in lines]
+def _streamed(cursor) -> Iterator[tuple]:
+    """A query's rows, fetched a thousand at a time (`cursor`: a result of its own, read
+    alongside the others)."""
+    while chunk := cursor.fetchmany(1024):
+        yield from chunk
 
 
 def trace_ids(con, ids: list[int]) -> list[int]:

@@ -7,7 +7,7 @@ with bad as (
     where bad
 ),
 behind as (
-    select b.trace_id, {{ lists.behind() }}
+    select b.trace_id, {{ lists.behind() }}, s.mutations
     from bad b left join verdicts v using (trace_id) left join scripts s using (script_id)
     group by b.trace_id, s.mutations
 ),

@@ -1,0 +1,190 @@
+"""Writes the whole report, or the pages of some traces (`--trace ID`).
+
+Layout of --out (default: the store's folder): index.html and one CSV per table; traces/ holds a
+page per (variant, family) cell of Tables III/IV, a page of bad traces per variant, and a page
+per trace worth reading (see docs/report.md). The report is written into a folder beside --out
+and swapped in at the end, so a report killed while writing leaves the previous one whole.
+`--trace ID` writes only those trace pages, into the existing report (on demand).
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import sys
+import tempfile
+import time
+from collections import deque
+from concurrent.futures import ProcessPoolExecutor
+from contextlib import nullcontext
+from multiprocessing import get_context
+from pathlib import Path
+
+import duckdb
+
+from harness.analyzer import family_order, sut_order
+from harness.errors import StoreError, UntimelyError
+from harness.explain import explanations
+from harness.files import make_folder
+from harness.report import html, pages, queries, trace_pages
+from harness.store import connect
+
+PARALLEL_FROM = 400  # trace pages per worker process; fewer are not worth starting one for
+# DuckDB's memory for the report's queries: beyond it, their hash tables spill to a temporary
+# folder (a read-only store has none of its own). The lists' ordered string_agg cannot spill:
+# 40-48 MB at 20,000 traces (docs/report.md; see _within_memory). One thread: the worker
+# processes use the other cores.
+MEMORY_LIMIT, THREADS = "48MB", 1
+
+
+def main(args) -> int:
+    started = time.perf_counter()
+    out = Path(args.out) if args.out else Path(args.db).resolve().parent
+    con = connect(args.db, read_only=True)
+    spill = tempfile.TemporaryDirectory(prefix="untimely-report-")
+    try:
+        con.execute(f"set memory_limit = '{MEMORY_LIMIT}'; set threads = {THREADS}; "
+                    f"set temp_directory = '{spill.name}'")
+        queries.check_analysed(con, args.db)
+        make_folder(out, "the report")
+        if args.trace:
+            written = _within_memory(con, lambda: write_pages(con, out, args.trace))
+            print(f"wrote {', '.join(str(out / html.trace_href(i)) for i in written)} "
+                  f"in {time.perf_counter() - started:.1f} s")
+            return 0
+        written = _within_memory(con, lambda: write_report(con, out))
+    except OSError as e:
+        raise UntimelyError(f"cannot write the report in {str(out)!r}: {e.strerror} ({e.filename}); "
+                            "free space or pass another --out") from None
+    finally:
+        con.close()
+        spill.cleanup()
+    print(f"wrote {out / 'index.html'}: {written['traces']} trace pages, {written['lists']} list pages, "
+          f"{written['csv']} CSV files in {time.perf_counter() - started:.1f} s")
+    return 0
+
+
+def _within_memory(con, write):
+    """write() within MEMORY_LIMIT; a store whose queries need more is written again with
+    DuckDB's default limit (most of the machine's memory)."""
+    try:
+        return write()
+    except duckdb.OutOfMemoryException:
+        con.execute("reset memory_limit")
+        print(f"the report needs more than {MEMORY_LIMIT} of DuckDB memory for this store; "
+              "writing it again without that limit", file=sys.stderr)
+        return write()
+
+
+def write_pages(con, out: Path, trace_ids: list[int]) -> list[int]:
+    """The pages of the traces asked for, into out/traces (on demand, the rest untouched)."""
+    missing = set(trace_ids) - set(queries.trace_ids(con, trace_ids))
+    if missing:
+        raise StoreError(f"no trace {sorted(missing)} in the store; pick ids from "
+                         f"python -m harness sql \"select trace_id, sut, outcome from traces\"")
+    make_folder(out / "traces", "the trace pages")
+    wanted = sorted(set(trace_ids))
+    _write_trace_pages(con, out, wanted)
+    return wanted
+
+
+def _write_trace_pages(con, out: Path, trace_ids: list[int], pool=None, workers: int = 0) -> list:
+    """Reads the pages' data batch by batch and writes them here, or hands them to the `workers`
+    processes of `pool` (returns their futures, at most 2 batches per worker are in flight)."""
+    modules, shrunk = queries.module_order(con), pages.reproducers(queries.shrunk(con))
+    # one explainer pass for all the pages: each pass runs every property's oracle once
+    why = explanations(con, queries.explained_verdicts(con, trace_ids))
+    pending = deque()
+    for batch in queries.trace_rows(con, trace_ids):
+        ids = set(batch["traces"].trace_ids())
+        share = (out, batch, modules, {k: text for k, text in why.items() if k[0] in ids},
+                 {i: shrunk[i] for i in ids & shrunk.keys()})
+        if pool is None:
+            trace_pages.write_traces(*share)
+            continue
+        if len(pending) >= 2 * workers:
+            pending.popleft().result()
+        pending.append(pool.submit(trace_pages.write_traces, *share))
+    return list(pending)
+
+
+def write_report(con, out: Path) -> dict[str, int]:
+    """Write the whole report beside `out`, then swap it in; returns how many files of each sort."""
+    staging = out / ".report-writing"  # a killed report's leftovers go at the next run
+    shutil.rmtree(staging, ignore_errors=True)
+    try:
+        written = _write_all(con, staging)
+        _swap_in(staging, out)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    return written
+
+
+FOLDERS = ("traces", "shrunk")  # swapped in whole: no page outlives the verdicts it showed
+
+
+def _swap_in(staging: Path, out: Path) -> None:
+    """Replace the old report by the new one: CSV files, then the folders, then index.html last."""
+    for csv in staging.glob("*.csv"):
+        os.replace(csv, out / csv.name)
+    for folder in FOLDERS:
+        if (out / folder).exists():
+            os.replace(out / folder, staging / f"old-{folder}")
+        if (staging / folder).exists():
+            os.replace(staging / folder, out / folder)
+    os.replace(staging / "index.html", out / "index.html")
+
+
+def _write_all(con, out: Path) -> dict[str, int]:
+    """Many trace pages are written by worker processes (spawned: this one holds a DuckDB
+    connection), one per core with PARALLEL_FROM pages or more each, from the rows this one reads
+    (they import neither DuckDB nor Arrow; this one's reading and the rest of the report take
+    about as much CPU as the pages, and on a machine busy with other work a process more gets
+    a larger share of it); meanwhile this one writes the rest."""
+    page_ids = sorted(queries.paged_traces(con))
+    make_folder(out / "traces", "the trace pages")
+    workers = min(len(os.sched_getaffinity(0)), len(page_ids) // PARALLEL_FROM)
+    parallel = workers > 0
+    with ProcessPoolExecutor(workers, mp_context=get_context("spawn")) if parallel else nullcontext() as pool:
+        shares = _write_trace_pages(con, out, page_ids, pool, workers)
+        written = _write_rest(con, out, set(page_ids))
+        for share in shares:
+            share.result()
+    return written
+
+
+def _write_rest(con, out: Path, page_ids: set[int]) -> dict[str, int]:
+    """Everything but the trace pages: index, lists, CSV files."""
+    suts, families = sut_order(con), family_order(con)
+    table2 = queries.view(con, "trace_robustness", percent=frozenset({"t_rob"}))
+    tp = queries.view(con, "tp_rates", percent=frozenset({"tp_rate"}))
+    fp = queries.view(con, "fp_rates", percent=frozenset({"fp_rate"}))
+    bad = queries.bad_traces(con)
+    family_traces = queries.family_traces(con)
+
+    def page_link(trace_id):
+        return html.trace_href(trace_id) if trace_id in page_ids else None
+    tables = {
+        "trace_outcomes": queries.trace_counts(con),
+        "invalid_mutants": queries.invalid_mutants(con),
+        "table2": table2.link_column("sut", html.bad_href),
+        "table3": pages.pivot(tp, "tp_rate", "table3", suts, families),
+        "table4": pages.pivot(fp, "fp_rate", "table4", suts, families),
+        "properties": queries.per_property(con),
+        "shrunk": queries.shrunk(con).link_column("script_id", pages.shrunk_href).link_column("trace_id", page_link),
+        "suspicious": queries.suspicious(con).link_column("trace_id", page_link),
+        "inversions": queries.inversions(con).link_column("trace_id", page_link),
+    }
+    tables["verdict_transitions"], tables["table_changes"] = queries.changes(con)
+    pages.write_shrunk(con, out, tables["shrunk"])
+    csv_tables = [table2, tp, fp, tables["properties"], tables["suspicious"], tables["invalid_mutants"],
+                  tables["trace_outcomes"], bad, queries.bad_verdicts(con), tables["inversions"],
+                  tables["verdict_transitions"], tables["table_changes"], tables["shrunk"], family_traces]
+
+    for table in csv_tables:
+        table.write_csv(out)
+    lists = pages.write_lists(out, family_traces, bad, suts, families, (tp, fp), page_ids)
+    pages.write_index(out, dict(
+        campaigns=queries.campaigns(con), analysis=queries.analysis(con), tables=tables, bad=bad, suts=suts,
+        charts=pages.index_charts(suts, families, tp, fp, table2, queries.verdict_mix(con)),
+        csv=[t.name for t in csv_tables], pages=len(page_ids)))
+    return {"traces": len(page_ids), "lists": lists, "csv": len(csv_tables)}
