@@ -13,10 +13,10 @@ from types import SimpleNamespace
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
-from harness.report import build as report
 from harness.analyzer import materialise
 from harness.errors import StoreError
 from harness.interface import load_interface, load_properties
+from harness.report import build as report
 from harness.store import add_campaign, add_reply_codes, connect, insert_trace
 from harness.trace import Trace
 
