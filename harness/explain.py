@@ -14,7 +14,7 @@ from pathlib import Path
 
 from harness.errors import StoreError, UntimelyError
 from harness.interface import Interface, Property, load_interface, load_properties
-from harness.oracles import render_property
+from harness.oracles import render_property, sql_id_list
 from harness.provenance import default_properties
 from harness.store import connect
 from harness.textable import format_table
@@ -59,8 +59,7 @@ class Explainer:
         keys = [k for k in keys if k[1] in self.properties]
         if not keys:
             return {}
-        # the ids as a list of numbers: DuckDB pushes that filter into the requests view's scan
-        traces = ", ".join(str(int(t)) for t in sorted({t for t, _, _ in keys}))
+        traces = sql_id_list({t for t, _, _ in keys})
         cursor = self.con.execute(f"""select trace_id, rqst_id, module || '.' || service as service, t, final_t,
                                              reply, class from requests where trace_id in ({traces})""")
         requests = {(r[0], r[1]): r[2:] for r in cursor.fetchall()}

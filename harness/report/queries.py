@@ -7,7 +7,7 @@ from itertools import islice
 
 from harness.analyzer import ordered
 from harness.errors import StoreError
-from harness.oracles import render_query, render_view
+from harness.oracles import render_query, render_view, sql_id_list
 from harness.provenance import stale_files
 from harness.report.html import VERDICTS
 from harness.report.tables import Table, query_table
@@ -162,7 +162,7 @@ _DETAILS = {
 def explained_verdicts(con, ids: list[int]) -> list[dict]:
     """The verdicts a page of these traces explains: the bad ones and the suspicious ones."""
     return rows(con, f"select trace_id, property_id, rqst_id from verdicts where {_WANTED} "
-                     f"and (verdict in ('FN', 'FP') or suspicious)".format(ids=_listed(ids)))
+                     f"and (verdict in ('FN', 'FP') or suspicious)".format(ids=sql_id_list(ids)))
 
 
 def trace_rows(con, ids: list[int], batch: int = 50, chunk: int = 500) -> Iterator[dict[str, Rows]]:
@@ -176,7 +176,7 @@ def trace_rows(con, ids: list[int], batch: int = 50, chunk: int = 500) -> Iterat
 
 
 def _chunk_rows(con, ids: list[int], batch: int) -> Iterator[dict[str, Rows]]:
-    cursors = {name: con.cursor().execute(sql.format(ids=_listed(ids))) for name, sql in _DETAILS.items()}
+    cursors = {name: con.cursor().execute(sql.format(ids=sql_id_list(ids))) for name, sql in _DETAILS.items()}
     columns = {name: [d[0] for d in cursor.description] for name, cursor in cursors.items()}
     streams = {name: _streamed(cursor) for name, cursor in cursors.items()}
     heads = {name: next(stream, None) for name, stream in streams.items() if name != "traces"}
@@ -192,10 +192,6 @@ def _chunk_rows(con, ids: list[int], batch: int) -> Iterator[dict[str, Rows]]:
     while (traces := Rows(columns["traces"], list(islice(streams["traces"], batch)))).rows:
         last = traces.trace_ids()[-1]
         yield {"traces": traces, **{name: Rows(columns[name], rows_until(name, last)) for name in heads}}
-
-
-def _listed(ids: list[int]) -> str:
-    return ", ".join(str(int(i)) for i in ids) or "null"
 
 
 def _streamed(cursor) -> Iterator[tuple]:
