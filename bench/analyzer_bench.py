@@ -19,9 +19,9 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from harness import DEFAULT_MISSION_DIR  # noqa: E402
-from harness.analyzer import materialise  # noqa: E402
-from harness.interface import load_interface, load_properties  # noqa: E402
-from harness.store import add_campaign, add_reply_codes, connect, place  # noqa: E402
+from harness.analysis.analyzer import materialise  # noqa: E402
+from harness.target.interface import load_interface, load_properties  # noqa: E402
+from harness.store.database import add_campaign, add_reply_codes, connect, place  # noqa: E402
 
 # Reply shares (percent, cumulative): mostly ok, some interruptions and rejections, some unanswered.
 REPLIES = [(70, "ok"), (78, "interrupted"), (82, "interrupted_excl"), (87, "wait_init"),

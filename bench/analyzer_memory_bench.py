@@ -16,8 +16,8 @@ from pathlib import Path
 from analyzer_bench import synthesise
 
 from harness import DEFAULT_MISSION_DIR, ROOT
-from harness.interface import load_interface
-from harness.store import connect
+from harness.target.interface import load_interface
+from harness.store.database import connect
 
 REQUESTS = 100  # per trace, as analyzer_bench's large store
 

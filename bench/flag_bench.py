@@ -21,11 +21,12 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from harness import DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR, diff  # noqa: E402
-from harness.analyzer import flag_accuracy, materialise  # noqa: E402
+from harness import DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR  # noqa: E402
+from harness.analysis import diff  # noqa: E402
+from harness.analysis.analyzer import flag_accuracy, materialise  # noqa: E402
 from harness.cli import main as cli  # noqa: E402
-from harness.interface import load_interface, load_properties  # noqa: E402
-from harness.store import connect  # noqa: E402
+from harness.target.interface import load_interface, load_properties  # noqa: E402
+from harness.store.database import connect  # noqa: E402
 
 CAMPAIGNS = {"default": [], "time-mutations": ["--time-mutations", "--sut", "genom,bip-a,bip-b,bare,reference"]}
 RECALL, PRECISION, REANALYSIS_S = 0.95, 0.50, 3.0

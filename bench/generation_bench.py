@@ -17,12 +17,12 @@ import time
 from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR, ROOT, store
-from harness.executive import run_script
-from harness.interface import load_interface, load_properties
-from harness.judge import Judge
+from harness.run.executive import run_script
+from harness.target.interface import load_interface, load_properties
+from harness.analysis.judge import Judge
 from harness.mutator import operators, targeted
-from harness.mutator.script import load_script
-from harness.shrink import Behaviour, original, shrink
+from harness.target.script import load_script
+from harness.campaign.shrink import Behaviour, original, shrink
 
 VARIANTS = "genom,bip-a,bip-b,bare,reference"
 MUTANTS, SEED, COVERAGE_TARGET = 300, 2012, 30

@@ -17,9 +17,9 @@ import time
 from calibration import calibrate
 
 from harness import DEFAULT_MISSION_DIR
-from harness.executive import run_script
-from harness.interface import load_interface
-from harness.mutator.script import load_script
+from harness.run.executive import run_script
+from harness.target.interface import load_interface
+from harness.target.script import load_script
 
 REPEATS = 9
 TARGET = 5000

@@ -29,9 +29,9 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from harness import DEFAULT_MISSION_DIR  # noqa: E402
-from harness.analyzer import materialise  # noqa: E402
-from harness.interface import load_interface, load_properties  # noqa: E402
-from harness.store import connect  # noqa: E402
+from harness.analysis.analyzer import materialise  # noqa: E402
+from harness.target.interface import load_interface, load_properties  # noqa: E402
+from harness.store.database import connect  # noqa: E402
 
 TIME_LINE_S, SIZE_LINE_MB, MEMORY_LINE_MB = 10.0, 100.0, 100.0
 MB = 1024 * 1024

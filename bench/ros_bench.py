@@ -9,10 +9,10 @@ import threading
 import time
 
 from harness import DEFAULT_MISSION_DIR, ROOT
-from harness.connection import Connection
-from harness.interface import load_interface
-from harness.protocol import PROTO, decode, encode
-from harness.suts import ExternalSut, load_suts_file
+from harness.run.external.channel import Connection
+from harness.target.interface import load_interface
+from harness.run.external.protocol import PROTO, decode, encode
+from harness.run.external.definitions import ExternalSut, load_suts_file
 
 ROUND_TRIPS = 150
 INTERFACE = load_interface(DEFAULT_MISSION_DIR / "interface.toml")

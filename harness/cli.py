@@ -10,7 +10,7 @@ from pathlib import Path
 
 from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR
 from harness.errors import UntimelyError
-from harness.store import discard_if_empty
+from harness.store.database import discard_if_empty
 
 EXTERNAL_HELP = ("; or an external SUT over untimely/1: NAME=cmd:COMMAND (started per run, stdio), "
                  "NAME=tcp://HOST:PORT, or a NAME from the mission folder's suts.toml")
@@ -19,7 +19,7 @@ EXTERNAL_HELP = ("; or an external SUT over untimely/1: NAME=cmd:COMMAND (starte
 def _variants_help() -> str:
     """The default mission's variants, read from its layer description."""
     try:
-        from harness.sut.description import load_layer
+        from harness.target.layer_description import load_layer
         layer = load_layer(DEFAULT_MISSION_DIR)
     except UntimelyError:
         return "those of the mission folder's layer.toml"
@@ -46,7 +46,7 @@ def _parser() -> argparse.ArgumentParser:
     def db(c, help="the DuckDB store"):
         c.add_argument("--db", default=str(DEFAULT_DB), help=f"{help} (default: %(default)s)")
 
-    c = command("run", "run one script on one variant, store and summarise its trace", "harness.run:main")
+    c = command("run", "run one script on one variant, store and summarise its trace", "harness.campaign.adhoc:main")
     c.add_argument("mission", help="a mission script, e.g. missions/dala/golden.mission")
     c.add_argument("--sut", required=True, help=f"implementation variant: {variants_help}{EXTERNAL_HELP}")
     c.add_argument("--seed", type=int, default=0, help="seed of the observation delays (default: 0)")
@@ -57,7 +57,7 @@ def _parser() -> argparse.ArgumentParser:
     time_scale(c)
     db(c)
 
-    c = command("campaign", "run golden + seeded mutants on each variant; resumable", "harness.campaign:main")
+    c = command("campaign", "run golden + seeded mutants on each variant; resumable", "harness.campaign.campaign:main")
     c.add_argument("--mission", default=str(DEFAULT_MISSION_DIR), help="mission folder (default: %(default)s)")
     c.add_argument("--mutants", type=int, default=300, help="number of mutants (default: %(default)s)")
     c.add_argument("--sut", help="comma-separated SUTs (default: the layer.toml's default_suts): "
@@ -80,7 +80,7 @@ def _parser() -> argparse.ArgumentParser:
     db(c)
 
     c = command("shrink", "reduce a bad trace's script to the smallest one showing the same bad behaviour",
-                "harness.shrink:main")
+                "harness.campaign.shrink:main")
     c.add_argument("trace_id", type=int, help="a hung trace, or one with an FN or FP verdict")
     c.add_argument("--property", help="shrink the FN (else FP) on this property id (default: the hang, "
                                       "else the trace's first FN or FP)")
@@ -90,7 +90,7 @@ def _parser() -> argparse.ArgumentParser:
     db(c)
 
     c = command("analyze", "(re)materialise verdicts from the stored traces and print Tables II-IV",
-                "harness.analyzer:main")
+                "harness.analysis.analyzer:main")
     c.add_argument("--properties", help="properties file (default: properties.toml of the campaign's mission)")
     c.add_argument("--interface", help="interface description the properties name "
                                        "(default: interface.toml beside the properties file)")
@@ -99,11 +99,11 @@ def _parser() -> argparse.ArgumentParser:
                         f"else {DEFAULT_EPSILON_S})")
     db(c)
 
-    c = command("diff", "what the last analysis changed: verdict transitions, Tables II-IV", "harness.diff:main")
+    c = command("diff", "what the last analysis changed: verdict transitions, Tables II-IV", "harness.analysis.diff:main")
     db(c)
 
     c = command("explain", "the events that decided a verdict, its margin and what would flip it",
-                "harness.explain:main")
+                "harness.analysis.explain:main")
     c.add_argument("trace_id", type=int, help="a trace id")
     c.add_argument("property", help="a property id, as the properties file spells it")
     c.add_argument("rqst_id", type=int, nargs="?", help="a request id (default: every request judged)")
@@ -116,18 +116,18 @@ def _parser() -> argparse.ArgumentParser:
     db(c)
 
     c = command("import", "load foreign traces (CSV, JSON lines, Parquet) into the store",
-                "harness.importer:main")
+                "harness.store.importer:main")
     c.add_argument("file", help="a .csv, .jsonl or .parquet file with the events columns")
     c.add_argument("--interface", required=True, help="interface description giving the reply classes")
     db(c)
 
     c = command("export", "write every table and view of the store as Parquet or CSV files, with a manifest",
-                "harness.export:main")
+                "harness.store.export:main")
     c.add_argument("dir", help="output folder, created if missing")
     c.add_argument("--format", choices=("parquet", "csv"), default="parquet", help="file format (default: %(default)s)")
     db(c)
 
-    c = command("sql", "run ad-hoc SQL against the store and print an aligned table", "harness.sqlshell:main")
+    c = command("sql", "run ad-hoc SQL against the store and print an aligned table", "harness.store.sqlshell:main")
     c.add_argument("query", help="a SQL query, e.g. \"select * from trace_robustness\"")
     db(c)
     return p

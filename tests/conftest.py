@@ -1,7 +1,7 @@
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, cli
-from harness.interface import load_interface, load_properties
+from harness.target.interface import load_interface, load_properties
 
 
 @pytest.fixture(scope="session")

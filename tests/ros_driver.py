@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT
-from harness.interface import load_interface
+from harness.target.interface import load_interface
 
 ROS_PYTHON = "/usr/bin/python3"
 VENV_PYTHON = ROOT / ".venv-ros" / "bin" / "python"

@@ -7,13 +7,15 @@ import tomllib
 import jinja2
 import pytest
 
-from harness import DEFAULT_MISSION_DIR, analyzer, oracles
+from harness import DEFAULT_MISSION_DIR, SQL_DIR
+from harness.analysis import analyzer
+from harness.store import sql as oracles
 
-from harness.analyzer import materialise, summary
+from harness.analysis.analyzer import materialise, summary
 from harness.cli import main
 from harness.errors import PropertyError, StoreError
-from harness.interface import Property
-from harness.oracles import render_property
+from harness.target.interface import Property
+from harness.analysis.oracles import render_property
 from harness.trace import Trace
 from traces.fixtures import HERE, PROPERTIES, judged_store, judged_traces, load
 
@@ -156,7 +158,7 @@ def test_analyze_refuses_a_missing_store_and_a_bad_epsilon(tmp_path, capsys):
 
 def test_a_typo_in_a_template_names_the_property_the_template_and_the_rendered_line(tmp_path, monkeypatch):
     sql = tmp_path / "sql"
-    shutil.copytree(oracles.SQL_DIR, sql)
+    shutil.copytree(SQL_DIR, sql)
     ee = sql / "oracles" / "ee.sql"
     ee.write_text(ee.read_text().replace("y_class is not distinct from 'R' as conflict_rejected",
                                          "y_klass is not distinct from 'R' as conflict_rejected"))

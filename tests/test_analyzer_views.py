@@ -1,7 +1,7 @@
 """The views' numbers (paper Tables II-IV) on the small hand-made store of tests/traces/tables.trace."""
 import pytest
 
-from harness.analyzer import materialise
+from harness.analysis.analyzer import materialise
 from traces.fixtures import HERE, load, judged_store
 
 EPSILON = 0.01

@@ -17,9 +17,11 @@ from pathlib import Path
 
 import pytest
 
-from harness import DEFAULT_MISSION_DIR, ROOT, campaign, cli, store, workers
+from harness import DEFAULT_MISSION_DIR, ROOT, cli, store
+from harness.campaign import campaign
+from harness.run import workers
 from harness.errors import InputFileError, StoreError, UntimelyError
-from harness.executive import run_script
+from harness.run.executive import run_script
 from harness.progress import Progress
 
 HERE = Path(__file__).resolve().parent
@@ -150,7 +152,7 @@ def test_results_do_not_depend_on_jobs_and_a_finished_campaign_does_nothing(miss
 def kill_when_script4_starts(args, tmp_path, setup: str = "") -> None:
     """Run a campaign (stalling_runner) in a child process and SIGKILL it once script 4 has started."""
     marker = tmp_path / "script4-started"
-    program = (f"import argparse, test_campaign as t; from harness import campaign; {setup}"
+    program = (f"import argparse, test_campaign as t; from harness.campaign import campaign; {setup}"
                f"campaign.main(argparse.Namespace(**{vars(args)!r}), runner=t.stalling_runner)")
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(HERE), str(ROOT)]), **{MARKER: str(marker)})
     child = subprocess.Popen([sys.executable, "-c", program], env=env, cwd=tmp_path, start_new_session=True,

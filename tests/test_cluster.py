@@ -6,7 +6,9 @@ import cloudpickle
 import pytest
 
 import test_campaign
-from harness import DEFAULT_MISSION_DIR, campaign, cluster, store
+from harness import DEFAULT_MISSION_DIR, store
+from harness.campaign import campaign
+from harness.run import cluster
 from harness.errors import UntimelyError
 from test_campaign import arguments, dump, failing_runner
 
@@ -76,7 +78,7 @@ def checked(address, setup):
 
 
 def setup_for(mission=DEFAULT_MISSION_DIR, external=None):
-    from harness.workers import Setup
+    from harness.run.workers import Setup
     return Setup(None, mission / "interface.toml", mission / "world.toml", 0.0, external or {})
 
 
@@ -109,7 +111,7 @@ def test_workers_with_other_mission_files_are_refused(scheduler, monkeypatch, tm
 
 
 def test_external_suts_need_a_worker_offering_the_sut_resource(scheduler, monkeypatch):
-    from harness.suts import ExternalSut
+    from harness.run.external.definitions import ExternalSut
     setup = setup_for(external={"toy": ExternalSut("toy", command="adapter")})
     with pytest.raises(UntimelyError, match=r"no worker of tcp://\S+ offers the `sut` resource .* "
                                             r"`dask worker tcp://\S+ --resources sut=K`"):

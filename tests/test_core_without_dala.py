@@ -9,12 +9,12 @@ import re
 import tokenize
 
 from harness import DEFAULT_MISSION_DIR, ROOT
-from harness.interface import load_interface
-from harness.sut.description import load_layer
+from harness.target.interface import load_interface
+from harness.target.layer_description import load_layer
 
-CORE = ("harness/sut/kernel.py", "harness/sut/module.py", "harness/sut/layer.py", "harness/sut/description.py",
-        "harness/sut/host.py", "harness/sut/realtime.py", "harness/executive.py", "harness/workers.py",
-        "harness/campaign.py", "harness/run.py", "harness/cli.py", "harness/mission.py")
+CORE = ("harness/sim/kernel.py", "harness/sim/module.py", "harness/sim/layer.py", "harness/target/layer_description.py",
+        "harness/sim/host.py", "harness/sim/realtime.py", "harness/run/executive.py", "harness/run/workers.py",
+        "harness/campaign/campaign.py", "harness/campaign/adhoc.py", "harness/cli.py", "harness/target/mission.py")
 
 
 def dala_names() -> set[str]:

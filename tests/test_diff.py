@@ -11,10 +11,10 @@ import shutil
 import tomllib
 
 from harness import DEFAULT_MISSION_DIR
-from harness.analyzer import materialise
+from harness.analysis.analyzer import materialise
 from harness.cli import main
-from harness.diff import changes
-from harness.store import connect
+from harness.analysis.diff import changes
+from harness.store.database import connect
 from harness.trace import Trace
 from traces.fixtures import INTERFACE, PROPERTIES, judged_traces
 

@@ -4,7 +4,7 @@ from collections import Counter
 
 from harness import DEFAULT_MISSION_DIR, ROOT
 from harness.mutator.operators import generate
-from harness.mutator.script import load_script
+from harness.target.script import load_script
 
 DOC = (ROOT / "docs" / "campaign.md").read_text()
 

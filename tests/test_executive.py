@@ -1,8 +1,8 @@
 """The executive against a small fake layer: sends, waits, delays, hang, crash, determinism."""
 import pytest
 
-from harness.executive import DRAIN_S, REACTION_S, run_script
-from harness.mutator.script import parse, validate
+from harness.run.executive import DRAIN_S, REACTION_S, run_script
+from harness.target.script import parse, validate
 
 
 class FakeLayer:

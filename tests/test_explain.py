@@ -2,9 +2,9 @@
 import shutil
 
 from harness import DEFAULT_MISSION_DIR
-from harness.analyzer import materialise
+from harness.analysis.analyzer import materialise
 from harness.cli import main
-from harness.store import connect
+from harness.store.database import connect
 from traces.fixtures import HERE, INTERFACE, load, judged_store
 
 EPSILON = 0.01

@@ -10,11 +10,11 @@ import pyarrow.parquet as pq
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, cli, store
-from harness.analyzer import materialise, ordered
+from harness.analysis.analyzer import materialise, ordered
 from harness.errors import StoreError
-from harness.export import export, relations
-from harness.importer import import_file
-from harness.interface import load_interface, load_properties
+from harness.store.export import export, relations
+from harness.store.importer import import_file
+from harness.target.interface import load_interface, load_properties
 
 TABLES_II_TO_IV = ("trace_robustness", "tp_rates", "fp_rates")
 

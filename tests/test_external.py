@@ -11,9 +11,9 @@ import pytest
 from harness import DEFAULT_MISSION_DIR, ROOT, store
 from harness.cli import main as cli
 from harness.errors import UntimelyError
-from harness.external import run_external
-from harness.mutator.script import parse
-from harness.suts import ExternalSut, resolve
+from harness.run.external.runner import run_external
+from harness.target.script import parse
+from harness.run.external.definitions import ExternalSut, resolve
 
 FAULTY = Path(__file__).resolve().parent / "adapters" / "faulty.py"
 SHORT = """send rflex.Init as ri

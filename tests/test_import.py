@@ -7,12 +7,12 @@ import pyarrow.parquet as pq
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
-from harness.analyzer import materialise
+from harness.analysis.analyzer import materialise
 from harness.cli import main
 from harness.errors import InputFileError, StoreError
-from harness.importer import import_file
-from harness.interface import load_interface
-from harness.store import connect
+from harness.store.importer import import_file
+from harness.target.interface import load_interface
+from harness.store.database import connect
 
 COLUMNS = ["trace_id", "seq", "t", "kind", "rqst_id", "module", "service", "args", "reply", "outcome"]
 # Two traces, interleaved as a real log might be; run-b hung with its GotoPosition unanswered.

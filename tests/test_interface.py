@@ -1,7 +1,7 @@
 import pytest
 
 from harness.errors import InputFileError
-from harness.interface import load_interface, load_properties
+from harness.target.interface import load_interface, load_properties
 
 GOOD = """
 [replies]

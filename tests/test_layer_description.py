@@ -6,11 +6,11 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR
 from harness.errors import UntimelyError
-from harness.interface import load_interface
-from harness.mission import load_mission
-from harness.sut.description import load_layer
-from harness.sut.kernel import Environment
-from harness.sut.layer import FunctionalLayer
+from harness.target.interface import load_interface
+from harness.target.mission import load_mission
+from harness.target.layer_description import load_layer
+from harness.sim.kernel import Environment
+from harness.sim.layer import FunctionalLayer
 
 
 def test_dalas_variants_and_their_protections_in_checking_order():

@@ -38,7 +38,7 @@ def rows(con, query):
 
 
 def test_the_properties_use_all_six_basic_types():
-    from harness.mission import load_mission
+    from harness.target.mission import load_mission
     assert {p.type for p in load_mission(MISSION).properties()} == {"PC", "ES", "EE", "EX", "MX_R", "MX_I"}
 
 

@@ -7,7 +7,7 @@ import pytest
 from harness import DEFAULT_MISSION_DIR
 from harness.mutator import operators
 from harness.mutator.operators import generate, mutate
-from harness.mutator.script import load_script, parse, validate
+from harness.target.script import load_script, parse, validate
 
 SMALL = """\
 send rflex.Init as ri

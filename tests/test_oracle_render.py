@@ -4,9 +4,9 @@ from dataclasses import replace
 import pytest
 
 from harness.errors import PropertyError
-from harness.interface import Property
-from harness.oracles import render_property
-from harness.store import connect, insert_trace
+from harness.target.interface import Property
+from harness.analysis.oracles import render_property
+from harness.store.database import connect, insert_trace
 from harness.trace import Trace
 
 CONTRACT = ["trace_id", "property_id", "family", "rqst_id", "module", "service", "c_holds", "verdict",

@@ -4,10 +4,10 @@ import shutil
 from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR, SQL_DIR
-from harness.analyzer import materialise
+from harness.analysis.analyzer import materialise
 from harness.cli import main
-from harness.provenance import stale_files
-from harness.store import connect
+from harness.analysis.provenance import stale_files
+from harness.store.database import connect
 from traces.fixtures import HERE, INTERFACE, load, judged_store
 
 EPSILON = 0.01

@@ -13,11 +13,11 @@ from types import SimpleNamespace
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
-from harness.analyzer import materialise
+from harness.analysis.analyzer import materialise
 from harness.errors import StoreError
-from harness.interface import load_interface, load_properties
+from harness.target.interface import load_interface, load_properties
 from harness.report import build as report
-from harness.store import add_campaign, add_reply_codes, connect, insert_trace
+from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
 from harness.trace import Trace
 
 GOLDEN = """send rflex.Init as ri

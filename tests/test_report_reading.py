@@ -11,10 +11,10 @@ from xml.etree import ElementTree as ET
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
-from harness.analyzer import materialise, summary
-from harness.interface import load_interface, load_properties
+from harness.analysis.analyzer import materialise, summary
+from harness.target.interface import load_interface, load_properties
 from harness.report import charts, html, trace_pages
-from harness.store import add_campaign, add_reply_codes, connect, insert_trace
+from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
 from harness.trace import Trace
 from test_report import TRACES, Page, _events, analysed_store, make_store, write_report
 

@@ -2,7 +2,7 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR
 from harness.errors import ScriptError
-from harness.mutator.script import load_script, parse, validate
+from harness.target.script import load_script, parse, validate
 
 
 def check(text, interface):

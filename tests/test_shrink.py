@@ -11,8 +11,8 @@ from harness import store
 from harness.cli import main
 from harness.errors import StoreError
 from harness.mutator.ddmin import ddmin
-from harness.mutator.script import parse
-from harness.shrink import MIN_SLEEP_S, Behaviour, Original, shorter_sleeps, store_shrunk
+from harness.target.script import parse
+from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, shorter_sleeps, store_shrunk
 
 MAX_STEPS = 10
 

@@ -3,8 +3,8 @@ import pytest
 
 from harness.cli import main
 from harness.errors import StoreError
-from harness.sqlshell import run
-from harness.store import connect
+from harness.store.sqlshell import run
+from harness.store.database import connect
 from traces.fixtures import HERE, judged_store, load
 
 

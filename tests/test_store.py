@@ -2,7 +2,7 @@ import pytest
 
 from harness import store
 from harness.errors import StoreError
-from harness.interface import load_interface
+from harness.target.interface import load_interface
 from harness.trace import Trace
 
 CONTRACT = {  # DESIGN §5: names the oracles and other tools rely on

@@ -13,9 +13,9 @@ import pyarrow as pa
 import pytest
 
 from harness import cli, store
-from harness.analyzer import ordered
+from harness.analysis.analyzer import ordered
 from harness.errors import StoreError
-from harness.export import relations
+from harness.store.export import relations
 
 # Written by main at 58d696f, before schema versions, in DuckDB 2.0's own storage format:
 # campaign --mutants 3 --sut reference,genom --seed 2012 --jobs 1.

@@ -4,8 +4,8 @@
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
-from harness.executive import run_script
-from harness.mutator.script import load_script
+from harness.run.executive import run_script
+from harness.target.script import load_script
 from sut_driver import WORLD
 
 LONG_RUNNING = {("rflex", "TrackSpeedStart"), ("sick", "ContinuousShot"), ("aspect", "Fuse")}

@@ -5,9 +5,9 @@ import math
 import pytest
 
 from harness.errors import UntimelyError
-from harness.interface import load_interface
-from harness.sut.kernel import Environment
-from harness.sut.layer import FunctionalLayer
+from harness.target.interface import load_interface
+from harness.sim.kernel import Environment
+from harness.sim.layer import FunctionalLayer
 from sut_driver import WORLD, Driver
 
 

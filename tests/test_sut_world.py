@@ -4,8 +4,8 @@ import math
 import pytest
 
 from harness.errors import InputFileError
-from harness.sut.kernel import Environment
-from harness.sut.world import World, load_world
+from harness.sim.kernel import Environment
+from harness.sim.dala.world import World, load_world
 from sut_driver import WORLD
 
 ARENA = """

@@ -6,14 +6,14 @@ import json
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, store
-from harness.campaign import campaign_config, find_campaign
+from harness.campaign.campaign import campaign_config, find_campaign
 from harness.cli import main
 from harness.errors import StoreError, UntimelyError
-from harness.executive import run_script
-from harness.interface import Property, load_interface, load_properties
-from harness.judge import Judge
+from harness.run.executive import run_script
+from harness.target.interface import Property, load_interface, load_properties
+from harness.analysis.judge import Judge
 from harness.mutator import targeted
-from harness.mutator.script import load_script, parse
+from harness.target.script import load_script, parse
 from harness.mutator.timeline import Timeline
 from harness.trace import Trace
 

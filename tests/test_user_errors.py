@@ -176,9 +176,9 @@ def test_a_huge_mutant_count_is_refused_at_once(tmp_path, capsys):
 
 
 def test_a_long_mutant_generation_shows_its_progress(monkeypatch, capsys):
-    from harness import campaign
-    from harness.interface import load_interface
-    from harness.mutator.script import load_script
+    from harness.campaign import campaign
+    from harness.target.interface import load_interface
+    from harness.target.script import load_script
     interface = load_interface(INTERFACE)
     golden = load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
     config = {"mutants": 20, "seed": 1, "ops_per_mutant": 1, "time_mutations": False, "strategy": "random"}

@@ -18,9 +18,9 @@ from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR
 from harness.errors import UntimelyError
-from harness.interface import load_interface
-from harness.protocol import BENCH_MESSAGES, PROTO, ProtocolViolation, decode, encode
-from harness.sut.host import LayerHost
+from harness.target.interface import load_interface
+from harness.run.external.protocol import BENCH_MESSAGES, PROTO, ProtocolViolation, decode, encode
+from harness.sim.host import LayerHost
 
 
 class Session:

@@ -17,8 +17,8 @@ from dataclasses import dataclass, replace
 from typing import Callable
 
 from harness.errors import ScriptError
-from harness.interface import Interface, Service
-from harness.mutator.script import Script, Step, validate
+from harness.target.interface import Interface, Service
+from harness.target.script import Script, Step, validate
 
 INSERTED_HANDLE_PREFIX = "extra"
 # A changed sleep lasts between a tenth and ten times the original (log-uniform).

@@ -11,11 +11,11 @@ from __future__ import annotations
 from typing import Callable
 
 from harness.errors import UntimelyError
-from harness.interface import Interface, Property
-from harness.judge import Judge
+from harness.target.interface import Interface, Property
+from harness.analysis.judge import Judge
 from harness.mutator import operators, targeted
 from harness.mutator.operators import Mutant
-from harness.mutator.script import Script
+from harness.target.script import Script
 from harness.trace import Trace
 
 STRATEGIES = ("random", "targeted")

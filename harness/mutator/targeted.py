@@ -26,9 +26,9 @@ import random
 from dataclasses import dataclass
 from typing import Callable
 
-from harness.interface import Interface, Property
+from harness.target.interface import Interface, Property
 from harness.mutator.operators import Mutant, plausible, random_request, step_text, validated
-from harness.mutator.script import Script, Step
+from harness.target.script import Script, Step
 from harness.mutator.timeline import Timeline
 from harness.trace import Trace
 

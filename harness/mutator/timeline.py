@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from harness.executive import REACTION_S
-from harness.mutator.script import Script
+from harness.run.executive import REACTION_S
+from harness.target.script import Script
 from harness.trace import Trace
 
 

@@ -21,12 +21,12 @@ from pathlib import Path
 
 import duckdb
 
-from harness.analyzer import family_order, sut_order
+from harness.analysis.analyzer import family_order, sut_order
 from harness.errors import StoreError, UntimelyError
-from harness.explain import explanations
+from harness.analysis.explain import explanations
 from harness.files import make_folder
 from harness.report import html, pages, queries, trace_pages
-from harness.store import connect
+from harness.store.database import connect
 
 PARALLEL_FROM = 400  # trace pages per worker process; fewer are not worth starting one for
 # DuckDB's memory for the report's queries: beyond it, their hash tables spill to a temporary

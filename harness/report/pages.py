@@ -9,7 +9,7 @@ from markupsafe import Markup
 from harness.report import charts
 from harness.report.html import SHOWN_ROWS, VERDICTS, bad_href, list_href, rate_text, render
 from harness.report.tables import Table
-from harness.shrink import Behaviour, mission_file, original, write_mission
+from harness.campaign.shrink import Behaviour, mission_file, original, write_mission
 
 
 def shrunk_href(script_id: int) -> str:

@@ -5,10 +5,10 @@ import json
 from collections.abc import Iterator
 from itertools import islice
 
-from harness.analyzer import ordered
+from harness.store.reads import ordered
 from harness.errors import StoreError
-from harness.oracles import render_query, render_view, sql_id_list
-from harness.provenance import stale_files
+from harness.store.sql import render_query, render_view, sql_id_list
+from harness.analysis.provenance import stale_files
 from harness.report.html import VERDICTS
 from harness.report.tables import Table, query_table
 from harness.report.trace_pages import Rows

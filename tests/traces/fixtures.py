@@ -21,10 +21,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR, ROOT
-from harness.analyzer import materialise
-from harness.interface import Interface, load_interface, load_properties
-from harness.mission import load_mission
-from harness.store import add_campaign, add_reply_codes, connect, insert_trace
+from harness.analysis.analyzer import materialise
+from harness.target.interface import Interface, load_interface, load_properties
+from harness.target.mission import load_mission
+from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
 from harness.trace import Trace
 
 HERE = Path(__file__).parent

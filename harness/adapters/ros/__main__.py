@@ -20,7 +20,7 @@ import threading
 from harness.adapters.ros.mapping import load_mapping
 from harness.adapters.ros.processes import Child, ros_home, start_master, stop_all
 from harness.errors import UntimelyError
-from harness.protocol import BENCH_MESSAGES, PROTO, ProtocolViolation, decode, encode
+from harness.run.external.protocol import BENCH_MESSAGES, PROTO, ProtocolViolation, decode, encode
 
 class LineWriter:
     """One message per line on stdout (the shared codec), whole lines only, whichever thread writes."""

@@ -1,6 +1,6 @@
 """The simulated Dala layer as a ROS node: one actionlib server per module on a real rosmaster.
 
-The layer's logic runs on a LayerHost (harness/sut/host.py) in wall-clock or scaled time; this
+The layer's logic runs on a LayerHost (harness/sim/host.py) in wall-clock or scaled time; this
 node is only its ROS face. A goal is a request; the layer's replies drive the goal's status:
 
 - intermediate (the activity started) -> ACTIVE, plus one feedback `running` (the adapter's
@@ -40,8 +40,8 @@ from harness import DEFAULT_MISSION_DIR
 from harness.adapters.ros.mapping import load_mapping
 from harness.adapters.ros.messages import RequestAction, RequestFeedback, RequestResult
 from harness.errors import UntimelyError
-from harness.interface import load_interface
-from harness.sut.host import LayerHost
+from harness.target.interface import load_interface
+from harness.sim.host import LayerHost
 
 HEARTBEAT_HZ = 5.0  # actionlib's default status rate
 

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from harness.errors import InputFileError, UntimelyError
-from harness.interface import read_toml
+from harness.target.interface import read_toml
 
 # Terminal goal statuses that carry a reply (actionlib_msgs/GoalStatus names). LOST is not one:
 # the client declared it, the server never ended the goal, so the adapter must not invent a final.

@@ -1,0 +1,165 @@
+"""`python -m harness explain TRACE_ID PROPERTY [RQST_ID]`: why a verdict is what it is.
+
+For each judged request it prints the request and its final reply (with the reply's class),
+the verdict, C and its margin, and every item that could decide C: the y(j) requests (ES, EE
+and their compositions) or the services q of Q (PC) with their events, whether each makes C
+false, and how far it would have to move to change that. The pairs come from the property's
+own oracle query (render_property(..., explain=...)), so the explanation cannot drift from
+the verdict. The report's trace pages show the same text for their FN, FP and suspicious verdicts.
+"""
+from __future__ import annotations
+
+from collections import defaultdict
+from pathlib import Path
+
+from harness.errors import StoreError, UntimelyError
+from harness.target.interface import Interface, Property, load_interface, load_properties
+from harness.analysis.oracles import render_property
+from harness.store.sql import sql_id_list
+from harness.analysis.provenance import default_properties
+from harness.store.database import connect
+from harness.textable import format_table
+
+Key = tuple[int, str, int]  # (trace_id, property_id, rqst_id): one verdict row
+
+
+def judged_properties(con) -> tuple[Interface, dict[str, Property]]:
+    """The interface and properties the stored verdicts were made from (the last analysis's file
+    when it is recorded and still there, else the campaign mission's)."""
+    recorded = con.execute("select count(*) from information_schema.tables where table_name = 'analysis_files'")
+    found = dict(con.execute("""select role, path from analysis_files where role in ('properties', 'interface')
+                                and analysis_id = (select max(analysis_id) from analyses)""").fetchall()) \
+        if recorded.fetchone()[0] else {}
+    usable = "properties" in found and Path(found["properties"]).is_file()
+    path = Path(found["properties"]) if usable else default_properties(con)
+    interface_file = Path(found.get("interface") or path.parent / "interface.toml") if usable else None
+    interface = load_interface(interface_file or path.parent / "interface.toml")
+    return interface, {p.id: p for p in load_properties(path, interface)}
+
+
+def _seconds(value) -> str:
+    return "-" if value is None else f"{value:.6f}"
+
+
+def _item_order(pair: dict) -> tuple:
+    """Items by part (ES, EE), then request id (y) or service (q): the oracle's query gives them
+    in an order that depends on DuckDB's plan and threads."""
+    item = str(pair["item"])
+    return str(pair.get("part", "")), not item.isdigit(), int(item) if item.isdigit() else 0, item
+
+
+class Explainer:
+    """Explanations of many verdicts at once: one oracle query per property, one read of the
+    requests of all the traces concerned."""
+
+    def __init__(self, con, interface: Interface, properties: dict[str, Property]):
+        self.con, self.interface, self.properties = con, interface, properties
+        self.epsilon = con.execute("select epsilon from analysis").fetchone()[0]
+
+    def explain(self, keys: list[Key]) -> dict[Key, str]:
+        keys = [k for k in keys if k[1] in self.properties]
+        if not keys:
+            return {}
+        traces = sql_id_list({t for t, _, _ in keys})
+        cursor = self.con.execute(f"""select trace_id, rqst_id, module || '.' || service as service, t, final_t,
+                                             reply, class from requests where trace_id in ({traces})""")
+        requests = {(r[0], r[1]): r[2:] for r in cursor.fetchall()}
+        verdicts = {(t, p, r): rest for t, p, r, *rest in self.con.execute(
+            """select trace_id, property_id, rqst_id, verdict, c_holds, margin_s, suspicious from verdicts
+               semi join (select unnest(?::integer[]) as trace_id, unnest(?::varchar[]) as property_id,
+                                 unnest(?::integer[]) as rqst_id) using (trace_id, property_id, rqst_id)""",
+            [list(column) for column in zip(*keys)]).fetchall()}
+        pairs: dict[Key, list[dict]] = defaultdict(list)
+        for property_id in dict.fromkeys(p for _, p, _ in keys):
+            wanted = [(t, r) for t, p, r in keys if p == property_id]
+            cursor = self.con.execute(render_property(self.properties[property_id], "events", self.epsilon,
+                                                      self.interface, explain=wanted))
+            names = [d[0] for d in cursor.description]
+            for row in cursor.fetchall():
+                pair = dict(zip(names, row))
+                pairs[(pair["trace_id"], property_id, pair["rqst_id"])].append(pair)
+        for found in pairs.values():
+            found.sort(key=_item_order)
+        oks = defaultdict(list)  # (trace, service) -> the instants of its ok final replies
+        for (trace_id, _), (service, _, final_t, reply, _) in requests.items():
+            if reply == "ok":
+                oks[(trace_id, service)].append(final_t)
+        return {k: self._text(k, verdicts[k], requests, oks, pairs[k]) for k in keys if k in verdicts}
+
+    def _items(self, trace_id: int, prop: Property, pairs: list[dict], requests: dict,
+               oks: dict) -> list[tuple]:
+        rows = []
+        for pair in pairs:
+            if prop.type == "PC":
+                found = sorted(oks.get((trace_id, pair["item"]), []))
+                what, events = f"q {pair['item']}", "ok at " + (", ".join(map(_seconds, found)) or "never")
+            else:
+                service, t, final_t, reply, cls = requests[(trace_id, int(pair["item"]))]
+                what = f"y {service} #{pair['item']}"
+                events = f"sent {_seconds(t)}, {reply or 'no final'} ({cls or '-'}) at {_seconds(final_t)}"
+            shift = None if pair["shift"] == float("inf") else pair["shift"]
+            near = shift is not None and round(shift, 6) < self.epsilon
+            rows.append((*([pair["part"]] if "part" in pair else []), what, events,
+                         "yes" if pair["conflicts"] else "no", "yes" if pair["conflict_rejected"] else "no",
+                         shift, "yes" if near else "no"))
+        return rows
+
+    def _text(self, key: Key, verdict_row: tuple, requests: dict, oks: dict, pairs: list[dict]) -> str:
+        trace_id, property_id, rqst_id = key
+        verdict, c_holds, margin, suspicious = verdict_row
+        prop = self.properties[property_id]
+        service, t, final_t, reply, cls = requests[(trace_id, rqst_id)]
+        condition = {True: "true", False: "false", None: "undefined (x(i) was rejected)"}[c_holds]
+        lines = [f"{property_id} on request {rqst_id} of trace {trace_id}: {verdict}",
+                 f"  x(i) {service} sent at {_seconds(t)} s; final reply "
+                 + (f"{reply} (class {cls or 'not in the catalogue'}) at {_seconds(final_t)} s" if reply else "none"),
+                 f"  C is {condition}; margin {_seconds(margin)} s; "
+                 + ("suspicious" if suspicious else "not suspicious") + f" (epsilon {self.epsilon:g} s)"]
+        rows = self._items(trace_id, prop, pairs, requests, oks)
+        if rows:
+            head = (["part"] if "part" in pairs[0] else []) + ["item", "events", "makes C false", "rejected",
+                                                               "shift s", "near"]
+            lines.append("  " + format_table(head, rows, null="never").replace("\n", "\n  "))
+        else:
+            lines.append("  nothing in the trace could make C false")
+        if c_holds is False:
+            lines.append(f"  C would hold only if every item that makes it false moved by its shift "
+                         f"(the largest: {_seconds(margin)} s).")
+        elif c_holds:
+            lines.append(f"  C would fail if one item moved by its shift (the smallest: {_seconds(margin)} s).")
+        if any(p.get("caused") for p in pairs):
+            lines.append("  Every request that may have ended x(i) makes C false: one of them came before "
+                         "the end whatever the observed order, so C cannot hold.")
+        return "\n".join(lines)
+
+
+def explanations(con, verdicts: list[dict]) -> dict[Key, str]:
+    """For the report: the explanations of these verdict rows. Without the properties the verdicts
+    were made from (their files moved away), it explains nothing."""
+    try:
+        explainer = Explainer(con, *judged_properties(con))
+    except UntimelyError:
+        return {}
+    return explainer.explain([(v["trace_id"], v["property_id"], v["rqst_id"]) for v in verdicts])
+
+
+def main(args) -> int:
+    con = connect(args.db, read_only=True)
+    interface, properties = judged_properties(con)
+    if args.property not in properties:
+        raise StoreError(f"no property {args.property!r} in the properties the verdicts were made from; "
+                         f"use one of: {', '.join(properties)}")
+    requests = [r for r, in con.execute(
+        "select rqst_id from verdicts where trace_id = ? and property_id = ? order by rqst_id",
+        [args.trace_id, args.property]).fetchall()]
+    if args.rqst_id is not None:
+        if args.rqst_id not in requests:
+            raise StoreError(f"trace {args.trace_id} has no verdict of {args.property} on request {args.rqst_id}; "
+                             f"it has verdicts on requests {requests or 'none'}")
+        requests = [args.rqst_id]
+    if not requests:
+        raise StoreError(f"trace {args.trace_id} has no verdict of {args.property}; list its verdicts with "
+                         f"python -m harness sql \"select * from verdicts where trace_id = {args.trace_id}\"")
+    texts = Explainer(con, interface, properties).explain([(args.trace_id, args.property, r) for r in requests])
+    print("\n\n".join(texts.values()))
+    return 0

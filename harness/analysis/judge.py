@@ -1,0 +1,43 @@
+"""Judging traces that are not in a store yet: the analyzer's verdicts table, in memory.
+
+Targeted generation judges the golden run to learn which P-conditions it already falsifies,
+and shrinking judges every candidate script's run. Both use the oracles of `analyze` (the
+same rendered verdicts table, shared-code rule included), on a private in-memory DuckDB.
+"""
+from __future__ import annotations
+
+from harness import DEFAULT_EPSILON_S, store
+from harness.target.interface import Interface, Property
+from harness.analysis.oracles import VERDICT_COLUMNS, render_property
+from harness.store.sql import render_view
+from harness.trace import Trace
+
+
+class Judge:
+    def __init__(self, interface: Interface, properties: list[Property], epsilon: float = DEFAULT_EPSILON_S):
+        self.con = store.connect(":memory:")
+        store.add_reply_codes(self.con, interface)
+        self.con.execute(render_view("properties", properties=properties))
+        self.sql = "\n".join([render_view("verdicts", target="verdicts") + ";"]
+                             + [f"insert into verdicts ({VERDICT_COLUMNS})\n"
+                                f"{render_property(p, 'events', epsilon, interface)};"
+                                for p in properties]
+                             + [render_view("shared_codes", target="verdicts") + ";"])
+
+    def verdicts(self, traces: list[Trace]) -> list[list[dict]]:
+        """Per trace, its verdict rows (the verdicts columns but trace_id) in the order of the
+        properties, then of the requests."""
+        con = self.con
+        for table in ("traces", "events", "internal_events", "world_events"):
+            con.execute(f"delete from {table}")
+        for n, trace in enumerate(traces, 1):
+            store.insert_trace(con, n, 0, None, trace)
+        con.execute(self.sql)
+        cursor = con.execute("select v.* from verdicts v join properties p using (property_id) "
+                             "order by v.trace_id, p.position, v.rqst_id")
+        names = [d[0] for d in cursor.description]
+        judged = [[] for _ in traces]
+        for row in cursor.fetchall():
+            record = dict(zip(names, row))
+            judged[record.pop("trace_id") - 1].append(record)
+        return judged

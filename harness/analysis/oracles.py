@@ -1,0 +1,73 @@
+"""Properties rendered into SQL through the Jinja templates of sql/ (DESIGN §6).
+
+A property is judged by its type's template, sql/oracles/<type>.sql, which defines the CTE
+chain of that type; sql/oracles/_oracle.sql wraps it into one query returning verdict rows.
+The templates say which parameters each type takes: a missing one (StrictUndefined) or one
+the type does not take (an unknown macro argument) is refused here, naming the property.
+"""
+from __future__ import annotations
+
+import math
+import re
+
+import jinja2
+
+from harness import DEFAULT_EPSILON_S
+from harness.errors import PropertyError
+from harness.store.sql import ENV
+from harness.target.interface import Interface, Property
+
+# The columns of the verdicts table in the order every oracle query returns them (sql/views/verdicts.sql).
+VERDICT_COLUMNS = "trace_id, property_id, family, rqst_id, module, service, c_holds, verdict, margin_s, suspicious"
+PARAMETERS = ("x", "y", "q", "r_p", "z_p")
+_TABLE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_SERVICE = re.compile(r"[^.\s']+\.[^.\s']+")
+
+
+def _parameters(prop: Property) -> dict:
+    """The parameters the property sets; an unset one stays undefined, so a template needing it fails."""
+    given = {}
+    for name in PARAMETERS:
+        value = getattr(prop, name)
+        if isinstance(value, (tuple, list)):
+            bad = [s for s in value if not isinstance(s, str) or not _SERVICE.fullmatch(s)]
+            if bad:
+                raise PropertyError(f"property {prop.id!r}: {name} names {bad[0]!r}; "
+                                    "write request types as \"module.Service\"")
+            value = list(value)
+        if value:
+            given[name] = value
+    return given
+
+
+def render_property(prop: Property, events: str = "events", epsilon: float = DEFAULT_EPSILON_S,
+                    interface: Interface | None = None, explain: list[tuple[int, int]] = ()) -> str:
+    """The oracle query of one property over the events table `events`: the verdicts columns.
+    The interface, when given, says which requests may end an activity (see sql/oracles/ee.sql).
+    `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions."""
+    if not _TABLE_NAME.fullmatch(events):
+        raise PropertyError(f"events source {events!r} is not a table name; use events or internal_events")
+    if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
+        raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
+    parameters = _parameters(prop)
+    services = sorted({s for v in parameters.values() if isinstance(v, list) for s in v})
+    template = f"oracles/{str(prop.type).lower()}.sql"
+    try:
+        return ENV.get_template("oracles/_oracle.sql").render(
+            template=template, id=prop.id, family=prop.family, events=events, epsilon=round(float(epsilon), 6),
+            services=services, parameters=parameters,
+            until_stopped=interface.until_stopped if interface else [],
+            control=interface.of_kind("control") if interface else [],
+            explain=dict(traces=sorted({int(t) for t, _ in explain}),
+                         requests=[f"({int(t)}, {int(r)})" for t, r in explain]) if explain else None)
+    except jinja2.TemplateNotFound as e:
+        if e.name != template:
+            raise
+        raise PropertyError(f"property {prop.id!r}: type {prop.type!r} has no oracle template "
+                            f"{template}; use one of PC, ES, EE, EX, MX_R, MX_I") from None
+    except jinja2.UndefinedError as e:
+        raise PropertyError(f"property {prop.id!r} of type {prop.type}: {e}; "
+                            "add it to the property's entry") from None
+    except TypeError as e:
+        raise PropertyError(f"property {prop.id!r} of type {prop.type}: {e} "
+                            "(the type does not use it); remove it from the property's entry") from None

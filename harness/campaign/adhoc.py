@@ -1,0 +1,91 @@
+"""`python -m harness run MISSION --sut NAME`: one script on one variant, stored and summarised.
+
+Each `run` is stored as a campaign of its own (config kind "run") holding one script and one
+trace, so ad-hoc runs and campaigns can share a store without mixing.
+"""
+from __future__ import annotations
+
+import json
+from collections import Counter
+from pathlib import Path
+
+from harness import store
+from harness.errors import UntimelyError
+from harness.run.executive import run_script
+from harness.run.external.runner import run_external
+from harness.target.interface import load_interface
+from harness.target.script import load_script
+from harness.run.external.definitions import resolve
+from harness.trace import Trace
+
+
+def mission_files(script_path: Path, interface: str | None = None, world: str | None = None) -> tuple[Path, Path]:
+    """The interface and world descriptions: those given, else those beside the mission script."""
+    folder = script_path.resolve().parent
+    return (Path(interface) if interface else folder / "interface.toml",
+            Path(world) if world else folder / "world.toml")
+
+
+def latency_line(provenance: dict) -> str:
+    """The ping round trips of a real-time run (`analyze` suggests an epsilon from them)."""
+    p = provenance
+    if not p["pings"]:
+        return "no ping answered: no latency measured"
+    return (f"{p['pings']} pings on {p['host']}, round trip p50 {p['rtt_p50_s'] * 1000:.2f} ms, "
+            f"p95 {p['rtt_p95_s'] * 1000:.2f} ms, max {p['rtt_max_s'] * 1000:.2f} ms (wall)")
+
+
+def summary(trace: Trace, replies: dict[str, str]) -> str:
+    requests = sum(1 for e in trace.events if e[2] == "request")
+    finals = Counter(e[7] for e in trace.events if e[2] == "final")
+    by_class = Counter()
+    for code, n in finals.items():
+        by_class[replies[code]] += n
+    speed = trace.sim_s / trace.wall_s if trace.wall_s else float("inf")
+    lines = [
+        f"outcome    {trace.outcome}" + (f"  ({trace.error})" if trace.error else ""),
+        f"requests   {requests}, final replies {sum(finals.values())}, "
+        f"without final reply {requests - sum(finals.values())}",
+        "replies    " + ", ".join(f"{cls} {by_class[cls]}" for cls in "TZR")
+        + "  (" + ", ".join(f"{code} {n}" for code, n in sorted(finals.items())) + ")",
+        f"world      {len(trace.world_events)} event(s)"
+        + "".join(f"\n             t={t:.3f} {kind} {detail}" for t, kind, detail in trace.world_events),
+        f"time       simulated {trace.sim_s:.1f} s, wall {trace.wall_s:.3f} s ({speed:,.0f}x real time)",
+    ]
+    if trace.provenance:
+        lines.append("interface  " + latency_line(trace.provenance))
+    return "\n".join(lines)
+
+
+def main(args) -> int:
+    script_path = Path(args.mission)
+    interface_path, world_file = mission_files(script_path, args.interface, args.world)
+    interface = load_interface(interface_path)
+    script = load_script(script_path, interface)
+    names, external = resolve(args.sut, world_file.parent, args.time_scale)
+    if len(names) != 1:
+        raise UntimelyError(f"--sut {args.sut!r}: run takes one SUT; a campaign takes several")
+    sut = names[0]
+    config = {"kind": "run", "sut": sut, "max_delay": args.max_delay}
+    # Opened before the run: a store another process writes is refused before a long real-time
+    # run, and an external SUT is told the trace id it is making (its hello's `run`).
+    con = store.connect(args.db)
+    if sut in external:
+        trace_id = store.next_id(con, "traces", "trace_id")
+        trace = run_external(script, external[sut], args.seed, interface, run=trace_id)
+        config["external"] = {sut: external[sut].config()}
+    else:
+        trace = run_script(script, sut, args.seed, interface, world_file, max_delay=args.max_delay)
+    with store.transaction(con):
+        campaign_id = store.next_id(con, "campaigns", "campaign_id")
+        store.add_campaign(con, campaign_id, str(script_path), args.seed, config)
+        store.add_reply_codes(con, interface)
+        script_id = store.next_id(con, "scripts", "script_id")
+        con.execute("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
+                    "invalid_reason) values (?, ?, 'golden', null, ?, ?, true, null)",
+                    [script_id, campaign_id, json.dumps([]), script.render()])
+        trace_id = store.next_id(con, "traces", "trace_id")
+        store.insert_trace(con, trace_id, campaign_id, script_id, trace)
+    print(f"trace {trace_id} of {script_path} on {sut} (seed {args.seed}) stored in {args.db}")
+    print(summary(trace, interface.replies))
+    return 0 if trace.outcome == "completed" else 1

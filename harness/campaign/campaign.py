@@ -1,0 +1,304 @@
+"""`python -m harness campaign`: golden + seeded mutants on every variant, in parallel, resumable.
+
+Everything a campaign produces is a function of its arguments and mission files, never of
+scheduling: the mutants come from the campaign seed; run (script, variant) gets the trace id
+(script_id - 1) * len(variants) + variant index + 1 and a seed hashed from the campaign seed,
+the script's number in the campaign (golden 0, mutant n) and the variant's name.
+
+Nothing lost, nothing doubled: the golden runs first on every variant (so a variant or world
+that cannot be built is reported before anything is stored); the campaign, its scripts and
+those golden traces are then committed together, and later traces in batches (Batches). A
+campaign killed at any moment restarts from what its store holds: the runs whose trace ids are
+missing, which are at most the one batch it had not committed. Only this process writes to the
+store; workers return traces to it.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import sys
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+from harness import store
+from harness.analysis import analyzer
+from harness.campaign import shrink
+from harness.errors import StoreError, UntimelyError
+from harness.run.executive import run_script
+from harness.files import read_text
+from harness.target.interface import Interface
+from harness.target.mission import load_mission
+from harness.mutator import strategies
+from harness.mutator.operators import Mutant
+from harness.store.sql import render_query
+from harness.progress import Progress
+from harness.analysis.provenance import last_epsilon
+from harness.run.external.definitions import ExternalSut, resolve
+from harness.trace import Trace
+from harness.run.workers import Pool, Setup, Task, script_label
+
+# Arguments that decide what is run; --jobs, --cluster and --db do not.
+COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "max_delay",
+            "files")
+# What a config stored before a key existed means by its absence.
+ABSENT = {"external": {}, "strategy": "random"}
+RUN_WALL_LIMIT_S = 600.0  # of a simulated run; a real-time one has the executive's watchdogs
+REALTIME_WALL_LIMIT_S = 3 * 3600.0
+# A transaction per simulated run cost a quarter of a campaign; a killed campaign re-runs at most
+# one batch: up to BATCH_RUNS runs, or those that came in during BATCH_S (a couple of seconds' work).
+BATCH_RUNS = 64
+BATCH_S = 2.0
+# A store of ~300,000 traces, judged in a few GB of memory; generating them takes minutes.
+MAX_MUTANTS = 100_000
+SHOW_GENERATION = 2_000  # from this many mutants on, generating them shows its progress
+
+
+def campaign_config(args) -> dict:
+    """The campaign's identity (stored in campaigns.config); refuses arguments that make no sense."""
+    if not 0 <= args.mutants <= MAX_MUTANTS:
+        raise UntimelyError(f"--mutants {args.mutants}: give a number of mutants from 0 to {MAX_MUTANTS:,}; "
+                            "split a larger study into campaigns of other --seed values")
+    ops_per_mutant = strategies.operations(args.strategy, args.ops_per_mutant, args.time_mutations)
+    if ops_per_mutant < 1:
+        raise UntimelyError(f"--ops-per-mutant {ops_per_mutant}: give at least 1 operation per mutant")
+    if args.jobs < 0:
+        raise UntimelyError(f"--jobs {args.jobs}: give a number of worker processes, or 0 for all cores")
+    if not args.max_delay >= 0:
+        raise UntimelyError(f"--max-delay {args.max_delay}: give a delay in seconds >= 0")
+    mission = load_mission(args.mission)
+    suts, external = resolve(args.sut or mission.default_suts(), mission.folder, args.time_scale)
+    return {"kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
+            "external": {name: sut.config() for name, sut in external.items()},
+            "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,
+            "time_mutations": args.time_mutations,
+            "max_delay": args.max_delay, "jobs": args.jobs,
+            "files": mission.hashes()}
+
+
+def _difference(stored: dict, wanted: dict) -> str | None:
+    for key in COMPARED:
+        if key == "files":  # a campaign stored before a file was hashed compares those it hashed
+            changed = [n for n in stored["files"] if stored["files"][n] != wanted["files"].get(n)]
+            if not changed:
+                continue
+            return (f"--mission {stored['mission']} had other contents: {', '.join(changed)} "
+                    f"differ from {wanted['mission']}")
+        if stored.get(key, ABSENT.get(key)) == wanted[key]:
+            continue
+        if key == "external":
+            return f"external SUTs {stored.get(key, ABSENT[key])}, not {wanted[key]}"
+        show = (lambda v: ",".join(v)) if key == "sut" else str
+        flag = "--" + key.replace("_", "-")
+        return f"{flag} {show(stored.get(key, ABSENT.get(key)))}, not {show(wanted[key])}"
+    return None
+
+
+def find_campaign(con, config: dict, db) -> int | None:
+    """The store's campaign if it is this one; a campaign with other arguments is refused."""
+    for campaign_id, text in con.execute("select campaign_id, config from campaigns order by campaign_id").fetchall():
+        stored = json.loads(text)
+        if stored.get("kind") != "campaign":
+            continue  # an ad-hoc `run` sharing the store
+        difference = _difference(stored, config)
+        if difference:
+            raise StoreError(f"{db} holds campaign {campaign_id}, made with {difference}; rerun with its "
+                             "arguments to resume it, or pass another --db for a new campaign")
+        return campaign_id
+    return None
+
+
+def run_seed(campaign_seed: int, script_number: int, sut: str) -> int:
+    digest = hashlib.sha256(f"{campaign_seed}:{script_number}:{sut}".encode()).digest()
+    return int.from_bytes(digest[:8], "big") >> 1  # fits a signed BIGINT
+
+
+def _tasks(scripts: list[tuple[int, str]], golden_id: int, config: dict) -> list[Task]:
+    n = len(config["sut"])
+    return [Task((script_id - 1) * n + v + 1, script_id, sut,
+                 run_seed(config["seed"], script_id - golden_id, sut), body)
+            for script_id, body in scripts for v, sut in enumerate(config["sut"])]
+
+
+@dataclass
+class Session:
+    """What this invocation ran (a resumed campaign's earlier runs are not counted)."""
+    progress: Progress
+    start: float
+    runs: int = 0
+    sim_s: float = 0.0
+
+    def count(self, trace: Trace) -> None:
+        self.runs += 1
+        self.sim_s += trace.sim_s
+        self.progress.advance()
+
+
+def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[Mutant],
+            interface: Interface, run_tasks, session: Session) -> int:
+    golden_runs = []
+
+    def keep(task, trace):
+        golden_runs.append((task, trace))
+        session.count(trace)
+    run_tasks(_tasks([(golden_id, golden_text)], golden_id, config), keep)
+    with store.transaction(con):
+        campaign_id = store.next_id(con, "campaigns", "campaign_id")
+        store.add_campaign(con, campaign_id, config["mission"], config["seed"], config)
+        store.add_reply_codes(con, interface)
+        store.place(con, "variant_positions", "sut", config["sut"])
+        rows = [(golden_id, campaign_id, "golden", None, "[]", golden_text, True, None)]
+        rows += [(golden_id + n, campaign_id, "mutant", golden_id, json.dumps(m.operations), m.body,
+                  m.valid, m.invalid_reason) for n, m in enumerate(mutants, 1)]
+        con.executemany("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
+                        "invalid_reason) values (?, ?, ?, ?, ?, ?, ?, ?)", rows)
+        store.insert_traces(con, campaign_id, [(task.trace_id, task.script_id, trace, None)
+                                               for task, trace in golden_runs])
+    return campaign_id
+
+
+def _generate(config: dict, golden, interface: Interface, properties, run_golden,
+              golden_id: int) -> list[Mutant]:
+    """The campaign's mutants (harness.mutator.strategies); a long random generation shows its progress."""
+    progress = Progress(config["mutants"], unit="mutants") if config["mutants"] >= SHOW_GENERATION else None
+    mutants = strategies.generate(config, golden, interface, properties, run_golden=run_golden,
+                                  name=lambda n: script_label(golden_id + n),
+                                  on_mutant=progress.advance if progress else lambda: None)
+    if progress:
+        progress.close()
+    return mutants
+
+
+def pending_tasks(con, campaign_id: int, config: dict) -> list[Task]:
+    scripts = con.execute("select script_id, body from scripts where campaign_id = ? and valid "
+                          "order by script_id", [campaign_id]).fetchall()
+    golden_id = scripts[0][0]
+    tasks = _tasks(scripts, golden_id, config)
+    owners = dict(con.execute("select trace_id, campaign_id from traces where trace_id >= ?",
+                              [tasks[0].trace_id]).fetchall())
+    for task in tasks:
+        if owners.get(task.trace_id, campaign_id) != campaign_id:
+            raise StoreError(f"trace id {task.trace_id}, which campaign {campaign_id} needs for script "
+                             f"{task.script_id} on {task.sut}, is taken by campaign {owners[task.trace_id]}; "
+                             "add ad-hoc runs to another --db while a campaign is unfinished")
+    return [t for t in tasks if t.trace_id not in owners]
+
+
+class Batches:
+    """Traces committed together: when BATCH_RUNS have come in, when the oldest has waited BATCH_S,
+    at once for a real-time run (it took wall-clock time to make), and at the end of the session.
+    A session ended by an exception (Ctrl-C included) still commits the traces it holds."""
+
+    def __init__(self, con, campaign_id: int, session: Session, realtime: set[str]):
+        self.con, self.campaign_id, self.session, self.realtime = con, campaign_id, session, realtime
+        self.held: list[tuple[int, int, Trace, None]] = []
+        self.oldest = 0.0
+
+    def add(self, task: Task, trace: Trace) -> None:
+        if not self.held:
+            self.oldest = time.monotonic()
+        self.held.append((task.trace_id, task.script_id, trace, None))
+        self.session.count(trace)
+        if (len(self.held) >= BATCH_RUNS or time.monotonic() - self.oldest >= BATCH_S
+                or task.sut in self.realtime):
+            self.commit()
+
+    def commit(self) -> None:
+        if self.held:
+            with store.transaction(self.con):
+                store.insert_traces(self.con, self.campaign_id, self.held)
+            self.held = []
+
+    def __enter__(self) -> "Batches":
+        return self
+
+    def __exit__(self, *_exception) -> None:
+        self.commit()
+
+
+def summary(con, campaign_id: int, session: Session) -> str:
+    scripts, valid, distinct = con.execute(
+        "select count(*), count(*) filter (where valid), count(distinct body) from scripts "
+        "where campaign_id = ?", [campaign_id]).fetchone()
+    lines = [f"scripts   {scripts}: golden + {scripts - 1} mutants, {valid - 1} valid, "
+             f"{scripts - valid} invalid (stored, not run), {distinct} distinct bodies"]
+    for sut, runs, completed, hung, crashed, sim in con.execute(
+            render_query("campaign_runs"), {"campaign": campaign_id}).fetchall():
+        lines.append(f"{sut:<9} {runs} runs: {completed} completed, {hung} hung, {crashed} crashed; "
+                     f"{sim:,.0f} simulated s")
+    wall = time.monotonic() - session.start
+    if session.runs:
+        lines.append(f"this run  {session.runs} runs in {wall:.1f} s wall ({session.runs / wall:.1f} runs/s), "
+                     f"{session.sim_s:,.0f} simulated s: {session.sim_s / wall:,.0f}x real time")
+    return "\n".join(lines)
+
+
+@contextmanager
+def _backend(cluster: str | None, setup: Setup, jobs: int):
+    """`run_tasks(tasks, on_trace)` on the local pool, or on a checked Dask cluster."""
+    if not cluster:
+        with Pool(setup, jobs) as pool:
+            yield pool.run_all
+        return
+    from harness.run import cluster as dask_cluster  # Dask is an optional dependency
+    with dask_cluster.connect(cluster, setup, jobs) as backend:
+        yield backend.run_all
+
+
+def main(args, runner=None) -> int:
+    """`runner` replaces harness.run.executive.run_script (tests inject failing ones)."""
+    config = campaign_config(args)
+    target = load_mission(args.mission)
+    mission, interface = target.folder, target.interface
+    golden, properties = target.golden(), target.properties()
+    external = {name: ExternalSut(**spec) for name, spec in config["external"].items()}
+    setup = Setup(runner or run_script, target.interface_file, target.world_file, args.max_delay,
+                  external, REALTIME_WALL_LIMIT_S if external else RUN_WALL_LIMIT_S)
+    # A real-time run mostly waits: its slots may outnumber the cores.
+    jobs = args.jobs or max([len(os.sched_getaffinity(0))] + [s.slots for s in external.values()])
+    with _backend(args.cluster, setup, jobs) as run_tasks:
+        return _run(args, config, mission, interface, golden, properties, setup, jobs, run_tasks)
+
+
+def _run(args, config, mission, interface, golden, properties, setup, jobs, run_tasks) -> int:
+    con = store.connect(args.db)
+    campaign_id = find_campaign(con, config, args.db)
+    variants = len(config["sut"])
+    start = time.monotonic()
+    if campaign_id is None:
+        golden_id = store.next_id(con, "scripts", "script_id")
+        golden_run = _tasks([(golden_id, golden.render())], golden_id, config)[0]  # on the first variant
+        mutants = _generate(config, golden, interface, properties, lambda: setup.run(golden_run, interface, 0),
+                            golden_id)
+        session = Session(Progress(variants * (1 + sum(m.valid for m in mutants))), start)
+        campaign_id = _create(con, config, golden_id, read_text(mission / "golden.mission"), mutants,
+                              interface, run_tasks, session)
+        pending = pending_tasks(con, campaign_id, config)
+    else:
+        pending = pending_tasks(con, campaign_id, config)
+        total = variants * con.execute("select count(*) from scripts where campaign_id = ? and valid",
+                                       [campaign_id]).fetchone()[0]
+        session = Session(Progress(total, total - len(pending)), start)
+        if pending:
+            print(f"resuming campaign {campaign_id} in {args.db}: {total - len(pending)} of {total} runs "
+                  f"stored, {len(pending)} to go", file=sys.stderr)
+        else:
+            print(f"campaign {campaign_id} in {args.db} is complete ({total} runs stored); nothing to run")
+    if pending:
+        with Batches(con, campaign_id, session, set(config["external"])) as batches:
+            run_tasks(pending, batches.add)
+    if session.runs:
+        session.progress.close()
+    print(summary(con, campaign_id, session))
+    if not analyzer.judges_every_trace(con):  # new traces, or a session stopped while judging
+        epsilon = last_epsilon(con)  # a resumed campaign keeps the epsilon its verdicts were made with
+        analyzer.materialise(con, properties, epsilon, interface, mission / "properties.toml")
+        print(f"verdicts  materialised for every trace of {args.db} (epsilon {epsilon:g} s)\n")
+        print(analyzer.summary(con, epsilon))
+    if args.shrink:
+        print("\nshrunk reproducers, one per distinct bad behaviour (view bad_behaviours):")
+        for line in shrink.representatives(con, properties, shrink.default_out(args.db), setup.runner,
+                                           1 if setup.external else jobs):  # an external SUT: one run at a time
+            print(line, flush=True)
+    return 0

@@ -1,0 +1,276 @@
+"""`python -m harness shrink TRACE_ID [--property ID]`: the smallest script showing a trace's bad
+behaviour, as a stored script of kind `shrunk` and a `.mission` file that `run` replays.
+
+A bad behaviour is a hang, or an FN or FP verdict on one property, of one variant. The trace's
+script is re-run on the same variant with the same seed and observation delays, then reduced by
+delta debugging (ddmin) over its steps, then by halving each sleep, keeping a candidate only if
+its run still shows the same behaviour (judged by the analyzer's oracles, in memory). Each
+shrink is stored as a campaign of kind "shrink" holding the shrunk script (parent: the trace's
+script; mutations: what was shrunk, from what, in how many runs); its trace is not stored, so
+the campaign's tables stay as they were. The .mission file is written to --out, by default the
+folder `shrunk` beside the store; the report writes the same files from the store.
+"""
+from __future__ import annotations
+
+import json
+import multiprocessing
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, replace
+from functools import cached_property
+from pathlib import Path
+from typing import Iterator
+
+import duckdb
+
+from harness import DEFAULT_EPSILON_S, store
+from harness.errors import ScriptError, StoreError, UntimelyError
+from harness.run.executive import run_script
+from harness.target.interface import Interface, Property, load_interface, load_properties
+from harness.analysis.judge import Judge
+from harness.mutator.ddmin import ddmin
+from harness.mutator.operators import plausible
+from harness.target.script import Script, parse, validate
+from harness.run.external.definitions import ExternalSut
+from harness.trace import Trace
+from harness.run.workers import Setup, Task
+
+MIN_SLEEP_S = 0.01  # sleeps are halved down to this
+
+
+@dataclass(frozen=True)
+class Behaviour:
+    sut: str
+    verdict: str  # FN, FP or hung
+    property_id: str | None = None  # None for a hang
+
+    def __str__(self) -> str:
+        return f"hang on {self.sut}" if self.verdict == "hung" else \
+            f"{self.verdict} on {self.property_id} on {self.sut}"
+
+    def shown_by(self, outcome: str, verdicts: list[dict]) -> bool:
+        if self.verdict == "hung":
+            return outcome == "hung"
+        return any(v["property_id"] == self.property_id and v["verdict"] == self.verdict for v in verdicts)
+
+
+@dataclass
+class Original:
+    """A stored trace to shrink and what re-running it needs."""
+    trace_id: int
+    script_id: int
+    sut: str
+    seed: int
+    outcome: str
+    body: str
+    mission: Path
+    max_delay: float
+    external: dict  # the campaign's external SUTs (name -> ExternalSut fields)
+
+    @cached_property
+    def interface(self) -> Interface:
+        return load_interface(self.mission / "interface.toml")
+
+    def run(self, body: str, runner=run_script) -> Trace:
+        """Run a script on the trace's variant with its seed, as the campaign's workers do."""
+        setup = Setup(runner, self.mission / "interface.toml", self.mission / "world.toml", self.max_delay,
+                      {name: ExternalSut(**spec) for name, spec in self.external.items()})
+        return setup.run(Task(self.trace_id, self.script_id, self.sut, self.seed, body), self.interface, 0)
+
+
+def original(con, trace_id: int, mission: str | None = None) -> Original:
+    found = con.execute("""select t.trace_id, t.script_id, t.sut, t.seed, t.outcome, s.body, c.mission, c.config
+                           from traces t left join scripts s using (script_id) join campaigns c
+                           on c.campaign_id = t.campaign_id where t.trace_id = ?""", [trace_id]).fetchone()
+    if found is None:
+        raise StoreError(f"no trace {trace_id} in the store; pick one from "
+                         "python -m harness sql \"select * from bad_behaviours\"")
+    trace_id, script_id, sut, seed, outcome, body, campaign_mission, config = found
+    if body is None:
+        raise UntimelyError(f"trace {trace_id} was imported: it has no script to shrink; shrink a trace "
+                            "that a campaign or `run` made")
+    config = json.loads(config)
+    folder = Path(campaign_mission) if config.get("kind") == "campaign" else Path(campaign_mission).parent
+    return Original(trace_id, script_id, sut, seed, outcome, body, Path(mission) if mission else folder,
+                    config.get("max_delay", 0.003), config.get("external", {}))
+
+
+def _codes(prop: Property) -> set[str]:
+    return {c for c in (prop.r_p, prop.z_p) if c}
+
+
+class Reproducer:
+    """Runs candidate scripts and says whether they still show the behaviour (memoised)."""
+
+    def __init__(self, orig: Original, behaviour: Behaviour, properties: list[Property], runner=run_script):
+        self.orig, self.behaviour, self.runner = orig, behaviour, runner
+        self.interface = orig.interface
+        target = next((p for p in properties if p.id == behaviour.property_id), None)
+        # the property and those sharing its codes: enough for the shared-code rule of FP verdicts
+        related = [p for p in properties if target and (p is target or _codes(p) & _codes(target))]
+        self.judge = Judge(self.interface, related or properties[:1], DEFAULT_EPSILON_S)
+        self.runs, self.seen = 0, {}
+
+
+    def shows(self, steps) -> bool:
+        script = Script(tuple(steps), "shrink candidate").renumbered()
+        body = script.render()
+        if body not in self.seen:
+            try:
+                validate(script, self.interface)
+            except ScriptError:
+                self.seen[body] = False
+                return False
+            self.runs += 1
+            trace = self.orig.run(body, self.runner)
+            self.seen[body] = self.behaviour.shown_by(trace.outcome, self.judge.verdicts([trace])[0])
+        return self.seen[body]
+
+
+def behaviour_of(orig: Original, properties: list[Property], property_id: str | None, verdict: str | None = None,
+                 runner=run_script) -> Behaviour:
+    """The trace's bad behaviour, from re-running it: the hang, else its first FN or FP (on
+    `property_id` if given: the `verdict` given, else an FN before an FP)."""
+    trace = orig.run(orig.body, runner)
+    bad = [v for v in Judge(orig.interface, properties).verdicts([trace])[0] if v["verdict"] in ("FN", "FP")]
+    if property_id is not None:
+        wanted = sorted((v for v in bad if v["property_id"] == property_id and verdict in (None, v["verdict"])),
+                        key=lambda v: v["verdict"] != "FN")
+        if not wanted:
+            shown = sorted({f"{v['verdict']} on {v['property_id']}" for v in bad}) or ["none"]
+            raise UntimelyError(f"trace {orig.trace_id} has no {verdict or 'FN or FP'} on {property_id!r} when "
+                                f"re-run; it has: {', '.join(shown)}")
+        return Behaviour(orig.sut, wanted[0]["verdict"], property_id)
+    if trace.outcome == "hung":
+        return Behaviour(orig.sut, "hung")
+    if not bad:
+        raise UntimelyError(f"trace {orig.trace_id} ({orig.sut}) shows no bad behaviour when re-run "
+                            f"(outcome {trace.outcome}, no FN or FP); pick one from the bad_behaviours view")
+    return Behaviour(orig.sut, bad[0]["verdict"], bad[0]["property_id"])
+
+
+def shorter_sleeps(steps: list, shows) -> list:
+    """Halve each sleep while the behaviour stays, down to MIN_SLEEP_S."""
+    steps = list(steps)
+    for i, step in enumerate(steps):
+        while step.op == "sleep" and step.seconds / 2 >= MIN_SLEEP_S:
+            shorter = replace(step, seconds=plausible(step.seconds / 2))
+            if not shows(steps[:i] + [shorter] + steps[i + 1:]):
+                break
+            steps[i] = step = shorter
+    return steps
+
+
+def shrink(orig: Original, behaviour: Behaviour, properties: list[Property], runner=run_script) -> tuple[Script, int]:
+    """The shrunk script and the number of runs it took."""
+    reproducer = Reproducer(orig, behaviour, properties, runner)
+    steps = list(parse(orig.body, f"trace {orig.trace_id}").steps)
+    if not reproducer.shows(steps):
+        raise UntimelyError(f"trace {orig.trace_id}'s script does not show the {behaviour} again when re-run "
+                            f"with seed {orig.seed}; it cannot be shrunk")
+    steps = shorter_sleeps(ddmin(steps, reproducer.shows), reproducer.shows)
+    awaited = {s.handle for s in steps if s.op == "wait"}
+    tidy = [replace(s, comment="", handle=s.handle if s.op != "send" or s.handle in awaited else None)
+            for s in steps]  # a handle no wait names should change nothing; checked by one more run
+    return Script(tuple(tidy if reproducer.shows(tidy) else steps), "shrunk").renumbered(), reproducer.runs
+
+
+def mission_file(out: Path, script_id: int) -> Path:
+    return out / f"script-{script_id}.mission"
+
+
+def store_shrunk(con, orig: Original, behaviour: Behaviour, script: Script, runs: int) -> int:
+    """Stores the shrunk script in a campaign of kind "shrink"; returns its script_id."""
+    record = {"op": "shrink", "trace": orig.trace_id, "sut": orig.sut, "seed": orig.seed,
+              "verdict": behaviour.verdict, "property": behaviour.property_id,
+              "steps_before": len(parse(orig.body).steps), "steps_after": len(script.steps), "runs": runs}
+    try:
+        with store.transaction(con):
+            campaign_id = store.next_id(con, "campaigns", "campaign_id")
+            store.add_campaign(con, campaign_id, str(orig.mission), orig.seed,
+                               {"kind": "shrink", "max_delay": orig.max_delay, **record})
+            script_id = store.next_id(con, "scripts", "script_id")
+            con.execute("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
+                        "invalid_reason) values (?, ?, 'shrunk', ?, ?, ?, true, null)",
+                        [script_id, campaign_id, orig.script_id, json.dumps([record]), script.render()])
+    except duckdb.ConstraintException as e:
+        raise StoreError(f"this store predates shrunk scripts ({e}); shrink into a store made by this "
+                         "version (run the campaign again with another --db)") from None
+    return script_id
+
+
+def header(orig: Original, behaviour: Behaviour, script_id: int, path: Path, runs: int, steps_before: int) -> str:
+    return (f"# Shrunk reproducer (script {script_id}): {behaviour}, from trace {orig.trace_id} "
+            f"(script {orig.script_id}, {steps_before} steps) in {runs} runs.\n"
+            f"# Replay: python -m harness run {path} --sut {orig.sut} --seed {orig.seed} "
+            f"--max-delay {orig.max_delay:g} --interface {orig.mission / 'interface.toml'} "
+            f"--world {orig.mission / 'world.toml'}\n")
+
+
+def write_mission(out: Path, orig: Original, behaviour: Behaviour, script_id: int, body: str, runs: int) -> Path:
+    out.mkdir(parents=True, exist_ok=True)
+    path = mission_file(out, script_id)
+    path.write_text(header(orig, behaviour, script_id, path, runs, len(parse(orig.body).steps)) + body)
+    return path
+
+
+def shrunk(orig: Original, behaviour: Behaviour, properties: list[Property],
+           runner=run_script) -> tuple[Script, int, float] | str:
+    """(the shrunk script, runs, seconds), or why it cannot be shrunk: a worker process returns
+    the message, since UntimelyError subclasses do not all survive pickling."""
+    started = time.perf_counter()
+    try:
+        script, runs = shrink(orig, behaviour, properties, runner)
+    except UntimelyError as e:
+        return str(e)
+    return script, runs, time.perf_counter() - started
+
+
+def stored(con, orig: Original, behaviour: Behaviour, result: tuple[Script, int, float], out: Path) -> str:
+    """Store a shrunk script and write its .mission file; one line saying what came out."""
+    script, runs, seconds = result
+    script_id = store_shrunk(con, orig, behaviour, script, runs)
+    path = write_mission(out, orig, behaviour, script_id, script.render(), runs)
+    return (f"{behaviour}: trace {orig.trace_id} shrunk from {len(parse(orig.body).steps)} to "
+            f"{len(script.steps)} steps in {runs} runs, {seconds:.1f} s -> {path}")
+
+
+def representatives(con, properties: list[Property], out: Path, runner=run_script, jobs: int = 1) -> Iterator[str]:
+    """`campaign --shrink`: shrink the representative trace of every distinct bad behaviour
+    (view bad_behaviours) not shrunk yet, `jobs` at a time in worker processes; this process
+    stores them in the view's order, one line per behaviour."""
+    done = {(r["sut"], r["verdict"], r["property"]) for (text,) in con.execute(
+        "select mutations from scripts where kind = 'shrunk'").fetchall() for r in json.loads(text)}
+    todo = [(Behaviour(sut, verdict, property_id), original(con, trace_id))
+            for sut, property_id, verdict, trace_id in con.execute(
+                "select sut, property_id, verdict, representative from bad_behaviours "
+                "join variant_positions using (sut) "
+                "order by position, verdict = 'hung' desc, verdict, property_id").fetchall()
+            if (sut, verdict, property_id) not in done]
+    if not todo:
+        return
+    with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+        futures = [(behaviour, orig, pool.submit(shrunk, orig, behaviour, properties, runner))
+                   for behaviour, orig in todo]
+        for behaviour, orig, future in futures:
+            result = future.result()
+            yield f"{behaviour}: not shrunk: {result}" if isinstance(result, str) else \
+                stored(con, orig, behaviour, result, out)
+
+
+def default_out(db: str) -> Path:
+    return Path(db).resolve().parent / "shrunk"
+
+
+def main(args) -> int:
+    con = store.connect(args.db, create=False)
+    orig = original(con, args.trace_id, args.mission)
+    properties = load_properties(orig.mission / "properties.toml", orig.interface)
+    if args.verdict and not args.property:
+        raise UntimelyError(f"--verdict {args.verdict} needs --property: the property whose verdict to keep")
+    behaviour = behaviour_of(orig, properties, args.property, args.verdict)
+    result = shrunk(orig, behaviour, properties)
+    if isinstance(result, str):
+        raise UntimelyError(result)
+    print(stored(con, orig, behaviour, result, Path(args.out) if args.out else default_out(args.db)))
+    return 0

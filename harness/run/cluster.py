@@ -1,0 +1,210 @@
+"""Runs of a campaign on a Dask cluster: `campaign --cluster tcp://HOST:PORT` or `local:N`.
+
+The coordinator (the `campaign` process) stays the only writer of the store: it submits one
+Dask task per run, gets each trace back by value and loads it in its own transaction, exactly
+as with the local pool, so resume, ids and seeds are the same and a simulated campaign stores
+the same whatever machine ran what.
+
+Before submitting anything it checks, each with a message naming what to do: that the
+scheduler answers and has workers; that every worker runs this very code (version and a hash
+of harness/ and sql/) and holds the same mission files; that a worker whose process dies
+mid-run makes the run fail rather than be re-run elsewhere (the scheduler's
+`allowed-failures` is 0: the run is recorded `crashed`, with the reason); and, for external
+SUTs, that some worker offers the `sut` resource (`dask worker ... --resources sut=K` caps the
+SUT instances one machine runs at once). Runs are never retried (`retries=0`).
+"""
+from __future__ import annotations
+
+import hashlib
+import importlib.metadata
+import logging
+import threading
+from collections import deque
+from contextlib import contextmanager
+from dataclasses import replace
+from functools import lru_cache
+from pathlib import Path
+from typing import Callable
+
+from harness import ROOT
+from harness.errors import UntimelyError
+from harness.target.interface import load_interface
+from harness.trace import Trace
+from harness.run.workers import Setup, Task, UserError, crashed
+
+ALLOWED_FAILURES = "distributed.scheduler.allowed-failures"
+CONNECT_TIMEOUT_S = 10
+SUT_RESOURCE = "sut"
+
+
+def _import_distributed():
+    try:
+        import distributed
+    except ImportError:
+        raise UntimelyError("--cluster needs Dask distributed: install the cluster extra, "
+                            "`.venv/bin/pip install -e '.[cluster]'`") from None
+    return distributed
+
+
+def code_identity() -> dict:
+    """What a worker must share with the coordinator: the version and the code itself."""
+    digest = hashlib.sha256()
+    for path in sorted([*ROOT.glob("harness/**/*.py"), *ROOT.glob("sql/**/*.sql")]):
+        digest.update(str(path.relative_to(ROOT)).encode() + b"\0" + path.read_bytes())
+    return {"version": importlib.metadata.version("untimely"), "code": digest.hexdigest()[:16]}
+
+
+def _relative(path: Path) -> str:
+    """A mission file as workers find it: relative to their own checkout when it is in ours."""
+    path = path.resolve()
+    return str(path.relative_to(ROOT)) if path.is_relative_to(ROOT) else str(path)
+
+
+def _worker_identity(files: list[str]) -> dict:
+    """Runs on each worker: its code identity and the hashes of the mission files it holds."""
+    hashes = {}
+    for name in files:
+        try:
+            hashes[name] = hashlib.sha256((ROOT / name).read_bytes()).hexdigest()
+        except OSError:
+            hashes[name] = None
+    return {**code_identity(), "files": hashes}
+
+
+def _allowed_failures(dask_scheduler) -> int:
+    return dask_scheduler.allowed_failures
+
+
+@lru_cache(maxsize=None)
+def _interface(path: str):
+    return load_interface(ROOT / path)
+
+
+_slots_lock, _busy_slots = threading.Lock(), set()
+
+
+def _run_remote(setup: Setup, task: Task) -> Trace | UserError:
+    """Runs on a Dask worker; a slot number per concurrent run of this worker process."""
+    with _slots_lock:
+        slot = min(set(range(len(_busy_slots) + 1)) - _busy_slots)
+        _busy_slots.add(slot)
+    try:
+        here = replace(setup, world_file=ROOT / setup.world_file)
+        return here.run(task, _interface(str(setup.interface_file)), slot)
+    finally:
+        with _slots_lock:
+            _busy_slots.discard(slot)
+
+
+class Cluster:
+    """A connection to a checked Dask cluster; `run_all` has the local pool's contract."""
+
+    def __init__(self, client, setup: Setup, address: str):
+        self.client, self.address = client, address
+        self.setup = replace(setup, interface_file=Path(_relative(setup.interface_file)),
+                             world_file=Path(_relative(setup.world_file)))
+
+    def check(self) -> None:
+        distributed = _import_distributed()
+        try:
+            self.client.wait_for_workers(1, timeout=CONNECT_TIMEOUT_S)
+        except (TimeoutError, distributed.TimeoutError):
+            raise UntimelyError(f"no Dask worker is connected to {self.address}; start some with "
+                                f"`dask worker {self.address}`") from None
+        failures = self.client.run_on_scheduler(_allowed_failures)
+        if failures != 0:
+            raise UntimelyError(f"the scheduler at {self.address} re-runs a task whose worker died "
+                                f"({ALLOWED_FAILURES} = {failures}); start it with "
+                                "DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES=0 so that such a run is "
+                                "recorded as crashed, never run twice")
+        files = [str(self.setup.interface_file), str(self.setup.world_file)]
+        mine = _worker_identity(files)
+        for worker, theirs in self.client.run(_worker_identity, files, on_error="return").items():
+            if isinstance(theirs, BaseException):
+                raise UntimelyError(f"Dask worker {worker} cannot run the bench ({type(theirs).__name__}: "
+                                    f"{theirs}); install this project there: `pip install -e '.[cluster]'` "
+                                    "in a checkout of the same commit")
+            for key in ("version", "code"):
+                if theirs[key] != mine[key]:
+                    raise UntimelyError(f"Dask worker {worker} runs untimely {key} {theirs[key]}, this bench "
+                                        f"{mine[key]}; install the same commit on every worker")
+            for name, digest in mine["files"].items():
+                if theirs["files"][name] != digest:
+                    state = "lacks" if theirs["files"][name] is None else "has another"
+                    raise UntimelyError(f"Dask worker {worker} {state} {name}; give every worker the "
+                                        "mission files of this campaign")
+        if self.setup.external and not any(w.get("resources", {}).get(SUT_RESOURCE)
+                                           for w in self.client.scheduler_info()["workers"].values()):
+            raise UntimelyError(f"no worker of {self.address} offers the `{SUT_RESOURCE}` resource that runs "
+                                f"of external SUTs need; start workers with `dask worker {self.address} "
+                                f"--resources {SUT_RESOURCE}=K` (K SUT instances at once on that machine)")
+
+    def run_all(self, tasks: list[Task], on_trace: Callable[[Task, Trace], None]) -> None:
+        """As many runs in flight as the workers have threads: a worker that dies then takes with
+        it the run it was running, not others queued behind it (those would fail unrun)."""
+        distributed = _import_distributed()
+        setup = self.client.scatter(self.setup, broadcast=True)
+        capacity = sum(w["nthreads"] for w in self.client.scheduler_info()["workers"].values())
+        pending, futures = deque(tasks), {}
+        completed = distributed.as_completed()
+
+        def submit() -> None:
+            task = pending.popleft()
+            resources = {SUT_RESOURCE: 1} if task.sut in self.setup.external else None
+            future = self.client.submit(_run_remote, setup, task, key=f"untimely-run-{task.trace_id}",
+                                        pure=False, retries=0, resources=resources)
+            futures[future] = task
+            completed.add(future)
+        try:
+            while pending and len(futures) < capacity:
+                submit()
+            for future in completed:
+                task = futures.pop(future)
+                if future.status == "error":
+                    error = future.exception()
+                    result = crashed(task, f"the Dask worker running it failed: {type(error).__name__}: {error}")
+                else:
+                    result = future.result()
+                if isinstance(result, UserError):
+                    raise UntimelyError(result.message)
+                on_trace(task, result)
+                if pending:
+                    submit()
+        finally:
+            self.client.cancel(list(futures))
+
+
+@contextmanager
+def connect(address: str, setup: Setup, jobs: int):
+    """A checked cluster: `local:N` starts N local worker processes (one thread each for the
+    simulator; for external SUTs, threads and `sut` resources to share `jobs` slots), anything
+    else is a scheduler address."""
+    distributed = _import_distributed()
+    cluster = None
+    with __import__("dask").config.set({ALLOWED_FAILURES: 0}):
+        if address.startswith("local:"):
+            workers = address.removeprefix("local:")
+            if not workers.isdigit() or int(workers) < 1:
+                raise UntimelyError(f"--cluster {address!r}: give local:N with N >= 1 workers")
+            slots = -(-jobs // int(workers)) if setup.external else 1
+            cluster = distributed.LocalCluster(n_workers=int(workers), threads_per_worker=slots, processes=True,
+                                               dashboard_address=None, silence_logs=logging.ERROR,
+                                               resources={SUT_RESOURCE: slots} if setup.external else None)
+            target = cluster
+        else:
+            target = address
+        try:
+            client = distributed.Client(target, timeout=f"{CONNECT_TIMEOUT_S}s")
+        except (OSError, TimeoutError) as e:
+            if cluster:
+                cluster.close()
+            raise UntimelyError(f"cannot reach the Dask scheduler at {address} ({e}); start it with "
+                                "`dask scheduler`, or check the address") from None
+    try:
+        backend = Cluster(client, setup, address)
+        backend.check()
+        yield backend
+    finally:
+        client.close()
+        if cluster:
+            cluster.close()

@@ -1,0 +1,178 @@
+"""Runs against an external SUT over `untimely/1` (DESIGN §8), in wall-clock time.
+
+The same Executive plays the script, with the same watchdog and drain rules, on a kernel paced
+by the monotonic clock; its layer is a ProtocolLayer that turns requests and pings into lines
+and the SUT's lines back into replies. Every line is stamped when the bench writes it, or when
+its kernel takes it from the reader thread (within microseconds of reading): that observed
+timeline is `events`. The trace clock starts when the SUT has answered hello.
+
+Real-time runs are not reproducible, so each trace records where, when and how fast the
+interface answered (`trace_runs`): the ping round trips give the latency from which a tester
+sets epsilon.
+"""
+from __future__ import annotations
+
+import itertools
+import json
+import random
+import socket
+import statistics
+import threading
+import time
+from datetime import datetime, timezone
+
+from harness.run.external.channel import Connection
+from harness.run.executive import Executive, LayerMisbehaved, trace_of
+from harness.target.interface import Interface
+from harness.target.script import Script
+from harness.run.external.protocol import INTERNAL_KINDS, PROTO, REPLY_KINDS, ProtocolViolation, decode, encode
+from harness.sim.realtime import RealtimeEnvironment
+from harness.run.external.definitions import ExternalSut
+from harness.trace import Trace
+
+PROBE_PERIOD_WALL_S = 1.0
+
+
+class ProtocolLayer:
+    """The Executive's layer when the SUT is a process or a socket away."""
+
+    def __init__(self, env: RealtimeEnvironment, interface: Interface):
+        self.env, self.interface = env, interface
+        self.connection: Connection | None = None
+        self.requests: dict[int, tuple] = {}  # id -> (service, args JSON)
+        self.on_reply = None
+        self.pings: dict[int, tuple] = {}  # id -> (answer, monotonic time sent), until its pong
+        self.ping_ids = itertools.count(1)
+        self.round_trips: list[float] = []  # wall seconds
+        self.internal: list[tuple] = []
+        self.world_events: list[tuple] = []
+        self.hello: dict | None = None
+        self.hello_at = 0.0  # monotonic instant the hello answer was read: mission time 0
+        self.greeted = threading.Event()
+        self.problem: str | None = None  # a violation before the hello answer
+        self.closing = False
+
+    # Reader thread: the hello is handled here; every later line goes to the kernel's thread.
+    def deliver(self, line: str | None) -> None:
+        if self.greeted.is_set():
+            self.env.post(lambda: self.handle(line))
+            return
+        if line is None:
+            self.problem = f"the SUT ended before answering hello ({self.connection.exit_status()})"
+        else:
+            try:
+                message = decode(line)
+                if message["op"] != "hello" or message["proto"] != PROTO:
+                    raise ProtocolViolation(f"expected a hello with proto {PROTO!r} first")
+                self.hello, self.hello_at = message, time.monotonic()
+            except ProtocolViolation as e:
+                self.problem = f"{e}; the SUT's line: {line.rstrip()!r}"
+        self.greeted.set()
+
+    def receive(self, rqst_id: int, service: str, args: dict[str, str], reply) -> None:
+        spec = self.interface.services[service]
+        self.on_reply = reply
+        self.requests[rqst_id] = (spec, json.dumps(spec.typed(args)))
+        self.connection.write(encode("request", id=rqst_id, module=spec.module, service=spec.name,
+                                     args=spec.typed(args)))
+
+    def ping(self, answer) -> None:
+        ping_id = next(self.ping_ids)
+        self.pings[ping_id] = (answer, time.monotonic())
+        self.connection.write(encode("ping", id=ping_id))
+
+    def handle(self, line: str | None) -> None:
+        if line is None:
+            if not self.closing:
+                raise LayerMisbehaved(f"the SUT closed its output before bye ({self.connection.exit_status()})")
+            return
+        try:
+            self._dispatch(decode(line))
+        except (ProtocolViolation, LayerMisbehaved) as e:
+            raise LayerMisbehaved(f"{e}; the SUT's line: {line.rstrip()!r}") from None
+
+    def _request(self, message: dict) -> tuple:
+        if message["id"] not in self.requests:
+            raise ProtocolViolation(f"{message['op']} for request {message['id']}, which was never sent")
+        return self.requests[message["id"]]
+
+    def _dispatch(self, message: dict) -> None:
+        op = message["op"]
+        if op == "reply":
+            if message["kind"] not in REPLY_KINDS:
+                raise ProtocolViolation(f"reply kind {message['kind']!r}; expected one of {', '.join(REPLY_KINDS)}")
+            self._request(message)
+            code = message.get("code")
+            if not (isinstance(code, str) or code is None and message["kind"] == "intermediate"):
+                raise ProtocolViolation(f"a {message['kind']} reply needs a text code, got {code!r}")
+            self.on_reply(message["id"], message["kind"], code)
+        elif op == "pong":
+            if message["id"] not in self.pings:
+                raise ProtocolViolation(f"pong {message['id']} answers no ping waiting for one")
+            answer, sent = self.pings.pop(message["id"])
+            self.round_trips.append(time.monotonic() - sent)
+            answer()
+        elif op == "internal":
+            if message["kind"] not in INTERNAL_KINDS:
+                raise ProtocolViolation(f"internal kind {message['kind']!r}; "
+                                        f"expected one of {', '.join(INTERNAL_KINDS)}")
+            service, args = self._request(message)
+            kind = message["kind"]
+            code = message.get("code") if kind != "request" else None
+            self.internal.append((len(self.internal) + 1, message["t"], kind, message["id"],
+                                  service.module, service.name, args if kind == "request" else None, code))
+        elif op == "world":
+            self.world_events.append((message["t"], message["kind"], json.dumps(message["detail"])))
+        elif op == "error":
+            raise LayerMisbehaved(f"the SUT gave up with an error: {message['message']}")
+        else:  # a second hello
+            raise ProtocolViolation("a second hello")
+
+    def provenance(self, started_at: datetime) -> dict:
+        trips = sorted(self.round_trips)
+
+        def percentile(q: float):
+            return trips[min(len(trips) - 1, int(q * len(trips)))] if trips else None
+        return {"host": socket.gethostname(), "started_at": started_at, "time_scale": self.env.time_scale,
+                "sut_info": str((self.hello or {}).get("sut", "")), "pings": len(trips),
+                "rtt_p50_s": statistics.median(trips) if trips else None, "rtt_p95_s": percentile(0.95),
+                "rtt_max_s": trips[-1] if trips else None}
+
+
+def run_external(script: Script, sut: ExternalSut, seed: int, interface: Interface, slot: int = 0,
+                 run: int = 0) -> Trace:
+    """Run one script against an external SUT; a misbehaving SUT gives a crashed or hung trace,
+    an adapter that cannot be started or reached is the user's error (UntimelyError)."""
+    wall, started_at = time.perf_counter(), datetime.now(timezone.utc).replace(tzinfo=None)
+    env = RealtimeEnvironment(sut.time_scale)
+    layer = ProtocolLayer(env, interface)
+    executive = Executive(env, layer, interface, random.Random(seed), max_delay=0.0,
+                          probe_period=PROBE_PERIOD_WALL_S * sut.time_scale,
+                          probe_timeout=sut.probe_timeout_s * sut.time_scale)
+    layer.connection = Connection(sut, slot, layer.deliver)
+    outcome, error = "crashed", None
+    try:
+        layer.connection.write(encode("hello", proto=PROTO, run=run, seed=seed, time_scale=sut.time_scale,
+                                      interface=interface.describe()))
+        if not layer.greeted.wait(sut.startup_s):
+            raise LayerMisbehaved(f"no hello answer within {sut.startup_s:g} s of starting")
+        if layer.problem:
+            raise LayerMisbehaved(layer.problem)
+        env.restart_clock(layer.hello_at)
+        env.process(executive.play(script), "executive")
+        env.process(executive.probe(), "liveness probe")
+        env.run(until=executive.done)
+        outcome = executive.done.value
+        layer.closing = True
+        layer.connection.write(encode("bye"))
+    except LayerMisbehaved as e:
+        error = str(e)
+    finally:
+        layer.closing = True
+        layer.connection.close()
+    if error and layer.connection.stderr:
+        error += "\nlast lines of the SUT's stderr:\n" + layer.connection.stderr_tail()
+    trace = trace_of(executive, env, Trace(sut=sut.name, seed=seed, outcome=outcome, error=error), wall,
+                     layer.internal, layer.world_events)
+    trace.provenance = layer.provenance(started_at)
+    return trace

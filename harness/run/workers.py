@@ -1,0 +1,223 @@
+"""Runs of a campaign across worker processes; a run that fails never stops the others.
+
+A small pool of our own rather than concurrent.futures: the parent knows which run each
+worker holds, so when a worker process dies (os._exit, a segfault in a native library, the
+OOM killer) exactly that run is recorded as crashed and a fresh worker takes the next one.
+An exception escaping the runner is caught in the worker and becomes a crashed trace too.
+A run that gives no result within `watchdog_s` of wall time has its worker killed: the
+simulator works in virtual time, so that is a bug in it, not a slow mission; a real-time run has
+the executive's own watchdogs, so that is a bench that hangs. Each worker is a slot: it keeps its
+number (0..jobs-1) for its life, and an external SUT started for one of its runs learns it
+(UNTIMELY_SLOT), to pick ports of its own. The clock starts
+when the worker is ready (it has imported the project), not when the task is handed out: a
+spawned worker takes a second or more to start on a loaded machine.
+
+Workers are spawned (not forked): the parent holds an open DuckDB connection and threads.
+They ignore SIGINT, so Ctrl-C reaches the parent alone, which stops them.
+"""
+from __future__ import annotations
+
+import multiprocessing
+import signal
+import time
+import traceback
+from collections import deque
+from dataclasses import dataclass, field
+from multiprocessing.connection import wait
+from pathlib import Path
+from typing import Callable
+
+from harness.errors import UntimelyError
+from harness.run.external.runner import run_external
+from harness.target.interface import load_interface
+from harness.target.script import parse
+from harness.run.external.definitions import ExternalSut
+from harness.trace import Trace
+
+STOP_GRACE_S = 2.0
+READY = "ready"  # a worker's first message: it has set up and can run
+
+
+@dataclass(frozen=True)
+class Task:
+    trace_id: int
+    script_id: int
+    sut: str
+    seed: int
+    body: str
+
+
+@dataclass(frozen=True)
+class Setup:
+    """What every run of a campaign shares; sent once to each worker."""
+    runner: Callable  # run_script's signature: (script, sut, seed, interface, world_file, max_delay)
+    interface_file: Path
+    world_file: Path
+    max_delay: float
+    external: dict[str, ExternalSut] = field(default_factory=dict)  # SUTs run over untimely/1
+    watchdog_s: float | None = None  # wall seconds a run may take before its worker is killed
+
+    def run(self, task: Task, interface, slot: int) -> "Trace | UserError":
+        """One run, wherever it happens (a pool worker, a Dask worker); never raises."""
+        start = time.perf_counter()
+        try:
+            script = parse(task.body, script_label(task.script_id))
+            if task.sut in self.external:
+                return run_external(script, self.external[task.sut], task.seed, interface, slot, task.trace_id)
+            return self.runner(script, task.sut, task.seed, interface, self.world_file, self.max_delay)
+        except UntimelyError as e:  # the user's input (a variant, world or adapter that cannot be used)
+            return UserError(str(e))
+        except Exception:  # noqa: BLE001 - any other failure is this run's crash
+            return crashed(task, traceback.format_exc().strip(), time.perf_counter() - start)
+
+
+@dataclass(frozen=True)
+class UserError:
+    """An UntimelyError raised in a worker, as text: its subclasses do not all survive pickling."""
+    message: str
+
+
+def script_label(script_id: int) -> str:
+    """How messages about a stored script name it (its scripts.script_id)."""
+    return f"script {script_id}"
+
+
+def crashed(task: Task, error: str, wall_s: float = 0.0) -> Trace:
+    return Trace(sut=task.sut, seed=task.seed, outcome="crashed", error=error, wall_s=wall_s)
+
+
+def _serve(conn, setup: Setup, slot: int) -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    interface = load_interface(setup.interface_file)
+    conn.send(READY)
+    while True:
+        try:
+            task = conn.recv()
+        except EOFError:  # the parent is gone
+            return
+        if task is None:
+            return
+        conn.send(setup.run(task, interface, slot))
+
+
+class _Worker:
+    def __init__(self, context, setup: Setup, slot: int):
+        self.slot = slot
+        self.conn, child = context.Pipe()
+        self.process = context.Process(target=_serve, args=(child, setup, slot), daemon=True)
+        self.process.start()
+        child.close()
+        self.task: Task | None = None
+        self.since = 0.0
+        self.ready = False
+
+    def give(self, task: Task) -> None:
+        self.task, self.since = task, time.monotonic()
+        self.conn.send(task)
+
+    def result(self):
+        """The finished run's trace, or None if there is none (yet)."""
+        try:
+            while self.conn.poll():
+                message = self.conn.recv()
+                if message != READY:
+                    return message
+                self.ready, self.since = True, time.monotonic()
+        except (EOFError, OSError):
+            pass
+        return None
+
+    def overdue(self, watchdog_s: float | None) -> bool:
+        """Busy past the watchdog, counted from when it was ready (or given its task, if later)."""
+        return self.ready and watchdog_s is not None and time.monotonic() - self.since >= watchdog_s
+
+    def death(self) -> str:
+        self.process.join(STOP_GRACE_S)
+        code = self.process.exitcode
+        how = (f"signal {signal.Signals(-code).name}" if code is not None and code < 0
+               else f"exit code {code}")
+        if not self.ready:  # every run would fail the same way: stop rather than record them all
+            raise UntimelyError(f"a worker process exited ({how}) before it could run anything; "
+                                "its error output above says why")
+        return f"the worker process died ({how}) during this run"
+
+    def kill(self) -> None:
+        self.process.kill()
+        self.process.join()
+
+
+class Pool:
+    """`jobs` worker processes, started when first needed and kept across `run_all` calls (a
+    campaign's golden runs, then its mutants); stopped when the block ends."""
+
+    def __init__(self, setup: Setup, jobs: int):
+        self.setup, self.jobs = setup, jobs
+        self.context = multiprocessing.get_context("spawn")
+        self.workers: list[_Worker] = []
+
+    def __enter__(self) -> "Pool":
+        return self
+
+    def __exit__(self, *_exception) -> None:
+        _stop(self.workers)
+
+    def run_all(self, tasks: list[Task], on_trace: Callable[[Task, Trace], None]) -> None:
+        """Run every task; `on_trace(task, trace)` is called in this process, in completion order.
+        A worker that raises UntimelyError aborts the whole campaign with it; so does any
+        exception, after the busy workers are killed."""
+        setup, jobs, workers = self.setup, self.jobs, self.workers
+        pending = deque(tasks)
+        try:
+            while pending or any(w.task for w in workers):
+                while pending and len(workers) < jobs:
+                    free = min(set(range(jobs)) - {w.slot for w in workers})
+                    workers.append(_Worker(self.context, setup, free))
+                for worker in workers:
+                    if worker.task is None and pending:
+                        worker.give(pending.popleft())
+                busy = [w for w in workers if w.task]
+                wait([w.conn for w in busy] + [w.process.sentinel for w in busy], timeout=1.0)
+                for worker in busy:
+                    alive = worker.process.is_alive()  # before reading: a dead worker's result is all in the pipe
+                    result = worker.result()
+                    if result is None and alive:
+                        if not worker.overdue(setup.watchdog_s):
+                            continue
+                        worker.kill()
+                        result = crashed(worker.task, f"no result after {setup.watchdog_s:g} s of wall time; "
+                                                      "the worker was killed", setup.watchdog_s)
+                    elif result is None:
+                        result = crashed(worker.task, worker.death())
+                    if isinstance(result, UserError):
+                        raise UntimelyError(result.message)
+                    task, worker.task = worker.task, None
+                    if not worker.process.is_alive():
+                        workers.remove(worker)
+                    on_trace(task, result)
+        except BaseException:
+            _stop(workers)
+            workers.clear()
+            raise
+
+
+def run_all(tasks: list[Task], setup: Setup, jobs: int, on_trace: Callable[[Task, Trace], None]) -> None:
+    """Run every task on a pool of `jobs` workers of its own (see Pool.run_all)."""
+    with Pool(setup, jobs) as pool:
+        pool.run_all(tasks, on_trace)
+
+
+def _stop(workers: list[_Worker]) -> None:
+    """Idle workers leave on their own; busy ones (Ctrl-C, an error) are killed at once."""
+    for worker in workers:
+        if worker.task:
+            worker.kill()
+        else:
+            try:
+                worker.conn.send(None)
+            except OSError:
+                pass
+    deadline = time.monotonic() + STOP_GRACE_S
+    for worker in workers:
+        worker.process.join(max(0.0, deadline - time.monotonic()))
+        if worker.process.is_alive():
+            worker.kill()

@@ -1,0 +1,290 @@
+"""The DuckDB trace store (DESIGN §5): schema, and loading traces through Arrow."""
+from __future__ import annotations
+
+import json
+import os
+import re
+import sys
+from contextlib import contextmanager
+from datetime import datetime, timezone
+from functools import cache
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import duckdb
+
+from harness import SQL_DIR
+from harness.errors import StoreError
+from harness.files import make_folder
+from harness.target.interface import Interface
+from harness.store.sql import ENV
+from harness.trace import EVENT_COLUMNS, WORLD_EVENT_COLUMNS, Trace
+
+if TYPE_CHECKING:
+    import pyarrow as pa
+
+# DuckDB 2.0 writes its newest storage format unless told otherwise, and no 1.x client reads
+# that; DuckDB 1.0 cannot read the primary keys 2.0 writes. So stores are written for 1.1.
+STORAGE_VERSION = "v1.1.0"
+# The layout of sql/schema.sql; each store lists the versions it went through in schema_version.
+SCHEMA_VERSION = 3
+POSITIONS_SINCE = 3  # the first schema version with variant_positions and module_positions
+
+
+def connect(path: str | Path = ":memory:", read_only: bool = False,
+            create: bool = True) -> duckdb.DuckDBPyConnection:
+    """Open a store, creating it unless it is opened read-only or with create=False (then a
+    missing store is refused); a writable store gets the schema, applied idempotently, and a
+    store from before schema versions is migrated. Read-only, such a store is read as is."""
+    if str(path) != ":memory:":
+        if (read_only or not create) and not Path(path).exists():
+            raise StoreError(f"no store at {str(path)!r}; run a campaign or import traces first, or pass --db")
+        make_folder(Path(path).parent, "the store")
+    con = _open(path, read_only)
+    found = schema_version(con)
+    if found is not None and found > SCHEMA_VERSION:
+        con.close()
+        raise StoreError(f"the store {str(path)!r} has schema version {found}, written by a newer Untimely "
+                         f"than this one (schema version {SCHEMA_VERSION}); update the bench to open it")
+    if read_only:
+        if found is not None:
+            _older_positions(con, _missing_positions(con), temp=True)
+        return con
+    if found == 0:
+        con.close()
+        backup = _migrate(Path(path))
+        con, found = _open(path, read_only), SCHEMA_VERSION
+        print(f"migrated the store {str(path)!r} from schema version 0 to {SCHEMA_VERSION}: rewritten in "
+              f"the storage format of DuckDB {STORAGE_VERSION}, which DuckDB clients from {STORAGE_VERSION} on "
+              f"open; the original is kept as {str(backup)!r} (delete it when you no longer need it)",
+              file=sys.stderr)
+    _apply_schema(con, found)
+    return con
+
+
+def _apply_schema(con, found: int | None) -> None:
+    """The schema on the current database, idempotently; the version is recorded when it changes,
+    and a store from before positions were kept gets them, derived as its bench ordered its rows."""
+    missing = _missing_positions(con) if found is not None and found < POSITIONS_SINCE else set()
+    con.execute((SQL_DIR / "schema.sql").read_text())
+    if found != SCHEMA_VERSION:
+        note = "created" if found is None else f"migrated from schema version {found}"
+        con.execute("insert into schema_version (version, applied_at, note) values (?, ?, ?)",
+                    [SCHEMA_VERSION, datetime.now(timezone.utc).replace(tzinfo=None), note])
+    _older_positions(con, missing, temp=False)
+
+
+def _missing_positions(con) -> set[str]:
+    """Which positions relations (and their sources) a store lacks."""
+    have = {r[0] for r in con.execute("select table_name from information_schema.tables "
+                                      "where table_catalog = current_database()").fetchall()}
+    return {"variant_positions", "module_positions", "property_positions", "family_positions",
+            "properties", "verdicts"} - have
+
+
+def _older_positions(con, missing: set[str], temp: bool) -> None:
+    """The positions of variants, modules, properties and families that a store written or analysed
+    by an earlier bench lacks (sql/older_positions.sql): for good, or as temporary views."""
+    if missing - {"properties", "verdicts"}:
+        con.execute(ENV.get_template("older_positions.sql").render(missing=missing, temp=temp))
+
+
+def _open(path: str | Path, read_only: bool) -> duckdb.DuckDBPyConnection:
+    try:
+        return duckdb.connect(str(path), read_only=read_only,
+                              config={"storage_compatibility_version": STORAGE_VERSION})
+    except duckdb.Error as e:
+        raise StoreError(_open_problem(str(path), e)) from None
+
+
+def schema_version(con) -> int | None:
+    """The store's schema version: 0 for a store from before versions, None for an empty database."""
+    tables = {r[0] for r in con.execute("select table_name from duckdb_tables() "
+                                        "where database_name = current_database()").fetchall()}
+    if "schema_version" in tables:
+        # fetchall: a result left open by fetchone breaks the next con.sql on this connection
+        return con.execute("select max(version) from schema_version").fetchall()[0][0]
+    return 0 if "traces" in tables else None
+
+
+def _migrate(path: Path) -> Path:
+    """Replace a schema-0 store by a copy in the STORAGE_VERSION format with the current schema;
+    the original is moved aside (returned), and a failure leaves it where it was."""
+    backup = path.with_name(f"{path.stem}.schema0{path.suffix}")
+    if backup.exists():
+        raise StoreError(f"cannot migrate the store {str(path)!r}: {str(backup)!r}, where its original "
+                         f"would be kept, already exists; move that file away and retry")
+    fresh = path.with_name(path.name + ".migrating")
+    leftovers = (fresh, fresh.with_name(fresh.name + ".wal"))
+    for leftover in leftovers:
+        leftover.unlink(missing_ok=True)
+    try:
+        with duckdb.connect() as con:
+            con.execute(f"attach {quoted(path)} as original (read_only)")
+            con.execute(f"attach {quoted(fresh)} as migrated (storage_version '{STORAGE_VERSION}')")
+            con.execute("copy from database original to migrated")
+            con.execute("use migrated")
+            _apply_schema(con, 0)
+    except duckdb.Error as e:
+        for leftover in leftovers:
+            leftover.unlink(missing_ok=True)
+        raise StoreError(f"cannot migrate the store {str(path)!r}: {e}; it is left as it was") from None
+    os.replace(path, backup)
+    os.replace(fresh, path)
+    return backup
+
+
+def quoted(path: str | Path) -> str:
+    """A path as a SQL string literal (DuckDB takes no parameters in attach or copy)."""
+    return "'" + str(path).replace("'", "''") + "'"
+
+
+def _open_problem(path: str, error: duckdb.Error) -> str:
+    """Why a store cannot be opened, and what to do; DuckDB's lock message names the holder's PID."""
+    holder = re.search(r"Conflicting lock is held in (.*) \(PID (\d+)\)", str(error))
+    if holder:
+        return (f"{path!r} is being written by another process ({holder[1]}, PID {holder[2]}), e.g. a "
+                "campaign still running; wait for it to finish (or stop it: a campaign resumes), "
+                "or work on a copy of the store, or pass another --db")
+    return f"cannot open the store {path!r}: {error}"
+
+
+def _write_problem(error: duckdb.Error) -> StoreError:
+    return StoreError(f"could not write the store: {error}; every transaction committed before is kept. "
+                      "Free disk space (or fix the cause) and rerun the same command: a campaign resumes")
+
+
+def discard_if_empty(path: str | Path) -> None:
+    """Remove a store that holds no campaign and no trace (one a failed command just created)."""
+    if not Path(path).exists():
+        return
+    try:
+        con = duckdb.connect(str(path))
+        empty = con.execute("select (select count(*) from campaigns) + (select count(*) from traces) = 0").fetchone()[0]
+        con.close()
+    except duckdb.Error:
+        return  # not a store this command made, or not readable: leave it
+    if empty:
+        for leftover in (Path(path), Path(f"{path}.wal")):
+            leftover.unlink(missing_ok=True)
+
+
+@contextmanager
+def transaction(con):
+    """The block's writes commit together, or on any exception are rolled back and it propagates."""
+    con.begin()
+    try:
+        yield
+    except BaseException as e:
+        try:
+            con.rollback()
+        except duckdb.TransactionException:
+            pass  # DuckDB already ended a transaction whose write failed
+        if isinstance(e, duckdb.IOException):
+            raise _write_problem(e) from None
+        raise
+    try:
+        con.commit()
+    except duckdb.Error as e:  # a full disk shows here, when the write-ahead log is written
+        raise _write_problem(e) from None
+
+
+def next_id(con, table: str, column: str) -> int:
+    return con.execute(f"select coalesce(max({column}), 0) + 1 from {table}").fetchone()[0]
+
+
+def add_campaign(con, campaign_id: int, mission: str, seed: int, config: dict) -> None:
+    con.execute("insert into campaigns (campaign_id, created_at, mission, seed, config) values (?, ?, ?, ?, ?)",
+                [campaign_id, datetime.now(timezone.utc).replace(tzinfo=None), mission, seed,
+                 json.dumps(config, sort_keys=True)])
+
+
+def add_reply_codes(con, interface: Interface) -> None:
+    """Record the interface's reply catalogue and its modules' order; a code whose class changed
+    is refused."""
+    import pyarrow as pa
+    rows = interface.reply_codes()
+    codes = pa.table({"position": range(len(rows)), **{  # noqa: F841 (read by DuckDB)
+        name: [r[i] for r in rows] for i, name in enumerate(("module", "service", "reply", "class"))}})
+    changed = con.execute("""select c.module, c.service, c.reply, c.class, r.class from codes c
+                             join reply_codes r using (module, service, reply) where c.class <> r.class
+                             order by c.position limit 1""").fetchone()
+    if changed:
+        module, service, reply, cls, known = changed
+        raise StoreError(f"{interface.path}: reply {reply!r} of {module}.{service} has class {cls!r}, "
+                         f"but the store already has class {known!r}; use a fresh --db")
+    con.execute("""insert into reply_codes (module, service, reply, class)
+                   select module, service, reply, class from codes
+                   anti join reply_codes using (module, service, reply)""")
+    place(con, "module_positions", "module", [r[0] for r in rows])
+
+
+def place(con, table: str, column: str, names: list[str]) -> None:
+    """Give the names a positions table (variant_positions, module_positions) does not hold yet
+    the next positions, in the order given: the first order a store saw is the one it keeps."""
+    import pyarrow as pa
+    names = list(dict.fromkeys(names))
+    given = pa.table({"name": names, "given": range(len(names))})  # noqa: F841 (read by DuckDB)
+    con.execute(f"""insert into {table} ({column}, position)
+                    select name, (select coalesce(max(position), 0) from {table}) + row_number() over (order by given)
+                    from given where name not in (select {column} from {table})""")
+
+
+@cache
+def _schemas() -> dict[str, pa.Schema]:
+    """The Arrow schemas of the trace tables. pyarrow is imported by the functions that write a
+    store: a process that only reads one, such as the report, is some 50 MB smaller without it."""
+    import pyarrow as pa
+    events = pa.schema([("trace_id", pa.int32()), ("seq", pa.int32()), ("t", pa.float64()),
+                        ("kind", pa.string()), ("rqst_id", pa.int32()), ("module", pa.string()),
+                        ("service", pa.string()), ("args", pa.string()), ("reply", pa.string())])
+    return {"traces": pa.schema([("trace_id", pa.int32()), ("campaign_id", pa.int32()), ("script_id", pa.int32()),
+                                 ("sut", pa.string()), ("seed", pa.int64()), ("outcome", pa.string()),
+                                 ("sim_s", pa.float64()), ("wall_s", pa.float64()), ("error", pa.string()),
+                                 ("label", pa.string())]),
+            "events": events, "internal_events": events,
+            "world_events": pa.schema([("trace_id", pa.int32()), ("t", pa.float64()), ("kind", pa.string()),
+                                       ("detail", pa.string())])}
+
+
+def _table(rows: list[tuple], columns: tuple[str, ...], schema: pa.Schema, trace_ids: list[int]) -> pa.Table:
+    """Rows (without their trace id) of several traces as one Arrow table; `trace_ids` row by row."""
+    import pyarrow as pa
+    arrays = [pa.array(trace_ids, pa.int32())]
+    arrays += [pa.array(values, schema.field(name).type) for name, values in zip(columns, zip(*rows))]
+    return pa.Table.from_arrays(arrays, schema=schema)
+
+
+def insert_trace(con, trace_id: int, campaign_id: int, script_id: int | None, trace: Trace,
+                 label: str | None = None) -> None:
+    """Write one trace; the caller owns the transaction."""
+    insert_traces(con, campaign_id, [(trace_id, script_id, trace, label)])
+
+
+def insert_traces(con, campaign_id: int, runs: list[tuple[int, int | None, Trace, str | None]]) -> None:
+    """Write traces, given as (trace_id, script_id, trace, label): their rows, events, ground truth,
+    world events and provenance, one bulk insert per table; the caller owns the transaction."""
+    import pyarrow as pa
+    schemas = _schemas()
+    rows = [(trace_id, campaign_id, script_id, t.sut, t.seed, t.outcome, t.sim_s, t.wall_s, t.error, label)
+            for trace_id, script_id, t, label in runs]
+    place(con, "variant_positions", "sut", [t.sut for _, _, t, _ in sorted(runs, key=lambda run: run[0])])
+    trace_rows = pa.Table.from_arrays([pa.array(c, f.type) for c, f in zip(zip(*rows), schemas["traces"])],  # noqa: F841
+                                      schema=schemas["traces"])
+    con.execute(f"insert into traces ({', '.join(schemas['traces'].names)}) select * from trace_rows")
+    for table, columns in (("events", EVENT_COLUMNS), ("internal_events", EVENT_COLUMNS),
+                           ("world_events", WORLD_EVENT_COLUMNS)):
+        schema = schemas[table]
+        rows, trace_ids = [], []
+        for trace_id, _, trace, _ in runs:
+            these = getattr(trace, table)
+            rows += these
+            trace_ids += [trace_id] * len(these)
+        if rows:
+            arrow = _table(rows, columns, schema, trace_ids)  # noqa: F841 (read by DuckDB)
+            con.execute(f"insert into {table} ({', '.join(schema.names)}) select * from arrow")
+    for trace_id, _, trace, _ in runs:
+        if trace.provenance:
+            columns = ", ".join(trace.provenance)
+            con.execute(f"insert into trace_runs (trace_id, {columns}) values (?{', ?' * len(trace.provenance)})",
+                        [trace_id, *trace.provenance.values()])

@@ -1,0 +1,28 @@
+"""`python -m harness sql QUERY`: ad-hoc SQL on the store, read-only, printed as an aligned table."""
+from __future__ import annotations
+
+import duckdb
+
+from harness.errors import StoreError
+from harness.store.database import connect
+from harness.textable import format_table
+
+
+def run(con: duckdb.DuckDBPyConnection, query: str) -> str:
+    try:
+        cursor = con.execute(query)
+        if cursor is None:  # DuckDB's answer to a query of blanks or comments only
+            raise StoreError(f"no statement in {query!r}; give a query, e.g. \"select * from trace_robustness\"")
+        if cursor.description is None:
+            return "(no result)"
+        columns, rows = [d[0] for d in cursor.description], cursor.fetchall()
+    except duckdb.Error as e:
+        tables = ", ".join(r[0] for r in con.execute(
+            "select table_name from information_schema.tables order by table_name").fetchall())
+        raise StoreError(f"query failed: {e}\nthe store has: {tables}") from None
+    return f"{format_table(columns, rows)}\n({len(rows)} row{'' if len(rows) == 1 else 's'})"
+
+
+def main(args) -> int:
+    print(run(connect(args.db, read_only=True), args.query))
+    return 0

@@ -1,0 +1,1 @@
+"""A target folder: its interface, properties, mission scripts and layer description (what the user writes)."""

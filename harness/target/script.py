@@ -1,0 +1,186 @@
+"""The mission-script language (DESIGN §4): parse, validate and render scripts.
+
+    send MODULE.SERVICE [name=value ...] [as HANDLE]   # non-blocking request
+    wait HANDLE|all [timeout=SECONDS]                  # block until final replies
+    sleep SECONDS                                      # simulated seconds
+
+Parsing checks the shape of each line; validation checks it against an interface
+(known modules, services, arguments, handles sent on an earlier line). Argument values
+are type-checked but not range-checked: an out-of-domain value is the layer's to reject
+with `bad_params`, which is part of what the bench tests.
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from harness.errors import ScriptError
+from harness.files import read_text
+from harness.target.interface import Interface
+
+HANDLE_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*$")
+SERVICE_RE = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)\.([A-Za-z_][A-Za-z0-9_]*)$")
+
+
+@dataclass(frozen=True)
+class Step:
+    line: int
+    op: str  # send | wait | sleep
+    service: str | None = None  # "module.Service" (send)
+    args: tuple[tuple[str, str], ...] = ()  # (name, text value) in script order (send)
+    handle: str | None = None  # the 'as' name (send), the awaited handle or "all" (wait)
+    seconds: float | None = None  # sleep duration, wait timeout
+    comment: str = ""
+
+    @property
+    def module(self) -> str | None:
+        return self.service.split(".")[0] if self.service else None
+
+    def render(self) -> str:
+        if self.op == "send":
+            words = ["send", self.service, *(f"{k}={v}" for k, v in self.args)]
+            if self.handle:
+                words += ["as", self.handle]
+        elif self.op == "wait":
+            words = ["wait", self.handle]
+            if self.seconds is not None:
+                words.append(f"timeout={_number(self.seconds)}")
+        else:
+            words = ["sleep", _number(self.seconds)]
+        text = " ".join(words)
+        return f"{text}  # {self.comment}" if self.comment else text
+
+    def __repr__(self) -> str:
+        return f"<Step line {self.line}: {self.render()}>"
+
+
+@dataclass(frozen=True)
+class Script:
+    steps: tuple[Step, ...]
+    source: str = "<script>"
+
+    def render(self) -> str:
+        return "".join(step.render() + "\n" for step in self.steps)
+
+    def renumbered(self, source: str | None = None) -> "Script":
+        """The same steps with line numbers of the rendered text (after a mutation)."""
+        steps = tuple(replace(s, line=n) for n, s in enumerate(self.steps, 1))
+        return Script(steps, source or self.source)
+
+    def __repr__(self) -> str:
+        return f"<Script {self.source}: {len(self.steps)} steps>"
+
+
+def _number(value: float) -> str:
+    return f"{value:g}"
+
+
+def _seconds(source, line, text, what) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = None
+    if value is None or not value > 0 or value != value or value == float("inf"):
+        raise ScriptError(source, line, f"{what} {text!r} is not a positive number of seconds")
+    return value
+
+
+def _parse_line(source: str, n: int, text: str, comment: str) -> Step:
+    words = text.split()
+    op, rest = words[0], words[1:]
+    if op == "sleep":
+        if len(rest) != 1:
+            raise ScriptError(source, n, f"'sleep' takes one number of seconds, got {' '.join(rest)!r}")
+        return Step(n, "sleep", seconds=_seconds(source, n, rest[0], "sleep duration"), comment=comment)
+    if op == "wait":
+        if not rest or len(rest) > 2:
+            raise ScriptError(source, n, f"'wait' takes a handle or 'all' and an optional timeout=S, got {text!r}")
+        timeout = None
+        if len(rest) == 2:
+            if not rest[1].startswith("timeout="):
+                raise ScriptError(source, n, f"unexpected {rest[1]!r} after the handle; write timeout=SECONDS")
+            timeout = _seconds(source, n, rest[1][len("timeout="):], "timeout")
+        if rest[0] != "all" and not HANDLE_RE.match(rest[0]):
+            raise ScriptError(source, n, f"{rest[0]!r} is not a handle name (letters, digits, _)")
+        return Step(n, "wait", handle=rest[0], seconds=timeout, comment=comment)
+    if op == "send":
+        if not rest or not SERVICE_RE.match(rest[0]):
+            raise ScriptError(source, n, f"'send' needs MODULE.SERVICE first, got {' '.join(rest[:1])!r}")
+        handle = None
+        if "as" in rest:
+            at = rest.index("as")
+            if at != len(rest) - 2 or not HANDLE_RE.match(rest[-1]) or rest[-1] == "all":
+                raise ScriptError(source, n, f"'as' must end the line with one handle name, got {' '.join(rest[at:])!r}")
+            handle, rest = rest[-1], rest[:at]
+        args = []
+        for word in rest[1:]:
+            name, eq, value = word.partition("=")
+            if not eq or not name or not value:
+                raise ScriptError(source, n, f"argument {word!r} is not of the form name=value")
+            args.append((name, value))
+        return Step(n, "send", service=rest[0], args=tuple(args), handle=handle, comment=comment)
+    raise ScriptError(source, n, f"unknown step {op!r}; a step is send, wait or sleep")
+
+
+def parse(text: str, source: str = "<script>") -> Script:
+    """Parse a script's text; raises ScriptError naming the line of a malformed step."""
+    steps = []
+    for n, raw in enumerate(text.splitlines(), 1):
+        body, _, comment = raw.partition("#")
+        if body.strip():
+            steps.append(_parse_line(source, n, body.strip(), comment.strip()))
+    if not steps:
+        raise ScriptError(source, 1, "the script has no steps; add send, wait or sleep lines")
+    return Script(tuple(steps), source)
+
+
+def validate(script: Script, interface: Interface) -> None:
+    """Raise ScriptError at the first step the interface cannot run."""
+    src, handles = script.source, {}
+    for step in script.steps:
+        if step.op == "wait" and step.handle != "all" and step.handle not in handles:
+            raise ScriptError(src, step.line, f"wait on handle {step.handle!r}, which no earlier line sends")
+        if step.op != "send":
+            continue
+        service = interface.services.get(step.service)
+        if service is None:
+            offered = [s.name for s in interface.services.values() if s.module == step.module]
+            hint = (f"module {step.module!r} offers {', '.join(offered)}" if offered
+                    else f"known modules: {', '.join(interface.modules)}")
+            raise ScriptError(src, step.line, f"unknown service {step.service!r}; {hint}")
+        given = [name for name, _ in step.args]
+        for name, value in step.args:
+            arg = service.args.get(name)
+            if arg is None:
+                expected = ", ".join(service.args) or "no arguments"
+                raise ScriptError(src, step.line, f"{step.service} has no argument {name!r}; it takes {expected}")
+            if given.count(name) > 1:
+                raise ScriptError(src, step.line, f"argument {name!r} is given twice")
+            if arg.type == "float":
+                try:
+                    number = float(value)
+                except ValueError:
+                    raise ScriptError(src, step.line, f"argument {name}={value!r} is not a number") from None
+                if not math.isfinite(number):  # JSON, hence the store, has no inf or nan
+                    raise ScriptError(src, step.line, f"argument {name}={value!r} is not a finite number")
+        missing = [a for a in service.args if a not in given]
+        if missing:
+            raise ScriptError(src, step.line, f"{step.service} needs argument(s) {', '.join(missing)}")
+        if step.handle in handles:
+            raise ScriptError(src, step.line, f"handle {step.handle!r} already names the request "
+                              f"on line {handles[step.handle]}; choose a new name")
+        if step.handle:
+            handles[step.handle] = step.line
+
+
+def load_script(path: str | Path, interface: Interface) -> Script:
+    path = Path(path)
+    try:
+        text = read_text(path)
+    except OSError as e:
+        raise ScriptError(path, 0, f"cannot read the script: {e.strerror}") from None
+    script = parse(text, str(path))
+    validate(script, interface)
+    return script
