@@ -267,6 +267,8 @@ def insert_trace(con, trace_id: int, campaign_id: int, script_id: int | None, tr
 def insert_traces(con, campaign_id: int, runs: list[tuple[int, int | None, Trace, str | None]]) -> None:
     """Write traces, given as (trace_id, script_id, trace, label): their rows, events, ground truth,
     world events and provenance, one bulk insert per table; the caller owns the transaction."""
+    if not runs:  # e.g. a shard that runs none of the golden runs
+        return
     import pyarrow as pa
     schemas = _schemas()
     rows = [(trace_id, campaign_id, script_id, t.sut, t.seed, t.outcome, t.sim_s, t.wall_s, t.error, label)
