@@ -25,7 +25,8 @@ COMMENTS = re.compile(r"//[^\n]*|/\*.*?\*/|#[^\n]*", re.S)
 STRINGS = re.compile(r'"(?:[^"\\]|\\.)*"')
 COMPONENT = re.compile(rf"\bcomponent\s+({IDENT})\s*\{{")
 SERVICE = re.compile(rf"\b(attribute|function|activity)\s+({IDENT})\s*\(")
-EXCEPTION = re.compile(rf"\bexception\s+({IDENT}(?:\s*,\s*{IDENT})*)")
+EXCEPTION = re.compile(r"\bexception\s+([^;]*);")
+MEMBERS = re.compile(r"\{[^{}]*\}")  # an exception's members: `e_limits { double v; }`
 CLAUSE = re.compile(rf"\b(interrupts?|after)\s+([^;{{}}]*);")
 
 
@@ -91,7 +92,7 @@ def read_genom(path: str | Path) -> list[GenomComponent]:
     for match in COMPONENT.finditer(text):
         opening = match.end() - 1
         body = text[opening:_closing(text, opening, path, f"component {match.group(1)}")]
-        exceptions = [n for listed in EXCEPTION.findall(body) for n in _names(listed)]
+        exceptions = [n for listed in EXCEPTION.findall(MEMBERS.sub("", body)) for n in _names(listed)]
         components.append(GenomComponent(match.group(1), _services(body, opening, text, path), exceptions))
     if not components:
         raise InputFileError(path, "", "no `component NAME { ... };` found; give a GenoM3 component description")

@@ -89,7 +89,7 @@ def from_genom(path: Path) -> Draft:
                                        "component does not declare: left out")
                 elif services[target].kind == "exec":
                     dominators.setdefault(target, []).append(f"{module}.{s.name}")
-            first = [f"{module}.{q}" for q in s.after if q in services]
+            first = [f"{module}.{q}" for q in s.after if q in services and q not in inits]  # inits: PEX
             draft.notes += [f"{module}.{s.name} (line {s.line}) comes after {q!r}, which the component does "
                             "not declare: left out" for q in s.after if q not in services]
             if first:

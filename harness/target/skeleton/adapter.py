@@ -13,7 +13,8 @@ invent a final reply the layer did not give. Write diagnostics to stderr, never 
 
 What this stand-in layer does, from the interface the bench sends in its hello:
 - an init service ends `ok` after INIT_S mission seconds and sets its module up;
-- before that, any other exec request of the module is rejected `wait_init` (if catalogued);
+- before that, any other exec request of the module is rejected `wait_init` (if catalogued;
+  a module without an init service is set up from the start);
 - a control service ends `ok` at once;
 - an exec service runs ACTIVITY_S mission seconds, then ends `ok`; a new request of the same
   service, or of a service named Stop, interrupts the module's running activity of that service
@@ -36,7 +37,8 @@ class Layer:
         self.kinds = hello["interface"]["modules"]          # module -> service -> kind
         self.codes = set(hello["interface"]["replies"])     # the reply catalogue
         self.scale = float(hello.get("time_scale", 1.0))    # mission seconds per wall second
-        self.ready: set[str] = set()                        # initialised modules
+        self.ready = {m for m, services in self.kinds.items()  # set up: a module without an init service,
+                      if "init" not in services.values()}          # others once their init ends ok
         self.running: dict[int, tuple[str, str, threading.Event]] = {}  # id -> module, service, cut
         self.lock = threading.Lock()
 
@@ -53,7 +55,7 @@ class Layer:
         cut = threading.Event()
         with self.lock:
             for other, (m, s, other_cut) in list(self.running.items()):
-                if m == module and (s == service or service == STOP):
+                if m == module and (s == service or service == STOP and self.kinds[m][s] == "exec"):
                     other_cut.set()
             self.running[rqst_id] = (module, service, cut)
         threading.Thread(target=self.activity, args=(rqst_id, module, service, kind, cut), daemon=True).start()
