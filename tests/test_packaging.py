@@ -78,3 +78,15 @@ def test_the_wheel_installed_elsewhere_runs_a_target_from_an_empty_folder(tmp_pa
     _run([untimely, "report"], cwd=work, env=env)
     assert (work / "reports" / "index.html").exists()
     _run([str(python), "-m", "harness", "sql", "select untimely from schema_version"], cwd=work, env=env)
+
+
+def test_make_system_names_the_command_when_it_cannot_install(tmp_path):
+    """Not root, packages missing: `make system` stops and names the apt-get command (fake dpkg and id)."""
+    for name, script in (("dpkg", "exit 1"), ("id", "echo 1000")):
+        (tmp_path / name).write_text(f"#!/bin/sh\n{script}\n")
+        (tmp_path / name).chmod(0o755)
+    env = dict(os.environ, PATH=f"{tmp_path}{os.pathsep}{os.environ['PATH']}")
+    done = subprocess.run(["make", "--no-print-directory", "system"], cwd=ROOT, env=env, capture_output=True,
+                          text=True, timeout=60)
+    assert done.returncode != 0
+    assert "sudo apt-get install -y --no-install-recommends chromium nodejs python3-venv python3-rospy" in done.stdout
