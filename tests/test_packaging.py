@@ -90,3 +90,19 @@ def test_make_system_names_the_command_when_it_cannot_install(tmp_path):
                           text=True, timeout=60)
     assert done.returncode != 0
     assert "sudo apt-get install -y --no-install-recommends chromium nodejs python3-venv python3-rospy" in done.stdout
+
+
+def test_the_ci_examples_use_only_commands_and_options_that_exist():
+    """Every `untimely` line of docs/ci.md's workflows parses (placeholders filled in); the YAML is
+    run by CI servers, the commands themselves by the tests of each command."""
+    from harness.cli import _parser
+    text = (ROOT / "docs" / "ci.md").read_text()
+    lines = [re.sub(r"^.*?\buntimely ", "", line).strip() for line in text.splitlines()
+             if re.search(r"(run: |- |^)untimely ", line.strip())]
+    assert len(lines) >= 10, lines
+    for line in lines:
+        filled = re.sub(r"\$\{\{ matrix\.shard \}\}|\$\{CI_NODE_INDEX\}", "1", line)
+        filled = filled.replace("${CI_NODE_TOTAL}", "4")
+        args = _parser().parse_args(filled.split())
+        if getattr(args, "shard", None):
+            assert re.fullmatch(r"\d+/\d+", args.shard), line
