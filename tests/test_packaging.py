@@ -16,6 +16,7 @@ import tomllib
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+import pytest
 import xmlschema
 
 from harness import ROOT
@@ -106,3 +107,21 @@ def test_the_ci_examples_use_only_commands_and_options_that_exist():
         args = _parser().parse_args(filled.split())
         if getattr(args, "shard", None):
             assert re.fullmatch(r"\d+/\d+", args.shard), line
+
+
+def test_every_store_records_the_version_of_untimely_that_wrote_it(tmp_path, monkeypatch, capsys):
+    from harness import __version__, cli, store
+    from harness.store import database
+    db = tmp_path / "s.duckdb"
+    store.connect(db).close()
+    store.connect(db).close()  # the same version again: nothing new to record
+    monkeypatch.setattr(database, "__version__", "9.9.9")
+    store.connect(db).close()
+    con = store.connect(db, read_only=True)
+    rows = con.execute("select note, untimely from schema_version order by applied_at").fetchall()
+    con.close()
+    assert rows == [("created", __version__), ("written by Untimely 9.9.9", "9.9.9")]
+    with pytest.raises(SystemExit) as exit_:
+        cli.main(["--version"])
+    assert exit_.value.code == 0
+    assert capsys.readouterr().out.strip() == f"untimely {__version__}"
