@@ -42,6 +42,10 @@ def test_a_store_given_twice_or_a_part_missing_is_refused(stores, capsys):
     assert "is given twice" in capsys.readouterr().err
     assert main(["merge", str(out), str(stores / "s1.duckdb"), str(stores / "s2.duckdb")]) == 2
     assert "shard(s) 3/3 missing" in capsys.readouterr().err
+    assert main(["merge", str(out), *(str(stores / f"s{i}.duckdb") for i in (1, 2, 3)),
+                 "--properties", str(stores / "gone.toml")]) == 2
+    err = capsys.readouterr().err
+    assert "gone.toml: no such file" in err and "pass --properties FILE" in err
     assert not out.exists()
 
 

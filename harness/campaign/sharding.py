@@ -95,7 +95,7 @@ def merge_main(args) -> int:
     if out.exists():
         raise UntimelyError(f"{out} exists; merge writes a new store: give another OUT or remove it")
     configs, paths = {}, [str(Path(s)) for s in args.stores]
-    if len(set(map(lambda p: str(Path(p).resolve()), paths))) != len(paths):
+    if len({Path(p).resolve() for p in paths}) != len(paths):
         raise StoreError(f"a store is given twice in {' '.join(paths)}; give each part once")
     for path in paths:
         con = connect(path, read_only=True)
@@ -107,6 +107,9 @@ def merge_main(args) -> int:
         finally:
             con.close()
     check(configs)
+    if not properties_file.is_file():
+        raise UntimelyError(f"{properties_file}: no such file, and the merged store is judged with the shards' "
+                            "properties; pass --properties FILE (the target's properties.toml)")
     merged = {k: v for k, v in configs[paths[0]].items() if k != "shard"}
     con = connect(out)
     try:
