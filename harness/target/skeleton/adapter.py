@@ -54,7 +54,7 @@ class Layer:
             return final(rqst_id, "wait_init")
         cut = threading.Event()
         with self.lock:
-            for other, (m, s, other_cut) in list(self.running.items()):
+            for m, s, other_cut in list(self.running.values()):
                 if m == module and (s == service or service == STOP and self.kinds[m][s] == "exec"):
                     other_cut.set()
             self.running[rqst_id] = (module, service, cut)
