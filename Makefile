@@ -17,7 +17,7 @@ SEED    ?= 2012
 JOBS    ?= 0
 STRATEGY ?= random
 
-.PHONY: venv ros test bench campaign analyze report clean
+.PHONY: venv system ros test bench campaign analyze report clean
 
 venv: $(STAMP)
 
@@ -27,18 +27,37 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install --quiet -e '.[dev]'
 	touch $(STAMP)
 
-# .venv-ros only where ROS is installed; elsewhere the ROS tests skip, saying why.
+# The Debian packages the tests need: chromium (the report in a browser), Node.js (examples/node),
+# Debian's ROS 1 and what the ROS adapter's tests build against. apt-get installs the missing ones
+# when make runs as root; otherwise make names the command to run, and stops.
+SYSTEM_PACKAGES := chromium nodejs python3-venv python3-rospy python3-actionlib python3-actionlib-msgs \
+	python3-std-msgs python3-rosmaster python3-genpy python3-move-base-msgs python3-std-srvs python3-rosbag \
+	libactionlib-dev libroscpp-dev g++ libstd-srvs-dev libmove-base-msgs-dev
+
+system:
+	@command -v dpkg >/dev/null || { echo "make system: no dpkg: install by hand the equivalents of the Debian packages $(SYSTEM_PACKAGES)"; exit 1; }; \
+	missing=$$(for p in $(SYSTEM_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || echo $$p; done | tr '\n' ' '); \
+	if [ -z "$$missing" ]; then exit 0; fi; \
+	if [ "$$(id -u)" = 0 ]; then \
+		echo "make system: installing $$missing"; \
+		apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing; \
+	else \
+		echo "make system: the tests need Debian packages that are missing; run:"; \
+		echo "  sudo apt-get install -y --no-install-recommends $$missing"; exit 1; \
+	fi
+
+# .venv-ros only where ROS is installed (make system installs it); elsewhere the ROS tests skip, saying why.
 ros:
 	@if $(ROS_PYTHON) -c 'import rospy, actionlib, genpy, rosmaster' 2>/dev/null; then \
 		$(MAKE) --no-print-directory $(ROS_STAMP); \
-	else echo "make ros: $(ROS_PYTHON) cannot import rospy/actionlib; ROS tests will skip (.ci/run installs them)"; fi
+	else echo "make ros: $(ROS_PYTHON) cannot import rospy/actionlib; ROS tests will skip (make system installs ROS)"; fi
 
 $(ROS_STAMP): pyproject.toml
 	$(ROS_PYTHON) -m venv --system-site-packages $(VENV_ROS)
 	$(VENV_ROS)/bin/python -m pip install --quiet -e .
 	touch $(ROS_STAMP)
 
-test: $(STAMP) ros
+test: system $(STAMP) ros
 	$(PY) -m pytest
 
 bench: $(STAMP) ros

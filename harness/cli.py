@@ -8,7 +8,7 @@ import os
 import sys
 from pathlib import Path
 
-from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR
+from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR, __version__
 from harness.errors import UntimelyError
 from harness.store.database import discard_if_empty
 
@@ -29,9 +29,10 @@ def _variants_help() -> str:
 def _parser() -> argparse.ArgumentParser:
     variants_help = _variants_help()
     p = argparse.ArgumentParser(
-        prog="python -m harness",
+        prog="untimely",
         description="Untimely: mutate a mission script, run it against a simulated functional "
                     "layer, store every request and reply in DuckDB, judge traces with SQL oracles.")
+    p.add_argument("--version", action="version", version=f"untimely {__version__}")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     def command(name, help, target):
@@ -76,8 +77,23 @@ def _parser() -> argparse.ArgumentParser:
                    "(tcp://HOST:8786) or local:N for N local workers; needs the cluster extra (docs/cluster.md)")
     c.add_argument("--max-delay", type=float, default=0.003,
                    help="largest interface observation delay in seconds (default: %(default)s)")
+    c.add_argument("--shard", metavar="I/N", help="run only the I-th of N disjoint parts of the campaign "
+                   "(1 <= I <= N) into this store; `merge` combines the N stores (docs/ci.md)")
     time_scale(c)
     db(c)
+
+    c = command("merge", "combine the stores of a sharded campaign (campaign --shard I/N) into one",
+                "harness.campaign.sharding:merge_main")
+    c.add_argument("out", help="the merged store, a new file")
+    c.add_argument("stores", nargs="+", metavar="STORE", help="the shards' stores, one per part")
+    c.add_argument("--properties", help="properties to judge the merged traces with (default: those of the "
+                                        "shards' last analysis, else the campaign mission's)")
+
+    c = command("init", "write a target folder that runs: interface, properties, golden mission, "
+                "suts.toml and a standard-library adapter", "harness.target.scaffold:main")
+    c.add_argument("dir", help="the folder to write (created; existing files are never overwritten)")
+    c.add_argument("--from-genom", metavar="FILE.gen", help="derive the interface and properties from a "
+                   "GenoM3 component description")
 
     c = command("shrink", "reduce a bad trace's script to the smallest one showing the same bad behaviour",
                 "harness.campaign.shrink:main")
@@ -90,13 +106,17 @@ def _parser() -> argparse.ArgumentParser:
     db(c)
 
     c = command("analyze", "(re)materialise verdicts from the stored traces and print Tables II-IV",
-                "harness.analysis.analyzer:main")
+                "harness.report.junit:analyze")
     c.add_argument("--properties", help="properties file (default: properties.toml of the campaign's mission)")
     c.add_argument("--interface", help="interface description the properties name "
                                        "(default: interface.toml beside the properties file)")
     c.add_argument("--epsilon", type=float,
                    help=f"seconds within which near events may be reordered (default: the last analysis's, "
                         f"else {DEFAULT_EPSILON_S})")
+    c.add_argument("--junit", metavar="FILE", help="also write the verdicts as JUnit XML for a CI server: a test "
+                   "case per variant and property, failures for FN, FP, hung and crashed traces")
+    c.add_argument("--fail-on", metavar="KINDS", default="", help="comma-separated among fn, fp, hung, crashed: "
+                   "exit with status 1 when any judged trace shows one (a CI gate; default: never)")
     db(c)
 
     c = command("diff", "what the last analysis changed: verdict transitions, Tables II-IV", "harness.analysis.diff:main")
@@ -141,6 +161,11 @@ def main(argv: list[str] | None = None) -> int:
         gc.collect()  # the failed command's connection, held by its traceback until now
         discard_if_empty(new_store)
     return status
+
+
+def entry() -> None:
+    """The `untimely` command of an installed bench (pyproject.toml's [project.scripts])."""
+    sys.exit(main())
 
 
 def _run(args) -> int:

@@ -90,12 +90,16 @@ create table if not exists trace_runs (
     rtt_max_s   double
 );
 
--- The schema versions this store went through (harness.store.SCHEMA_VERSION): created or migrated.
+-- The schema versions this store went through (harness.store.SCHEMA_VERSION): created or migrated;
+-- and which versions of Untimely wrote it.
 create table if not exists schema_version (
     version     integer not null,
     applied_at  timestamp not null,
     note        varchar not null
 );
+-- The version of Untimely that created, migrated or first wrote the store in that layout
+-- (a row whenever another version writes it).
+alter table schema_version add column if not exists untimely varchar;
 
 -- Every analysis: when, with which epsilon, over how many traces, and how long it took.
 create table if not exists analyses (

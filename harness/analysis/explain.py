@@ -23,17 +23,25 @@ from harness.textable import format_table
 Key = tuple[int, str, int]  # (trace_id, property_id, rqst_id): one verdict row
 
 
-def judged_properties(con) -> tuple[Interface, dict[str, Property]]:
-    """The interface and properties the stored verdicts were made from (the last analysis's file
-    when it is recorded and still there, else the campaign mission's)."""
+def judged_files(con, properties: str | None = None) -> tuple[Path, Path]:
+    """The properties file (`properties` if given) and interface file the stored verdicts were made
+    from: the last analysis's when they are recorded and still there, else the campaign mission's."""
     recorded = con.execute("select count(*) from information_schema.tables where table_name = 'analysis_files'")
     found = dict(con.execute("""select role, path from analysis_files where role in ('properties', 'interface')
                                 and analysis_id = (select max(analysis_id) from analyses)""").fetchall()) \
         if recorded.fetchone()[0] else {}
+    if properties is not None:
+        return Path(properties), Path(properties).parent / "interface.toml"
     usable = "properties" in found and Path(found["properties"]).is_file()
     path = Path(found["properties"]) if usable else default_properties(con)
     interface_file = Path(found.get("interface") or path.parent / "interface.toml") if usable else None
-    interface = load_interface(interface_file or path.parent / "interface.toml")
+    return path, interface_file or path.parent / "interface.toml"
+
+
+def judged_properties(con) -> tuple[Interface, dict[str, Property]]:
+    """The interface and properties the stored verdicts were made from (judged_files)."""
+    path, interface_file = judged_files(con)
+    interface = load_interface(interface_file)
     return interface, {p.id: p for p in load_properties(path, interface)}
 
 

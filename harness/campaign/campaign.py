@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 from harness import store
 from harness.analysis import analyzer
-from harness.campaign import shrink
+from harness.campaign import sharding, shrink
 from harness.errors import StoreError, UntimelyError
 from harness.run.executive import run_script
 from harness.files import read_text
@@ -41,9 +41,9 @@ from harness.run.workers import Pool, Setup, Task, script_label
 
 # Arguments that decide what is run; --jobs, --cluster and --db do not.
 COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "max_delay",
-            "files")
+            "files", "shard")
 # What a config stored before a key existed means by its absence.
-ABSENT = {"external": {}, "strategy": "random"}
+ABSENT = {"external": {}, "strategy": "random", "shard": None}
 RUN_WALL_LIMIT_S = 600.0  # of a simulated run; a real-time one has the executive's watchdogs
 REALTIME_WALL_LIMIT_S = 3 * 3600.0
 # A transaction per simulated run cost a quarter of a campaign; a killed campaign re-runs at most
@@ -74,7 +74,7 @@ def campaign_config(args) -> dict:
             "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,
             "time_mutations": args.time_mutations,
             "max_delay": args.max_delay, "jobs": args.jobs,
-            "files": mission.hashes()}
+            "files": mission.hashes(), "shard": sharding.parse(getattr(args, "shard", None))}
 
 
 def _difference(stored: dict, wanted: dict) -> str | None:
@@ -142,7 +142,7 @@ def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[M
     def keep(task, trace):
         golden_runs.append((task, trace))
         session.count(trace)
-    run_tasks(_tasks([(golden_id, golden_text)], golden_id, config), keep)
+    run_tasks(sharding.part(_tasks([(golden_id, golden_text)], golden_id, config), config["shard"]), keep)
     with store.transaction(con):
         campaign_id = store.next_id(con, "campaigns", "campaign_id")
         store.add_campaign(con, campaign_id, config["mission"], config["seed"], config)
@@ -182,7 +182,7 @@ def pending_tasks(con, campaign_id: int, config: dict) -> list[Task]:
             raise StoreError(f"trace id {task.trace_id}, which campaign {campaign_id} needs for script "
                              f"{task.script_id} on {task.sut}, is taken by campaign {owners[task.trace_id]}; "
                              "add ad-hoc runs to another --db while a campaign is unfinished")
-    return [t for t in tasks if t.trace_id not in owners]
+    return [t for t in sharding.part(tasks, config["shard"]) if t.trace_id not in owners]
 
 
 class Batches:
@@ -271,14 +271,15 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
         golden_run = _tasks([(golden_id, golden.render())], golden_id, config)[0]  # on the first variant
         mutants = _generate(config, golden, interface, properties, lambda: setup.run(golden_run, interface, 0),
                             golden_id)
-        session = Session(Progress(variants * (1 + sum(m.valid for m in mutants))), start)
+        runs = variants * (1 + sum(m.valid for m in mutants))
+        session = Session(Progress(sharding.share(runs, config["shard"])), start)
         campaign_id = _create(con, config, golden_id, read_text(mission / "golden.mission"), mutants,
                               interface, run_tasks, session)
         pending = pending_tasks(con, campaign_id, config)
     else:
         pending = pending_tasks(con, campaign_id, config)
-        total = variants * con.execute("select count(*) from scripts where campaign_id = ? and valid",
-                                       [campaign_id]).fetchone()[0]
+        total = sharding.share(variants * con.execute("select count(*) from scripts where campaign_id = ? and valid",
+                                                      [campaign_id]).fetchone()[0], config["shard"])
         session = Session(Progress(total, total - len(pending)), start)
         if pending:
             print(f"resuming campaign {campaign_id} in {args.db}: {total - len(pending)} of {total} runs "

@@ -26,12 +26,13 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Callable
 
-from harness import ROOT
+from harness import MISSIONS_DIR, ROOT, SQL_DIR
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.trace import Trace
 from harness.run.workers import Setup, Task, UserError, crashed
 
+PACKAGE = Path(__file__).resolve().parent.parent  # harness/
 ALLOWED_FAILURES = "distributed.scheduler.allowed-failures"
 CONNECT_TIMEOUT_S = 10
 SUT_RESOURCE = "sut"
@@ -47,10 +48,13 @@ def _import_distributed():
 
 
 def code_identity() -> dict:
-    """What a worker must share with the coordinator: the version and the code itself."""
+    """What a worker must share with the coordinator: the version and the code itself (named
+    alike in a checkout and in an installed wheel, where sql/ and missions/ are in harness/)."""
     digest = hashlib.sha256()
-    for path in sorted([*ROOT.glob("harness/**/*.py"), *ROOT.glob("sql/**/*.sql")]):
-        digest.update(str(path.relative_to(ROOT)).encode() + b"\0" + path.read_bytes())
+    code = [(f"harness/{p.relative_to(PACKAGE)}", p) for p in PACKAGE.rglob("*.py")
+            if not (p.is_relative_to(SQL_DIR) or p.is_relative_to(MISSIONS_DIR))]
+    for name, path in sorted(code + [(f"sql/{p.relative_to(SQL_DIR)}", p) for p in SQL_DIR.rglob("*.sql")]):
+        digest.update(name.encode() + b"\0" + path.read_bytes())
     return {"version": importlib.metadata.version("untimely"), "code": digest.hexdigest()[:16]}
 
 

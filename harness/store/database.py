@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import duckdb
 
-from harness import SQL_DIR
+from harness import SQL_DIR, __version__
 from harness.errors import StoreError
 from harness.files import make_folder
 from harness.target.interface import Interface
@@ -63,14 +63,17 @@ def connect(path: str | Path = ":memory:", read_only: bool = False,
 
 
 def _apply_schema(con, found: int | None) -> None:
-    """The schema on the current database, idempotently; the version is recorded when it changes,
+    """The schema on the current database, idempotently; the version is recorded when it changes
+    (or when another version of Untimely writes the store),
     and a store from before positions were kept gets them, derived as its bench ordered its rows."""
     missing = _missing_positions(con) if found is not None and found < POSITIONS_SINCE else set()
     con.execute((SQL_DIR / "schema.sql").read_text())
-    if found != SCHEMA_VERSION:
-        note = "created" if found is None else f"migrated from schema version {found}"
-        con.execute("insert into schema_version (version, applied_at, note) values (?, ?, ?)",
-                    [SCHEMA_VERSION, datetime.now(timezone.utc).replace(tzinfo=None), note])
+    writer = con.execute("select untimely from schema_version order by applied_at desc limit 1").fetchall()
+    if found != SCHEMA_VERSION or writer != [(__version__,)]:
+        note = ("created" if found is None else f"migrated from schema version {found}" if found != SCHEMA_VERSION
+                else f"written by Untimely {__version__}")
+        con.execute("insert into schema_version (version, applied_at, note, untimely) values (?, ?, ?, ?)",
+                    [SCHEMA_VERSION, datetime.now(timezone.utc).replace(tzinfo=None), note, __version__])
     _older_positions(con, missing, temp=False)
 
 
@@ -264,6 +267,8 @@ def insert_trace(con, trace_id: int, campaign_id: int, script_id: int | None, tr
 def insert_traces(con, campaign_id: int, runs: list[tuple[int, int | None, Trace, str | None]]) -> None:
     """Write traces, given as (trace_id, script_id, trace, label): their rows, events, ground truth,
     world events and provenance, one bulk insert per table; the caller owns the transaction."""
+    if not runs:  # e.g. a shard that runs none of the golden runs
+        return
     import pyarrow as pa
     schemas = _schemas()
     rows = [(trace_id, campaign_id, script_id, t.sut, t.seed, t.outcome, t.sim_s, t.wall_s, t.error, label)

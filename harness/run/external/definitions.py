@@ -6,7 +6,8 @@
 - `NAME=tcp://HOST:PORT`: an adapter already listening, reached anew for every run,
 - a name defined in the mission folder's `suts.toml`, where a SUT also gets its environment,
   slots (how many may run at once) and time scale.
-In a command, `{python}` is the bench's own interpreter and `{root}` the repository.
+In a command, `{python}` is the bench's own interpreter, `{root}` the folder holding the
+harness package (the repository in a checkout) and, in suts.toml, `{mission}` the mission folder.
 """
 from __future__ import annotations
 
@@ -78,6 +79,8 @@ def load_suts_file(path: Path) -> dict[str, ExternalSut]:
             return InputFileError(path, f"[{name}] {key}", problem)
         if not NAME.fullmatch(name) or not isinstance(spec, dict):
             raise InputFileError(path, f"[{name}]", "a SUT is a table named by letters, digits, '_', '.' or '-'")
+        if isinstance(spec.get("command"), str):
+            spec = {**spec, "command": spec["command"].replace("{mission}", shlex.quote(str(path.parent.resolve())))}
         suts[name] = _checked(name, spec, where)
     return suts
 

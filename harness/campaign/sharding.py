@@ -1,0 +1,130 @@
+"""`campaign --shard I/N` and `untimely merge OUT STORE...`: a campaign split over any batch engine.
+
+Every shard generates the same scripts (they are a function of the campaign's arguments) and
+stores them all, but runs only its part of the runs: those whose trace id t has
+(t - 1) mod N = I - 1. Trace ids and seeds do not depend on who runs what, so the N stores
+hold disjoint traces of one campaign; `merge` copies them into a new store, which it then
+judges as the last analysis of the shards did. The merged store holds what the unsharded
+campaign stores (tests/test_sharding.py compares their fingerprints).
+
+`merge` refuses, with a message, stores of different campaigns (other arguments or mission
+files), the same part twice, a missing part, and an OUT that exists.
+"""
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+from harness.analysis import analyzer
+from harness.analysis.explain import judged_files
+from harness.analysis.provenance import last_epsilon
+from harness.errors import StoreError, UntimelyError
+from harness.store import merge as store_merge
+from harness.store.database import connect
+from harness.target.interface import load_interface, load_properties
+
+SHARD = re.compile(r"\s*(\d+)\s*/\s*(\d+)\s*")
+# What may differ between the shards of one campaign: the part, the worker count, where the
+# mission folder was on each machine (its files' hashes must agree).
+LOCAL = ("shard", "jobs", "mission")
+
+
+def parse(option: str | None) -> list[int] | None:
+    """[I, N] of `--shard I/N`, or None for the whole campaign."""
+    if option is None:
+        return None
+    found = SHARD.fullmatch(option)
+    if not found or not 1 <= int(found.group(1)) <= int(found.group(2)):
+        raise UntimelyError(f"--shard {option!r}: give I/N with 1 <= I <= N, e.g. --shard 2/4 for the second "
+                            "of four parts")
+    return [int(found.group(1)), int(found.group(2))]
+
+
+def part(tasks: list, shard: list[int] | None) -> list:
+    """The tasks of this shard (all of them without one)."""
+    if shard is None:
+        return tasks
+    index, count = shard
+    return [t for t in tasks if (t.trace_id - 1) % count == index - 1]
+
+
+def share(runs: int, shard: list[int] | None) -> int:
+    """How many of a campaign's `runs` runs (trace ids 1..runs) this shard makes."""
+    return runs if shard is None else len(range(shard[0] - 1, runs, shard[1]))
+
+
+def _campaign(con, path: str) -> dict:
+    configs = [json.loads(c) for c, in con.execute("select config from campaigns order by campaign_id").fetchall()]
+    sharded = [c for c in configs if c.get("shard")]
+    if len(configs) != 1 or not sharded:
+        raise StoreError(f"{path} is not the store of one shard of a campaign (campaign --shard I/N, alone in "
+                         "its store); merge only the stores the shards wrote")
+    return sharded[0]
+
+
+def check(configs: dict[str, dict]) -> None:
+    """Refuses stores that are not the N distinct parts of one campaign."""
+    (first_path, first), *others = configs.items()
+    identity = {k: v for k, v in first.items() if k not in LOCAL}
+    for path, config in others:
+        differing = sorted(k for k in set(identity) | set(config)
+                           if k not in LOCAL and config.get(k) != identity.get(k))
+        if differing:
+            raise StoreError(f"{path} holds another campaign than {first_path} (its {', '.join(differing)} "
+                             "differ); merge the shards of one campaign only")
+    count = first["shard"][1]
+    parts: dict[int, str] = {}
+    for path, config in configs.items():
+        index, total = config["shard"]
+        if total != count:
+            raise StoreError(f"{path} is shard {index}/{total}, {first_path} a shard of {count}: merge the "
+                             "shards of one split")
+        if index in parts:
+            raise StoreError(f"{path} and {parts[index]} are both shard {index}/{count} (a store given twice?); "
+                             "give each part once")
+        parts[index] = path
+    missing = sorted(set(range(1, count + 1)) - set(parts))
+    if missing:
+        raise StoreError(f"shard(s) {', '.join(f'{i}/{count}' for i in missing)} missing: merge all {count} "
+                         "parts, each store once")
+
+
+def merge_main(args) -> int:
+    out = Path(args.out)
+    if out.exists():
+        raise UntimelyError(f"{out} exists; merge writes a new store: give another OUT or remove it")
+    configs, paths = {}, [str(Path(s)) for s in args.stores]
+    if len({Path(p).resolve() for p in paths}) != len(paths):
+        raise StoreError(f"a store is given twice in {' '.join(paths)}; give each part once")
+    for path in paths:
+        con = connect(path, read_only=True)
+        try:
+            configs[path] = _campaign(con, path)
+            if path == paths[0]:
+                properties_file, interface_file = judged_files(con, args.properties)
+                epsilon = last_epsilon(con)
+        finally:
+            con.close()
+    check(configs)
+    if not properties_file.is_file():
+        raise UntimelyError(f"{properties_file}: no such file, and the merged store is judged with the shards' "
+                            "properties; pass --properties FILE (the target's properties.toml)")
+    merged = {k: v for k, v in configs[paths[0]].items() if k != "shard"}
+    con = connect(out)
+    try:
+        store_merge.copy(con, paths, merged)
+        interface = load_interface(interface_file)
+        analyzer.materialise(con, load_properties(properties_file, interface), epsilon, interface,
+                             properties_file, interface_file)
+    except BaseException:
+        con.close()
+        for leftover in (out, out.with_name(out.name + ".wal")):
+            leftover.unlink(missing_ok=True)  # no half-merged store
+        raise
+    traces = con.execute("select count(*) from traces").fetchone()[0]
+    print(f"merged {len(paths)} shards into {out}: {traces} traces, judged against {properties_file} "
+          f"(epsilon {epsilon:g} s)\n")
+    print(analyzer.summary(con, epsilon))
+    con.close()
+    return 0

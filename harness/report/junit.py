@@ -1,0 +1,115 @@
+"""`analyze --junit FILE [--fail-on fn,fp,hung,crashed]`: the verdicts as a CI server reads them.
+
+A <testsuite> per variant; in it a <testcase> per property (classname the variant, name the
+property id), failed by the FN and FP verdicts of the traces Tables II-IV count, and a
+<testcase> "outcome" failed by the hung and crashed traces. A failure's text gives, for the
+first few bad verdicts, the `explain` text, and the reproducer shrunk from that behaviour when
+there is one. The XML follows the JUnit schema of Ant and Jenkins (tests/junit/junit.xsd), which
+GitHub Actions reporters, GitLab and Jenkins read. `--fail-on` makes the command's exit status 1
+when a counted trace shows one of the named kinds of bad behaviour, to gate a merge.
+"""
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from collections import defaultdict
+from pathlib import Path
+
+from harness.analysis import analyzer
+from harness.analysis.explain import explanations
+from harness.errors import UntimelyError
+from harness.files import make_folder
+from harness.store.database import connect
+from harness.store.sql import render_query
+
+# --fail-on's kinds, each with the Table II column that counts its traces.
+FAIL_ON = {"fn": "with_fn", "fp": "with_fp", "hung": "hung", "crashed": "crashed"}
+EXPLAINED = 5  # bad verdicts explained per test case; the others are listed by trace
+
+
+def fail_on_kinds(option: str) -> list[str]:
+    kinds = [k.strip().lower() for k in option.split(",") if k.strip()]
+    unknown = [k for k in kinds if k not in FAIL_ON]
+    if unknown:
+        raise UntimelyError(f"--fail-on {option!r}: {', '.join(map(repr, unknown))} is not a kind of bad "
+                            f"behaviour; give a comma-separated list among {', '.join(FAIL_ON)}")
+    return kinds
+
+
+def _failure_text(con, rows: list[dict]) -> str:
+    verdicts = [r for r in rows if r["rqst_id"] is not None][:EXPLAINED]
+    texts = explanations(con, verdicts)
+    parts = []
+    for r in rows[:EXPLAINED]:
+        if r["rqst_id"] is None:
+            parts.append(f"trace {r['trace_id']} {r['failure']}" + (f": {r['error']}" if r["error"] else ""))
+        else:
+            key = (r["trace_id"], r["property_id"], r["rqst_id"])
+            parts.append(texts.get(key, f"trace {r['trace_id']} request {r['rqst_id']}: {r['failure']}"))
+    if len(rows) > EXPLAINED:
+        parts.append(f"... and {len(rows) - EXPLAINED} more: "
+                     + ", ".join(str(r["trace_id"]) for r in rows[EXPLAINED:]))
+    shrunk = next((r for r in rows if r["reproducer"] is not None), None)
+    if shrunk:
+        parts.append(f"Reproducer (shrunk script {shrunk['reproducer']}):\n{shrunk['body']}")
+    return "\n\n".join(parts)
+
+
+def _case(suite: ET.Element, con, sut: str, name: str, failures: list[dict], note: str) -> None:
+    case = ET.SubElement(suite, "testcase", classname=sut, name=name, time="0")
+    if failures:
+        kinds = sorted({f["failure"] for f in failures})
+        traces = sorted({f["trace_id"] for f in failures})
+        failure = ET.SubElement(case, "failure", type=",".join(kinds),
+                                message=f"{len(failures)} {'/'.join(kinds)} in {len(traces)} trace(s) of {sut}")
+        failure.text = _failure_text(con, failures)
+    ET.SubElement(case, "system-out").text = note
+
+
+def junit(con) -> ET.ElementTree:
+    """The JUnit document of the store's last analysis."""
+    cursor = con.execute(render_query("junit_failures"))
+    columns = [d[0] for d in cursor.description]
+    failing = defaultdict(list)
+    for row in cursor.fetchall():
+        r = dict(zip(columns, row))
+        failing[(r["sut"], r["property_id"])].append(r)
+    suites, per_sut = ET.Element("testsuites", name="untimely"), {}
+    for sut, family, property_id, verdicts, fn, fp in con.execute(render_query("junit_cases")).fetchall():
+        if sut not in per_sut:
+            per_sut[sut] = ET.SubElement(suites, "testsuite", name=sut)
+            bad = failing[(sut, None)]
+            _case(per_sut[sut], con, sut, "outcome", bad, f"{len(bad)} hung or crashed trace(s)")
+        _case(per_sut[sut], con, sut, property_id, failing[(sut, property_id)],
+              f"{family}: {verdicts} verdicts, {fn} FN, {fp} FP")
+    for suite in suites:
+        cases = suite.findall("testcase")
+        suite.set("tests", str(len(cases)))
+        suite.set("failures", str(sum(c.find("failure") is not None for c in cases)))
+        suite.set("errors", "0")
+        suite.set("skipped", "0")
+        suite.set("time", "0")
+    for total in ("tests", "failures", "errors"):
+        suites.set(total, str(sum(int(s.get(total)) for s in suites)))
+    ET.indent(suites)
+    return ET.ElementTree(suites)
+
+
+def analyze(args) -> int:
+    """`analyze`, then the JUnit file and the --fail-on gate."""
+    kinds = fail_on_kinds(args.fail_on)
+    status = analyzer.main(args)
+    con = connect(args.db, read_only=True)
+    try:
+        if args.junit:
+            make_folder(Path(args.junit).resolve().parent, "the JUnit file")
+            junit(con).write(args.junit, encoding="utf-8", xml_declaration=True)
+            print(f"\nJUnit results written to {args.junit}")
+        counts = dict(zip(FAIL_ON, con.execute(f"select {', '.join(f'coalesce(sum({c}), 0)' for c in FAIL_ON.values())} "
+                                                "from trace_robustness").fetchone()))
+    finally:
+        con.close()
+    found = [f"{counts[k]} trace(s) {k}" for k in kinds if counts[k]]
+    if found:
+        print(f"--fail-on {args.fail_on}: {', '.join(found)}")
+        return 1
+    return status

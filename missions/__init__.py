@@ -1,0 +1,1 @@
+"""The example targets, installed as the package data `harness.missions` (pyproject.toml)."""

@@ -1,0 +1,1 @@
+"""The SQL of the bench, installed as the package data `harness.sql` (pyproject.toml)."""
