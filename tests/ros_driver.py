@@ -43,9 +43,10 @@ def ensure_ros_venv() -> Path:
     return VENV_PYTHON
 
 
-def launcher_command(variant: str) -> list[str]:
+def launcher_command(variant: str, mapping: Path = MAPPING) -> list[str]:
     python = str(ensure_ros_venv())
-    return [python, "-m", LAUNCHER, "--mapping", str(MAPPING), "--", python, "-m", NODE, "--variant", variant]
+    return [python, "-m", LAUNCHER, "--mapping", str(mapping), "--", python, "-m", NODE, "--variant", variant,
+            "--mapping", str(mapping)]
 
 
 def hello(time_scale: float) -> dict:
@@ -97,8 +98,8 @@ def alive(pids: set[int]) -> set[int]:
 class Launcher:
     """One launcher process; `lines` collects what it writes, each with its monotonic arrival time."""
 
-    def __init__(self, variant: str = "reference"):
-        self.process = subprocess.Popen(launcher_command(variant), cwd=ROOT, stdin=subprocess.PIPE,
+    def __init__(self, variant: str = "reference", mapping: Path = MAPPING):
+        self.process = subprocess.Popen(launcher_command(variant, mapping), cwd=ROOT, stdin=subprocess.PIPE,
                                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         self.started = time.monotonic()
         self.lines: list[tuple[float, dict]] = []

@@ -1,0 +1,34 @@
+"""Typed routes through the ROS launcher (missions/dala/ros-typed.toml, docs/ros.md): navigation as
+Debian's move_base_msgs/MoveBase goals, the Inits as std_srvs/Trigger ROS services."""
+from harness import DEFAULT_MISSION_DIR
+
+from tests.ros_driver import Launcher, descendants, request, requires_ros, wait_gone
+
+pytestmark = requires_ros
+TYPED = DEFAULT_MISSION_DIR / "ros-typed.toml"
+
+
+def test_typed_goals_and_service_calls_reply_like_generic_goals():
+    launcher = Launcher("reference", TYPED)
+    try:
+        answer = launcher.start(time_scale=10.0)
+        assert answer["op"] == "hello", (answer, "".join(launcher.stderr[-20:]))
+        launcher.send(request(1, "ndd.GotoPosition", x=9, y=4))  # a MoveBase goal before ndd.Init: REJECTED
+        assert launcher.final(1) == "wait_init"
+        launcher.send(request(2, "ndd.Init"))  # a Trigger call; its response's message is the code
+        assert launcher.final(2) == "ok"
+        for rqst_id, service in ((4, "rflex.Init"), (5, "ndd.SetParams")):
+            launcher.send(request(rqst_id, service, **({"speed": 0.6} if rqst_id == 5 else {})))
+            assert launcher.final(rqst_id) == "ok"
+        launcher.send(request(6, "ndd.GotoPosition", x=3, y=2))  # rflex is not tracking: never arrives
+        assert launcher.final(6) == "goal_unreachable"
+        assert [m["kind"] for m in launcher.replies(6)] == ["intermediate", "final"]  # MoveBase feedback
+        assert [m["kind"] for m in launcher.replies(2)] == ["final"]  # a ROS service: no intermediate
+        # Ground truth names service calls too (through the call's connection header).
+        internal = {(m["id"], m["kind"]) for _, m in launcher.lines if m["op"] == "internal"}
+        assert {(2, "request"), (2, "final"), (6, "request"), (6, "final")} <= internal
+        children = descendants(launcher.process.pid)
+        assert launcher.bye() == 0, "".join(launcher.stderr[-20:])
+        assert wait_gone(children, timeout=10) == set()
+    finally:
+        launcher.kill()
