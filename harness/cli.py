@@ -115,10 +115,12 @@ def _parser() -> argparse.ArgumentParser:
                    help="write only the page of this trace id into the report, on demand (repeatable)")
     db(c)
 
-    c = command("import", "load foreign traces (CSV, JSON lines, Parquet) into the store",
+    c = command("import", "load foreign traces (CSV, JSON lines, Parquet, ROS bags) into the store",
                 "harness.store.importer:main")
-    c.add_argument("file", help="a .csv, .jsonl or .parquet file with the events columns")
+    c.add_argument("file", help="a .csv, .jsonl or .parquet file with the events columns, or a ROS 1 .bag, a "
+                                "rosbag2 folder (or its .mcap/.db3), or a folder of bags (docs/ros.md)")
     c.add_argument("--interface", required=True, help="interface description giving the reply classes")
+    c.add_argument("--ros", help="a bag's mapping file (default: ros.toml beside the interface)")
     db(c)
 
     c = command("export", "write every table and view of the store as Parquet or CSV files, with a manifest",

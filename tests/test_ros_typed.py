@@ -2,7 +2,8 @@
 Debian's move_base_msgs/MoveBase goals, the Inits as std_srvs/Trigger ROS services."""
 from harness import DEFAULT_MISSION_DIR
 
-from tests.ros_driver import Launcher, descendants, request, requires_ros, wait_gone
+from tests.ros_driver import Launcher, descendants, ensure_ros_venv, request, requires_ros, wait_gone
+from tests.test_external_campaign import assert_judges_like_in_process, campaign
 
 pytestmark = requires_ros
 TYPED = DEFAULT_MISSION_DIR / "ros-typed.toml"
@@ -32,3 +33,18 @@ def test_typed_goals_and_service_calls_reply_like_generic_goals():
         assert wait_gone(children, timeout=10) == set()
     finally:
         launcher.kill()
+
+
+def test_a_typed_campaign_judges_like_the_simulator_in_process(tmp_path, capsys):
+    """Golden + 15 mutants on `reference` in process and on `ros-typed-reference` (MoveBase goals,
+    Trigger calls, generic goals for the rest) on 8 slots, twice real time: every verdict that
+    differs is flagged suspicious on one side."""
+    ensure_ros_venv()
+    db = tmp_path / "c.duckdb"
+    assert campaign(db, "--mutants", "15", "--sut", "reference,ros-typed-reference", "--jobs", "8",
+                    "--time-scale", "2") == 0
+    con = assert_judges_like_in_process(db, capsys.readouterr().out, "ros-typed-reference", 2)
+    calls = con.execute("""select count(*) from events e join traces t using (trace_id)
+                           where t.sut = 'ros-typed-reference' and e.service in ('Init', 'GotoPosition')
+                             and e.kind = 'final'""").fetchone()[0]
+    assert calls > 16 * 5  # every run's Inits went through Trigger, its drives through MoveBase
