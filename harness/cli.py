@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR
+from harness.adapters.ros.recorder import ROSBAG_ENV
 from harness.errors import UntimelyError
 from harness.store.database import discard_if_empty
 
@@ -43,6 +44,10 @@ def _parser() -> argparse.ArgumentParser:
         c.add_argument("--time-scale", type=float, help="external SUTs: mission seconds per wall second "
                        "(1 = real time; default: the SUT's own, else 1)")
 
+    def rosbag(c):
+        c.add_argument("--rosbag", metavar="DIR", help="ROS SUTs: record each run's bag as DIR/trace-ID.bag "
+                       "with Debian's rosbag (docs/ros.md)")
+
     def db(c, help="the DuckDB store"):
         c.add_argument("--db", default=str(DEFAULT_DB), help=f"{help} (default: %(default)s)")
 
@@ -55,6 +60,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--max-delay", type=float, default=0.003,
                    help="largest interface observation delay in seconds (default: %(default)s)")
     time_scale(c)
+    rosbag(c)
     db(c)
 
     c = command("campaign", "run golden + seeded mutants on each variant; resumable", "harness.campaign.campaign:main")
@@ -77,6 +83,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--max-delay", type=float, default=0.003,
                    help="largest interface observation delay in seconds (default: %(default)s)")
     time_scale(c)
+    rosbag(c)
     db(c)
 
     c = command("shrink", "reduce a bad trace's script to the smallest one showing the same bad behaviour",
@@ -147,6 +154,9 @@ def main(argv: list[str] | None = None) -> int:
 
 def _run(args) -> int:
     module, function = args.target.split(":")
+    if getattr(args, "rosbag", None):  # the ROS launcher reads it from the environment it inherits
+        Path(args.rosbag).mkdir(parents=True, exist_ok=True)
+        os.environ[ROSBAG_ENV] = str(Path(args.rosbag).resolve())
     try:
         return getattr(importlib.import_module(module), function)(args) or 0
     except UntimelyError as e:
@@ -158,3 +168,5 @@ def _run(args) -> int:
     except BrokenPipeError:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
+    finally:
+        os.environ.pop(ROSBAG_ENV, None)

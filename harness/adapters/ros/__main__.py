@@ -17,8 +17,9 @@ import signal
 import sys
 import threading
 
-from harness.adapters.ros.mapping import load_mapping
+from harness.adapters.ros.mapping import interface_services, load_mapping
 from harness.adapters.ros.processes import Child, ros_home, start_master, stop_all
+from harness.adapters.ros.recorder import recorded_topics, recording_folder, start_recorder, stop_recorder
 from harness.errors import UntimelyError
 from harness.run.external.protocol import BENCH_MESSAGES, PROTO, ProtocolViolation, decode, encode
 
@@ -58,6 +59,7 @@ def serve(adapter, stream) -> None:
 def run(args, out: LineWriter) -> None:
     mapping = load_mapping(args.mapping)
     children: list[Child] = []
+    recorder = None
     home = ros_home()
     ros_up = False
     try:
@@ -69,6 +71,9 @@ def run(args, out: LineWriter) -> None:
         if hello["op"] != "hello" or hello["proto"] != PROTO:
             raise UntimelyError(f"the bench's first line must be a hello of {PROTO}, got {json.dumps(hello)[:200]}")
         time_scale = hello["time_scale"]
+        if recording_folder():
+            topics = recorded_topics(mapping, interface_services(hello["interface"]))
+            recorder = start_recorder(recording_folder(), hello["run"], topics, env, args.startup_timeout)
         node = Child("node", args.node, {**env, "UNTIMELY_TIME_SCALE": repr(time_scale)})
         children.append(node)
         os.environ.update(env)
@@ -82,6 +87,8 @@ def run(args, out: LineWriter) -> None:
         adapter.hello(PROTO, f"ROS 1 actionlib adapter (master {env['ROS_MASTER_URI']}; node: {' '.join(args.node)})")
         serve(adapter, sys.stdin)
     finally:
+        if recorder:
+            stop_recorder(recorder)
         stop_all(children)
         if ros_up:
             rospy.signal_shutdown("bye")

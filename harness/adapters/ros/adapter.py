@@ -28,7 +28,7 @@ import rospy
 from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from std_msgs.msg import String
 
-from harness.adapters.ros.mapping import Mapping
+from harness.adapters.ros.mapping import Mapping, interface_services
 from harness.adapters.ros.messages import action_classes, fill, service_class
 from harness.adapters.ros.replies import Replies
 from harness.adapters.ros.routes import Route
@@ -37,14 +37,6 @@ from harness.errors import UntimelyError
 STATUS_NAMES = {getattr(GoalStatus, name): name for name in
                 ("PENDING", "ACTIVE", "PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED",
                  "PREEMPTING", "RECALLING", "RECALLED", "LOST")}
-
-
-def interface_services(interface: dict) -> list[tuple[str, str]]:
-    """(module, service) pairs of the hello's interface: {"modules": {module: {service: kind}}, ...}."""
-    modules = interface.get("modules")
-    if not isinstance(modules, dict) or not modules:
-        raise UntimelyError(f"the bench's hello has no interface modules: {json.dumps(interface)[:200]}")
-    return [(module, service) for module, services in modules.items() for service in services]
 
 
 class Adapter:

@@ -3,6 +3,7 @@ ROS services (routes.py), goal statuses -> reply codes. Read by the adapter, the
 importer; no ROS import, so it can be checked anywhere."""
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -71,6 +72,14 @@ class Mapping:
                     return text
         return self.status_codes[status]
 
+
+
+def interface_services(interface: dict) -> list[tuple[str, str]]:
+    """(module, service) pairs of the hello's interface: {"modules": {module: {service: kind}}, ...}."""
+    modules = interface.get("modules")
+    if not isinstance(modules, dict) or not modules:
+        raise UntimelyError(f"the bench's hello has no interface modules: {json.dumps(interface)[:200]}")
+    return [(module, service) for module, services in modules.items() for service in services]
 
 
 def _text(path, key, value) -> str:
