@@ -56,6 +56,16 @@ def serve(adapter, stream) -> None:
         handlers[message["op"]](message)
 
 
+def node_environment(mapping, hello: dict) -> dict[str, str]:
+    """What a node learns from the launcher: the time scale; for a node that hands requests on to a
+    layer of its own (cpp/dala_forward_node.cpp), the bench's hello and the routes, one a line:
+    KIND NAME TYPE module.Service."""
+    routes = mapping.routes(interface_services(hello["interface"]))
+    return {"UNTIMELY_TIME_SCALE": repr(hello["time_scale"]),
+            "UNTIMELY_HELLO": json.dumps(hello, separators=(",", ":")),
+            "UNTIMELY_ROUTES": "\n".join(f"{r.kind} {r.name} {r.type} {q}" for q, r in routes.items())}
+
+
 def run(args, out: LineWriter) -> None:
     mapping = load_mapping(args.mapping)
     children: list[Child] = []
@@ -74,7 +84,7 @@ def run(args, out: LineWriter) -> None:
         if recording_folder():
             topics = recorded_topics(mapping, interface_services(hello["interface"]))
             recorder = start_recorder(recording_folder(), hello["run"], topics, env, args.startup_timeout)
-        node = Child("node", args.node, {**env, "UNTIMELY_TIME_SCALE": repr(time_scale)})
+        node = Child("node", args.node, {**env, **node_environment(mapping, hello)})
         children.append(node)
         os.environ.update(env)
         import rospy  # only now: rospy reads the master's address from the environment

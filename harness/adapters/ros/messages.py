@@ -35,7 +35,7 @@ def _class(full_type: str, kind: str = "msg"):
         return None
 
 
-def _action_sections(full_type: str, text: str) -> dict[str, str]:
+def action_sections(full_type: str, text: str) -> dict[str, str]:
     """The seven messages of an .action text, by name, as genaction.py writes them."""
     package, name = full_type.split("/")
     parts = re.split(r"^---\s*$", text, flags=re.MULTILINE)
@@ -51,7 +51,7 @@ def _action_sections(full_type: str, text: str) -> dict[str, str]:
             f"{name}Goal": goal, f"{name}Result": result, f"{name}Feedback": feedback}
 
 
-def _dependencies(package: str, texts) -> dict[str, str]:
+def dependencies(package: str, texts) -> dict[str, str]:
     """`MSG:` sections of every type the texts use from other packages (Debian's classes carry
     their own dependencies' text in _full_text)."""
     sections: dict[str, str] = {}
@@ -82,9 +82,9 @@ def generated_action(full_type: str, definition: Path):
     except OSError as e:
         raise UntimelyError(f"cannot read the definition of {full_type} ({definition}): {e}") from None
     package, name = full_type.split("/")
-    own = _action_sections(full_type, text)
+    own = action_sections(full_type, text)
     sections = [own[f"{name}Action"]] + [f"MSG: {package}/{n}\n{t}" for n, t in own.items() if n != f"{name}Action"]
-    sections += [f"MSG: {t}\n{body}" for t, body in _dependencies(package, own.values()).items()]
+    sections += [f"MSG: {t}\n{body}" for t, body in dependencies(package, own.values()).items()]
     classes = genpy.dynamic.generate_dynamic(f"{package}/{name}Action", SEPARATOR.join(sections))
     return SimpleNamespace(**{part: classes[f"{package}/{name}{part}"]
                               for part in ("Action", "Goal", "Result", "Feedback", "ActionGoal", "ActionResult",

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import os
 import signal
-import subprocess
 import time
 import xmlrpc.client
 from pathlib import Path
@@ -31,10 +30,16 @@ def recorded_topics(mapping: Mapping, services: list[tuple[str, str]]) -> list[s
                                  mapping.pong_topic) if t]
 
 
-def start_recorder(folder: str, run: int, topics: list[str], env: dict[str, str], timeout_s: float) -> Child:
+class Recorder(Child):
+    def __init__(self, path: Path, argv: list[str], env: dict[str, str]):
+        super().__init__("rosbag", argv, env)
+        self.path = path
+
+
+def start_recorder(folder: str, run: int, topics: list[str], env: dict[str, str], timeout_s: float) -> Recorder:
     """`rosbag record` of `topics` into folder/trace-RUN.bag, once the master lists it on every topic."""
     path = Path(folder) / f"trace-{run}.bag"
-    recorder = Child("rosbag", ["rosbag", "record", "--quiet", "-O", str(path), "__name:=untimely_record", *topics], env)
+    recorder = Recorder(path, ["rosbag", "record", "--quiet", "-O", str(path), "__name:=untimely_record", *topics], env)
     master = xmlrpc.client.ServerProxy(env["ROS_MASTER_URI"])
     deadline = time.monotonic() + timeout_s
     while True:
@@ -48,15 +53,18 @@ def start_recorder(folder: str, run: int, topics: list[str], env: dict[str, str]
         time.sleep(0.1)
 
 
-def stop_recorder(recorder: Child) -> None:
-    """SIGINT, as Ctrl-C: rosbag closes the bag (an .active file otherwise)."""
+def stop_recorder(recorder: Recorder, timeout_s: float = 10.0) -> None:
+    """SIGINT, as Ctrl-C. The `rosbag` command passes it to its `record` process and exits at once,
+    while that one is still closing the bag: closed is when BAG.active has become BAG (the bench
+    kills the launcher's process group once the launcher exits)."""
     time.sleep(DRAIN_S)
     if recorder.process.poll() is None:
         recorder.process.send_signal(signal.SIGINT)
-        try:
-            recorder.process.wait(10)
-        except subprocess.TimeoutExpired:
-            recorder.stop()
+    deadline = time.monotonic() + timeout_s
+    active = recorder.path.with_name(recorder.path.name + ".active")
+    while active.exists() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    recorder.stop()
 
 
 def recording_folder() -> str | None:

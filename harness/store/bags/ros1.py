@@ -1,11 +1,12 @@
 """A ROS 1 .bag as one trace: the actionlib topics of every action the mapping names.
 
 Per action namespace NS: NS/goal (the request; the goal's goal_id.stamp is the client's send
-instant, which numbers the requests), NS/feedback (the first before the result is the
-intermediate reply), NS/result (the final: GoalStatus and the result's text mapped to a
-catalogue code as the live adapter does), NS/status (the final of a goal whose result the bag
-lost). Goals are paired by goal_id.id; NS/cancel changes nothing by itself (the preempted goal's
-result says how it ended). ROS 1 services are not topics: a bag cannot hold them.
+instant, which numbers the requests), NS/feedback (the first the server sent before the result,
+by their header stamps, is the intermediate reply), NS/result (the final: GoalStatus and the
+result's text mapped to a catalogue code as the live adapter does), NS/status (the final of a
+goal whose result the bag lost). Goals are paired by goal_id.id; NS/cancel changes nothing by
+itself (the preempted goal's result says how it ended). ROS 1 services are not topics: a bag
+cannot hold them.
 """
 from __future__ import annotations
 
@@ -49,12 +50,12 @@ def read_ros1(path: Path, routes: Routes) -> tuple[Timeline, list[str]]:
                 if target is not None:
                     timeline.request(message.goal_id.id, received, *target, sent_s=_seconds(message.goal_id.stamp))
             elif leaf == "feedback":
-                timeline.intermediate(message.status.goal_id.id, received)
+                timeline.intermediate(message.status.goal_id.id, received, _seconds(message.header.stamp))
             elif leaf == "result":
                 status = message.status
                 route = carried[0][1]
                 code = routes.final_code(route, STATUS[status.status], message.result, status.text)
-                timeline.final(status.goal_id.id, received, code)
+                timeline.final(status.goal_id.id, received, code, _seconds(message.header.stamp))
             else:
                 for status in message.status_list:
                     if STATUS[status.status] in TERMINAL:
