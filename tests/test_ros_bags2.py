@@ -40,7 +40,7 @@ class Bag:
         return self.types["builtin_interfaces/msg/Time"](sec=int(s), nanosec=round((s % 1) * 1e9))
 
     def _uuid(self, goal: int):
-        return self.types["unique_identifier_msgs/msg/UUID"](uuid=np.full(16, goal, dtype=np.uint8))
+        return self.types["unique_identifier_msgs/msg/UUID"](uuid=np.frombuffer(goal.to_bytes(16, "big"), np.uint8).copy())
 
     def write(self, topic: str, msgtype: str, definition: str | None, at: float, message) -> None:
         if topic not in self.connections:
