@@ -1,12 +1,17 @@
 """A ROS 1 bag recorded with Debian's rosbag during a run on the ROS Dala layer (`run --rosbag`)
 imports to the run's own trace and judges the same (harness/adapters/ros/recorder.py,
 harness/store/bags/ros1.py). One run in real time: a bag's clock is the wall clock."""
+import shutil
+
+import pytest
+
 from harness import DEFAULT_MISSION_DIR, store
 from harness.cli import main as cli
 
 from tests.ros_driver import ensure_ros_venv, requires_ros
 
-pytestmark = requires_ros
+pytestmark = [requires_ros, pytest.mark.skipif(shutil.which("rosbag") is None,
+                                                reason="Debian's rosbag is not installed (apt-get install python3-rosbag)")]
 
 
 def test_a_recorded_bag_judges_like_the_live_trace_of_its_run(tmp_path, capsys):

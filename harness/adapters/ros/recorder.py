@@ -10,6 +10,7 @@ ROS 1 services are not topics: a bag cannot hold their calls.
 from __future__ import annotations
 
 import os
+import shutil
 import signal
 import time
 import xmlrpc.client
@@ -38,6 +39,9 @@ class Recorder(Child):
 
 def start_recorder(folder: str, run: int, topics: list[str], env: dict[str, str], timeout_s: float) -> Recorder:
     """`rosbag record` of `topics` into folder/trace-RUN.bag, once the master lists it on every topic."""
+    if shutil.which("rosbag") is None:
+        raise ChildError("--rosbag records with Debian's rosbag command, which is not installed: "
+                         "apt-get install python3-rosbag")
     path = Path(folder) / f"trace-{run}.bag"
     recorder = Recorder(path, ["rosbag", "record", "--quiet", "-O", str(path), "__name:=untimely_record", *topics], env)
     master = xmlrpc.client.ServerProxy(env["ROS_MASTER_URI"])
