@@ -36,6 +36,18 @@ def ros_missing() -> str | None:
 requires_ros = pytest.mark.skipif(ros_missing() is not None, reason=ros_missing() or "")
 
 
+@functools.cache
+def typed_missing() -> str | None:
+    """Why the typed routes' message packages (ros-typed.toml, ros-cpp.toml) cannot be imported here, or None."""
+    probe = subprocess.run([ROS_PYTHON, "-c", "import move_base_msgs.msg, std_srvs.srv"], capture_output=True)
+    if probe.returncode:
+        return f"{ROS_PYTHON} cannot import move_base_msgs and std_srvs (apt-get install python3-move-base-msgs python3-std-srvs)"
+    return None
+
+
+requires_typed = pytest.mark.skipif(typed_missing() is not None, reason=typed_missing() or "")
+
+
 def ensure_ros_venv() -> Path:
     """.venv-ros, built by `make ros` if a test run starts without it."""
     if not VENV_PYTHON.exists():

@@ -8,7 +8,7 @@ import pytest
 
 from harness import ROOT
 
-from tests.ros_driver import ensure_ros_venv, requires_ros
+from tests.ros_driver import ensure_ros_venv, requires_ros, requires_typed
 from tests.test_external_campaign import assert_judges_like_in_process, campaign
 
 NODE = ROOT / "build" / "ros_cpp" / "dala_forward_node"
@@ -25,12 +25,14 @@ def cpp_missing() -> str | None:
     return None
 
 
-pytestmark = [requires_ros, pytest.mark.skipif("cpp_missing() is not None", reason="the C++ node is not built")]
+pytestmark = [requires_ros, requires_typed]
 
 
 def test_a_campaign_through_the_cpp_node_judges_like_the_simulator_in_process(tmp_path, capsys):
     """Golden + 10 mutants on `reference` in process and on `ros-cpp-reference` on 8 slots, twice
     real time: every run completes on both, every verdict that differs is suspicious on one side."""
+    if cpp_missing():
+        pytest.skip(cpp_missing())
     db = tmp_path / "c.duckdb"
     assert campaign(db, "--mutants", "10", "--sut", "reference,ros-cpp-reference", "--jobs", "8",
                     "--time-scale", "2") == 0
