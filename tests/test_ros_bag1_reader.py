@@ -140,3 +140,10 @@ def test_a_bag_without_the_mapped_topics_is_refused_naming_them(tmp_path, interf
     with pytest.raises(InputFileError, match=r"chat.bag:+ no actionlib topic of the mapping .*ros.toml in this bag; "
                                              r"it records /chatter"):
         imported(tmp_path / "chat.bag", interface)
+
+
+def test_a_file_that_is_no_bag_is_refused_naming_it(tmp_path, interface):
+    (tmp_path / "broken.bag").write_text("not a bag")
+    with pytest.raises(InputFileError, match=r"broken.bag:+ cannot read the bag \(AnyReaderError: File magic is "
+                                             r"invalid.\); is it whole\?"):
+        imported(tmp_path / "broken.bag", interface)

@@ -56,7 +56,13 @@ def mapping_for(interface: Interface, ros: str | None):
 
 
 def _read_one(bag: Path, routes: Routes):
-    from harness.store.bags.ros1 import read_ros1  # imported here: rosbags loads its type stores
+    from rosbags.highlevel import AnyReaderError  # imported here: rosbags loads its type stores
+    from rosbags.rosbag1 import ReaderError as Ros1Error
+    from rosbags.rosbag2 import ReaderError as Ros2Error
+    from rosbags.serde import SerdeError
+    from rosbags.typesys import TypesysError
+
+    from harness.store.bags.ros1 import read_ros1
     from harness.store.bags.ros2 import read_ros2
     try:
         if bag.suffix.lower() == ".bag":
@@ -64,8 +70,9 @@ def _read_one(bag: Path, routes: Routes):
         return read_ros2(_rosbag2_folder(bag), routes)
     except UntimelyError as e:
         raise InputFileError(bag, "", str(e)) from None
-    except Exception as e:  # rosbags' own errors have no common base
-        raise InputFileError(bag, "", f"cannot read the bag: {type(e).__name__}: {e}") from None
+    except (AnyReaderError, Ros1Error, Ros2Error, SerdeError, TypesysError, ValueError) as e:
+        raise InputFileError(bag, "", f"cannot read the bag ({type(e).__name__}: {e}); is it whole? "
+                             "(`rosbag reindex` repairs a ROS 1 bag left .active)") from None
 
 
 def read_bags(path: Path, interface: Interface, ros: str | None = None) -> tuple[pa.Table, str]:
