@@ -2,6 +2,7 @@
 imports to the run's own trace and judges the same (harness/adapters/ros/recorder.py,
 harness/store/bags/ros1.py). One run in real time: a bag's clock is the wall clock."""
 import shutil
+import time
 
 import pytest
 
@@ -19,6 +20,9 @@ def test_a_recorded_bag_judges_like_the_live_trace_of_its_run(tmp_path, capsys):
     db, bags = str(tmp_path / "s.duckdb"), tmp_path / "bags"
     assert cli(["run", str(DEFAULT_MISSION_DIR / "golden.mission"), "--sut", "ros-reference", "--db", db,
                 "--rosbag", str(bags)]) == 0
+    deadline = time.monotonic() + 30  # the recorder closes the bag by itself, if the bench's grace ran out
+    while (bags / "trace-1.bag.active").exists() and time.monotonic() < deadline:
+        time.sleep(0.1)
     assert [p.name for p in bags.iterdir()] == ["trace-1.bag"]  # closed: no .bag.active left
     assert cli(["import", str(bags), "--interface", str(DEFAULT_MISSION_DIR / "interface.toml"), "--db", db]) == 0
     assert "Imported 1 traces" in capsys.readouterr().out

@@ -123,3 +123,12 @@ def test_a_typed_route_serves_one_service_only(tmp_path):
                                           '[services."a.C"]\naction = "/x"\ntype = "p/T"\n'))
     with pytest.raises(UntimelyError, match="a.B and a.C both map to /x"):
         shared.routes([("a", "B"), ("a", "C")])
+
+
+def test_a_recorded_bag_holds_every_action_topic_and_the_json_topics(interface):
+    from harness.adapters.ros.recorder import recorded_topics
+    typed = load_mapping(DEFAULT_MISSION_DIR / "ros-typed.toml")
+    topics = recorded_topics(typed, [(s.module, s.name) for s in interface.services.values()])
+    assert {"/move_base/goal", "/move_base/result", "/dala/ndd/feedback", "/dala/ndd/status", "/dala/ndd/cancel",
+            "/dala/internal", "/dala/pong"} <= set(topics)
+    assert not [t for t in topics if "init" in t]  # the Init ROS services: no topics to record

@@ -4,14 +4,18 @@
 the mapping names (each action's goal, cancel, status, feedback and result, and the JSON topics)
 to DIR/trace-ID.bag, ID being the trace id the bench's hello gives as `run`, so `import DIR`
 judges what the middleware carried. The recorder is subscribed to every topic before the hello
-is answered (no goal can precede it) and stopped first, with SIGINT, so it closes the bag.
-ROS 1 services are not topics: a bag cannot hold their calls.
+is answered (no goal can precede it) and stopped first, with SIGINT, on which it closes the bag.
+It is `rosbag record`'s own program (the `rosbag` command forks it and exits on SIGINT before it
+has closed the bag), in a process group of its own, as the bench kills the launcher's group
+two seconds after `bye`, and it gets SIGINT, not SIGKILL, when the launcher dies: the bag is
+closed whatever happens to the launcher, and the recorder exits then. ROS 1 services are not
+topics: a bag cannot hold their calls.
 """
 from __future__ import annotations
 
 import os
-import shutil
 import signal
+import subprocess
 import time
 import xmlrpc.client
 from pathlib import Path
@@ -33,17 +37,19 @@ def recorded_topics(mapping: Mapping, services: list[tuple[str, str]]) -> list[s
 
 class Recorder(Child):
     def __init__(self, path: Path, argv: list[str], env: dict[str, str]):
-        super().__init__("rosbag", argv, env)
+        super().__init__("rosbag", argv, env, death_signal=signal.SIGINT, own_group=True)
         self.path = path
 
 
 def start_recorder(folder: str, run: int, topics: list[str], env: dict[str, str], timeout_s: float) -> Recorder:
     """`rosbag record` of `topics` into folder/trace-RUN.bag, once the master lists it on every topic."""
-    if shutil.which("rosbag") is None:
-        raise ChildError("--rosbag records with Debian's rosbag command, which is not installed: "
-                         "apt-get install python3-rosbag")
+    import roslib.packages  # ROS's own lookup, as the rosbag command does
+
+    found = roslib.packages.find_node("rosbag", "record")
+    if not found:
+        raise ChildError("--rosbag records with Debian's rosbag, which is not installed: apt-get install python3-rosbag")
     path = Path(folder) / f"trace-{run}.bag"
-    recorder = Recorder(path, ["rosbag", "record", "--quiet", "-O", str(path), "__name:=untimely_record", *topics], env)
+    recorder = Recorder(path, [found[0], "--quiet", "-O", str(path), "__name:=untimely_record", *topics], env)
     master = xmlrpc.client.ServerProxy(env["ROS_MASTER_URI"])
     deadline = time.monotonic() + timeout_s
     while True:
@@ -58,17 +64,14 @@ def start_recorder(folder: str, run: int, topics: list[str], env: dict[str, str]
 
 
 def stop_recorder(recorder: Recorder, timeout_s: float = 10.0) -> None:
-    """SIGINT, as Ctrl-C. The `rosbag` command passes it to its `record` process and exits at once,
-    while that one is still closing the bag: closed is when BAG.active has become BAG (the bench
-    kills the launcher's process group once the launcher exits)."""
+    """SIGINT, as Ctrl-C: the recorder closes the bag (BAG.active becomes BAG) and exits."""
     time.sleep(DRAIN_S)
     if recorder.process.poll() is None:
         recorder.process.send_signal(signal.SIGINT)
-    deadline = time.monotonic() + timeout_s
-    active = recorder.path.with_name(recorder.path.name + ".active")
-    while active.exists() and time.monotonic() < deadline:
-        time.sleep(0.05)
-    recorder.stop()
+    try:
+        recorder.process.wait(timeout_s)
+    except subprocess.TimeoutExpired:
+        recorder.stop()
 
 
 def recording_folder() -> str | None:

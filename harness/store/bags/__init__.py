@@ -39,6 +39,9 @@ def bags(path: Path) -> list[Path]:
     if path.suffix.lower() == ".bag" or _rosbag2_folder(path):
         return [path]
     if path.is_dir():
+        for active in sorted(path.glob("*.bag.active")):
+            print(f"{active}: left out, a bag still being written or never closed (`rosbag reindex` closes it)",
+                  file=sys.stderr)
         found = sorted(p for p in path.iterdir() if p.suffix.lower() == ".bag" or _rosbag2_folder(p) == p)
         if found:
             return found
