@@ -16,15 +16,11 @@ from rosbags.highlevel import AnyReader
 
 from harness.errors import UntimelyError
 from harness.store.bags.routes import Routes
-from harness.store.bags.timeline import Timeline
+from harness.store.bags.timeline import Timeline, seconds
 
 STATUS = ("PENDING", "ACTIVE", "PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED", "PREEMPTING", "RECALLING",
           "RECALLED", "LOST")
 TERMINAL = {"PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED", "RECALLED"}
-
-
-def _seconds(stamp) -> float:
-    return stamp.sec + stamp.nanosec * 1e-9
 
 
 def read_ros1(path: Path, routes: Routes) -> tuple[Timeline, list[str]]:
@@ -48,14 +44,14 @@ def read_ros1(path: Path, routes: Routes) -> tuple[Timeline, list[str]]:
             if leaf == "goal":
                 target = routes.target(carried, message.goal)
                 if target is not None:
-                    timeline.request(message.goal_id.id, received, *target, sent_s=_seconds(message.goal_id.stamp))
+                    timeline.request(message.goal_id.id, received, *target, sent_s=seconds(message.goal_id.stamp))
             elif leaf == "feedback":
-                timeline.intermediate(message.status.goal_id.id, received, _seconds(message.header.stamp))
+                timeline.intermediate(message.status.goal_id.id, received, seconds(message.header.stamp))
             elif leaf == "result":
                 status = message.status
                 route = carried[0][1]
                 code = routes.final_code(route, STATUS[status.status], message.result, status.text)
-                timeline.final(status.goal_id.id, received, code, _seconds(message.header.stamp))
+                timeline.final(status.goal_id.id, received, code, seconds(message.header.stamp))
             else:
                 for status in message.status_list:
                     if STATUS[status.status] in TERMINAL:

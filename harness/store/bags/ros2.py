@@ -18,7 +18,7 @@ from rosbags.rosbag2 import Reader
 from harness.store.bags.ros2_types import register, typestore
 from harness.errors import UntimelyError
 from harness.store.bags.routes import Routes
-from harness.store.bags.timeline import Timeline
+from harness.store.bags.timeline import Timeline, seconds
 
 STATUS = {4: "SUCCEEDED", 5: "PREEMPTED", 6: "ABORTED"}  # action_msgs/GoalStatus terminal codes
 REQUEST_SENT, REQUEST_RECEIVED, RESPONSE_SENT, RESPONSE_RECEIVED = range(4)
@@ -56,68 +56,84 @@ def _calls(events: list) -> list:
         sent = pair.get(REQUEST_SENT) or pair.get(REQUEST_RECEIVED)
         answered = pair.get(RESPONSE_RECEIVED) or pair.get(RESPONSE_SENT)
         if sent and sent[1].request:
-            stamp = sent[1].info.stamp
             paired.append((call, sent[0], sent[1].request[0], answered[0] if answered else None,
                            answered[1].response[0] if answered and answered[1].response else None,
-                           stamp.sec + stamp.nanosec * 1e-9))
+                           seconds(sent[1].info.stamp)))
     return paired
 
 
-ORDER = ("send_goal", "call", "status", "get_result", "feedback")  # requests before what refers to them
+def _send_goals(timeline: Timeline, routes: Routes, carried, events) -> None:
+    route = carried[0][1]
+    for _, sent, request, answered, response, stamp in _calls(events):
+        target = routes.target(carried, request.goal)
+        if target is not None:
+            timeline.request(_key(request.goal_id), sent, *target, sent_s=stamp)
+            if response is not None and not response.accepted:
+                timeline.final(_key(request.goal_id), answered, routes.final_code(route, "REJECTED", None, ""))
+
+
+def _service_calls(timeline: Timeline, routes: Routes, carried, events) -> None:
+    for call, sent, request, answered, response, stamp in _calls(events):
+        timeline.request(call, sent, *routes.target(carried, request), sent_s=stamp)
+        if response is not None:
+            timeline.final(call, answered, carried[0][1].response_code(response, routes.catalogue))
+
+
+def _statuses(timeline: Timeline, routes: Routes, carried, events) -> None:
+    route = carried[0][1]
+    for received, message in events:
+        for status in message.status_list:
+            key = _key(status.goal_info.goal_id)
+            if not route.generic:  # a generic goal's service is in its goal only
+                timeline.request(key, received, carried[0][0], None, sent_s=seconds(status.goal_info.stamp))
+            if status.status in STATUS:
+                timeline.status_final(key, received, routes.final_code(route, STATUS[status.status], None, ""))
+
+
+def _results(timeline: Timeline, routes: Routes, carried, events) -> None:
+    for _, _, request, answered, response, _ in _calls(events):
+        if response is not None and response.status in STATUS:
+            timeline.final(_key(request.goal_id), answered,
+                           routes.final_code(carried[0][1], STATUS[response.status], response.result, ""))
+
+
+def _feedback(timeline: Timeline, routes: Routes, carried, events) -> None:
+    for received, message in events:
+        timeline.intermediate(_key(message.goal_id), received)
+
+
+# In this order: requests before what refers to them.
+HANDLERS = {"send_goal": _send_goals, "call": _service_calls, "status": _statuses, "get_result": _results,
+            "feedback": _feedback}
 
 
 def read_ros2(folder, routes: Routes) -> tuple[Timeline, list[str]]:
-    topics, store, notes = _topics(routes), typestore(), []
+    topics, store = _topics(routes), typestore()
     by_kind: dict[tuple[str, str], list] = {}
     with Reader(folder) as reader:
         wanted = [c for c in reader.connections if c.topic in topics]
         if not wanted:
             raise UntimelyError(f"no topic of the mapping {routes.mapping.path} in this bag; it records "
-                             f"{', '.join(sorted({c.topic for c in reader.connections})) or 'nothing'}")
+                                f"{', '.join(sorted({c.topic for c in reader.connections})) or 'nothing'}")
         for connection in wanted:
             register(store, connection.msgtype, connection.msgdef.data)
         timeline = Timeline(reader.start_time * 1e-9)
         for connection, received_ns, raw in reader.messages(connections=wanted):
             by_kind.setdefault(topics[connection.topic], []).append(
                 (received_ns * 1e-9, store.deserialize_cdr(raw, connection.msgtype)))
-    actions, services = routes.named("action"), routes.named("service")
-    for (what, name), events in sorted(by_kind.items(), key=lambda item: ORDER.index(item[0][0])):
-        carried = actions.get(name) or services[name]
-        route = carried[0][1]
-        if what == "send_goal":
-            for _, sent, request, answered, response, stamp in _calls(events):
-                target = routes.target(carried, request.goal)
-                if target is not None:
-                    timeline.request(_key(request.goal_id), sent, *target, sent_s=stamp)
-                    if response is not None and not response.accepted:
-                        timeline.final(_key(request.goal_id), answered,
-                                       routes.final_code(route, "REJECTED", None, ""))
-        elif what == "call":
-            for call, sent, request, answered, response, stamp in _calls(events):
-                timeline.request(call, sent, *routes.target(carried, request), sent_s=stamp)
-                if response is not None:
-                    timeline.final(call, answered, route.response_code(response, routes.catalogue))
-        elif what == "get_result":
-            for _, _, request, answered, response, _ in _calls(events):
-                if response is not None and response.status in STATUS:
-                    timeline.final(_key(request.goal_id), answered,
-                                   routes.final_code(route, STATUS[response.status], response.result, ""))
-        elif what == "feedback":
-            for received, message in events:
-                timeline.intermediate(_key(message.goal_id), received)
-        else:
-            for received, message in events:
-                for status in message.status_list:
-                    key, accepted = _key(status.goal_info.goal_id), status.goal_info.stamp
-                    if not route.generic:  # a generic goal's service is in its goal only
-                        timeline.request(key, received, carried[0][0], None,
-                                         sent_s=accepted.sec + accepted.nanosec * 1e-9)
-                    if status.status in STATUS:
-                        timeline.status_final(key, received, routes.final_code(route, STATUS[status.status], None, ""))
-    recorded = {what for what, _ in by_kind}
-    if actions and "send_goal" not in recorded:
+    named = {**routes.named("action"), **routes.named("service")}
+    for (what, name), events in sorted(by_kind.items(), key=lambda item: list(HANDLERS).index(item[0][0])):
+        HANDLERS[what](timeline, routes, named[name], events)
+    return timeline, _lacking(routes, {what for what, _ in by_kind})
+
+
+def _lacking(routes: Routes, recorded: set[str]) -> list[str]:
+    """Notes on what the bag lacks of the mapping."""
+    notes = []
+    if routes.named("action") and "send_goal" not in recorded:
         notes.append("no goal introspection: requests come from the status topic, without arguments, and "
                      f"rejected goals are missing ({INTROSPECTION})")
+    services = routes.named("service")
     if services and "call" not in recorded:
         notes.append(f"no call of the ROS services {', '.join(sorted(services))}: {INTROSPECTION}")
-    return timeline, notes
+    return notes

@@ -83,3 +83,8 @@ class Timeline:
 
 def _sent_before(first: float | None, second: float | None) -> bool:
     return first is not None and second is not None and first <= second
+
+
+def seconds(stamp) -> float:
+    """A message's time stamp (sec, nanosec) in seconds."""
+    return stamp.sec + stamp.nanosec * 1e-9
