@@ -123,15 +123,15 @@ class DalaNode:
                 self.generic.setdefault(route.name, {})[self.interface.services[qualified].name] = qualified
         # Heartbeats are ours (see the module doc): actionlib's own status timer stays off.
         rospy.set_param("actionlib_status_frequency", 0.0)
-        self.servers, self.results, self.services = {}, {}, []
+        self.servers, self.services = {}, []
         for qualified, route in routes.items():
             if route.kind == "service":
-                self.services.append((route.name, service_class(route), self._call_for(qualified, route)))
+                kind = service_class(route)
+                self.services.append((route.name, kind, self._call_for(qualified, route, kind._response_class)))
             elif route.name not in self.servers:
                 classes = action_classes(route, self.mapping.folder)
-                self.results[route.name] = (classes.Result, classes.Feedback, route)
-                self.servers[route.name] = actionlib.ActionServer(route.name, classes.Action,
-                                                                  self._goal_for(qualified, route), auto_start=False)
+                self.servers[route.name] = actionlib.ActionServer(
+                    route.name, classes.Action, self._goal_for(qualified, route, classes), auto_start=False)
 
     def start(self) -> None:
         self.host.start()
@@ -148,8 +148,8 @@ class DalaNode:
         return self.origin + t / self.time_scale
 
     # -- goals -> layer requests (ROS threads) -------------------------------------------------
-    def _goal_for(self, qualified: str, route: Route):
-        result_class, feedback_class, _ = self.results[route.name]
+    def _goal_for(self, qualified: str, route: Route, classes):
+        result_class, feedback_class = classes.Result, classes.Feedback
         services = self.generic.get(route.name, {})
 
         def receive(handle) -> None:
@@ -169,9 +169,7 @@ class DalaNode:
             self._request(target, args, Goal(handle, self.interface.replies, result_class, feedback_class, route))
         return receive
 
-    def _call_for(self, qualified: str, route: Route):
-        response_class = service_class(route)._response_class
-
+    def _call_for(self, qualified: str, route: Route, response_class):
         def serve(request):
             call = Call(request._connection_header.get("untimely_call", ""))
             self._request(qualified, {arg: read_field(request, path) for arg, path in route.fields.items()}, call)
