@@ -4,7 +4,8 @@ The file (CSV, JSON lines or Parquet) holds the events columns, one event per ro
 optionally `outcome` and `sut` per trace. Every row is checked against the interface first;
 bad rows are reported with their line and value and nothing is written. Then one transaction
 adds a campaign (mission = the file, seed 0), the traces (integer ids; the file's own trace
-name kept as traces.label) and their events.
+name kept as traces.label) and their events. ROS bags become the same rows first
+(harness/store/bags: one trace per bag) and are checked alike.
 """
 from __future__ import annotations
 
