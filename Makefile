@@ -7,6 +7,12 @@ STAMP  := $(VENV)/.installed
 ROS_PYTHON ?= /usr/bin/python3
 VENV_ROS   := .venv-ros
 ROS_STAMP  := $(VENV_ROS)/.installed
+# The C++ node (docs/ros.md): Debian's roscpp, actionlib and message headers, gencpp for untimely_msgs.
+ROS_CPP_DIR  := build/ros_cpp
+ROS_CPP_NODE := $(ROS_CPP_DIR)/dala_forward_node
+ROS_CPP_SRC  := harness/adapters/ros/cpp/dala_forward_node.cpp
+ROS_CPP_HEADERS := /usr/include/ros/ros.h /usr/include/actionlib/server/action_server.h \
+	/usr/include/move_base_msgs/MoveBaseAction.h /usr/include/std_srvs/Trigger.h /usr/lib/gencpp/gen_cpp.py
 
 DB      ?= reports/campaign.duckdb
 OUT     ?=# the report's folder; empty: the store's folder
@@ -17,7 +23,7 @@ SEED    ?= 2012
 JOBS    ?= 0
 STRATEGY ?= random
 
-.PHONY: venv system ros test bench campaign analyze report clean
+.PHONY: venv system ros ros-cpp test bench campaign analyze report clean
 
 venv: $(STAMP)
 
@@ -32,7 +38,7 @@ $(STAMP): pyproject.toml
 # when make runs as root; otherwise make names the command to run, and stops.
 SYSTEM_PACKAGES := chromium nodejs python3-venv python3-rospy python3-actionlib python3-actionlib-msgs \
 	python3-std-msgs python3-rosmaster python3-genpy python3-move-base-msgs python3-std-srvs python3-rosbag \
-	libactionlib-dev libroscpp-dev g++ libstd-srvs-dev libmove-base-msgs-dev
+	libactionlib-dev libroscpp-dev g++ libstd-srvs-dev libmove-base-msgs-dev python3-gencpp
 
 system:
 	@command -v dpkg >/dev/null || { echo "make system: no dpkg: install by hand the equivalents of the Debian packages $(SYSTEM_PACKAGES)"; exit 1; }; \
@@ -57,7 +63,18 @@ $(ROS_STAMP): pyproject.toml
 	$(VENV_ROS)/bin/python -m pip install --quiet -e .
 	touch $(ROS_STAMP)
 
-test: system $(STAMP) ros
+# Built only where the compiler and headers are; elsewhere its tests skip, saying why.
+ros-cpp: ros
+	@if command -v g++ >/dev/null && ls $(ROS_CPP_HEADERS) >/dev/null 2>&1 && [ -x $(VENV_ROS)/bin/python ]; then \
+		$(MAKE) --no-print-directory $(ROS_CPP_NODE); \
+	else echo "make ros-cpp: no g++, .venv-ros or ROS 1 C++ headers (apt-get install g++ libroscpp-dev libactionlib-dev libmove-base-msgs-dev libstd-srvs-dev python3-gencpp); the C++ node's tests will skip"; fi
+
+$(ROS_CPP_NODE): $(ROS_CPP_SRC) harness/adapters/ros/untimely_msgs/Request.action harness/adapters/ros/messages.py
+	$(VENV_ROS)/bin/python -m harness.adapters.ros.cpp.generate_headers $(ROS_CPP_DIR)
+	g++ -std=c++17 -O1 -o $@ $(ROS_CPP_SRC) -I$(ROS_CPP_DIR)/include \
+		-lroscpp -lactionlib -lrosconsole -lroscpp_serialization -lrostime -lboost_system -lboost_thread -lpthread
+
+test: system $(STAMP) ros ros-cpp
 	$(PY) -m pytest
 
 bench: $(STAMP) ros
@@ -73,4 +90,4 @@ report: $(STAMP)
 	$(PY) -m harness report --db $(DB) $(if $(OUT),--out $(OUT))
 
 clean:
-	rm -rf $(VENV) $(VENV_ROS) reports/*.duckdb reports/*.html reports/*.csv reports/traces
+	rm -rf $(VENV) $(VENV_ROS) $(ROS_CPP_DIR) reports/*.duckdb reports/*.html reports/*.csv reports/traces

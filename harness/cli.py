@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR, __version__
+from harness.adapters.ros.recorder import ROSBAG_ENV
 from harness.errors import UntimelyError
 from harness.store.database import discard_if_empty
 
@@ -44,6 +45,10 @@ def _parser() -> argparse.ArgumentParser:
         c.add_argument("--time-scale", type=float, help="external SUTs: mission seconds per wall second "
                        "(1 = real time; default: the SUT's own, else 1)")
 
+    def rosbag(c):
+        c.add_argument("--rosbag", metavar="DIR", help="ROS SUTs: record each run's bag as DIR/trace-ID.bag "
+                       "with Debian's rosbag (docs/ros.md)")
+
     def db(c, help="the DuckDB store"):
         c.add_argument("--db", default=str(DEFAULT_DB), help=f"{help} (default: %(default)s)")
 
@@ -56,6 +61,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--max-delay", type=float, default=0.003,
                    help="largest interface observation delay in seconds (default: %(default)s)")
     time_scale(c)
+    rosbag(c)
     db(c)
 
     c = command("campaign", "run golden + seeded mutants on each variant; resumable", "harness.campaign.campaign:main")
@@ -80,6 +86,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--shard", metavar="I/N", help="run only the I-th of N disjoint parts of the campaign "
                    "(1 <= I <= N) into this store; `merge` combines the N stores (docs/ci.md)")
     time_scale(c)
+    rosbag(c)
     db(c)
 
     c = command("merge", "combine the stores of a sharded campaign (campaign --shard I/N) into one",
@@ -135,10 +142,12 @@ def _parser() -> argparse.ArgumentParser:
                    help="write only the page of this trace id into the report, on demand (repeatable)")
     db(c)
 
-    c = command("import", "load foreign traces (CSV, JSON lines, Parquet) into the store",
+    c = command("import", "load foreign traces (CSV, JSON lines, Parquet, ROS bags) into the store",
                 "harness.store.importer:main")
-    c.add_argument("file", help="a .csv, .jsonl or .parquet file with the events columns")
+    c.add_argument("file", help="a .csv, .jsonl or .parquet file with the events columns, or a ROS 1 .bag, a "
+                                "rosbag2 folder (or its .mcap/.db3), or a folder of bags (docs/ros.md)")
     c.add_argument("--interface", required=True, help="interface description giving the reply classes")
+    c.add_argument("--ros", help="a bag's mapping file (default: ros.toml beside the interface)")
     db(c)
 
     c = command("export", "write every table and view of the store as Parquet or CSV files, with a manifest",
@@ -170,6 +179,9 @@ def entry() -> None:
 
 def _run(args) -> int:
     module, function = args.target.split(":")
+    if getattr(args, "rosbag", None):  # the ROS launcher reads it from the environment it inherits
+        Path(args.rosbag).mkdir(parents=True, exist_ok=True)
+        os.environ[ROSBAG_ENV] = str(Path(args.rosbag).resolve())
     try:
         return getattr(importlib.import_module(module), function)(args) or 0
     except UntimelyError as e:
@@ -181,3 +193,5 @@ def _run(args) -> int:
     except BrokenPipeError:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
+    finally:
+        os.environ.pop(ROSBAG_ENV, None)

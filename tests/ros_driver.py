@@ -5,7 +5,6 @@ Where /usr/bin/python3 cannot import rospy the tests skip, saying so (.ci/run in
 """
 from __future__ import annotations
 
-import functools
 import json
 import queue
 import subprocess
@@ -24,16 +23,18 @@ MAPPING = DEFAULT_MISSION_DIR / "ros.toml"
 LAUNCHER, NODE = "harness.adapters.ros", "harness.adapters.ros.dala_node"
 
 
-@functools.cache
-def ros_missing() -> str | None:
-    """Why the ROS tests cannot run here, or None."""
-    probe = subprocess.run([ROS_PYTHON, "-c", "import rospy, actionlib, genpy, rosmaster"], capture_output=True)
-    if probe.returncode:
-        return f"{ROS_PYTHON} cannot import Debian's ROS 1 packages (apt-get install python3-rospy python3-actionlib)"
-    return None
+def requires(modules: str, packages: str, what: str):
+    """A mark that skips a test, saying what to install, where /usr/bin/python3 cannot import `modules`."""
+    probe = subprocess.run([ROS_PYTHON, "-c", f"import {modules}"], capture_output=True)
+    return pytest.mark.skipif(probe.returncode != 0,
+                              reason=f"{ROS_PYTHON} cannot import {what} (apt-get install {packages})")
 
 
-requires_ros = pytest.mark.skipif(ros_missing() is not None, reason=ros_missing() or "")
+requires_ros = requires("rospy, actionlib, genpy, rosmaster", "python3-rospy python3-actionlib",
+                        "Debian's ROS 1 packages")
+# The message packages of the typed routes (ros-typed.toml, ros-cpp.toml).
+requires_typed = requires("move_base_msgs.msg, std_srvs.srv", "python3-move-base-msgs python3-std-srvs",
+                          "move_base_msgs and std_srvs")
 
 
 def ensure_ros_venv() -> Path:
@@ -43,9 +44,10 @@ def ensure_ros_venv() -> Path:
     return VENV_PYTHON
 
 
-def launcher_command(variant: str) -> list[str]:
+def launcher_command(variant: str, mapping: Path = MAPPING) -> list[str]:
     python = str(ensure_ros_venv())
-    return [python, "-m", LAUNCHER, "--mapping", str(MAPPING), "--", python, "-m", NODE, "--variant", variant]
+    return [python, "-m", LAUNCHER, "--mapping", str(mapping), "--", python, "-m", NODE, "--variant", variant,
+            "--mapping", str(mapping)]
 
 
 def hello(time_scale: float) -> dict:
@@ -97,8 +99,8 @@ def alive(pids: set[int]) -> set[int]:
 class Launcher:
     """One launcher process; `lines` collects what it writes, each with its monotonic arrival time."""
 
-    def __init__(self, variant: str = "reference"):
-        self.process = subprocess.Popen(launcher_command(variant), cwd=ROOT, stdin=subprocess.PIPE,
+    def __init__(self, variant: str = "reference", mapping: Path = MAPPING):
+        self.process = subprocess.Popen(launcher_command(variant, mapping), cwd=ROOT, stdin=subprocess.PIPE,
                                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         self.started = time.monotonic()
         self.lines: list[tuple[float, dict]] = []

@@ -15,7 +15,7 @@ def write(tmp_path, text):
 
 
 def test_every_dala_service_goes_to_its_module_server(interface):
-    actions = DALA.actions([(s.module, s.name) for s in interface.services.values()])
+    actions = {q: r.name for q, r in DALA.routes([(s.module, s.name) for s in interface.services.values()]).items()}
     assert set(actions) == set(interface.services)
     assert actions["ndd.GotoPosition"] == actions["ndd.Stop"] == "/dala/ndd"
     assert sorted(set(actions.values())) == [f"/dala/{m}" for m in sorted(interface.modules)]
@@ -42,7 +42,8 @@ def test_fallback_codes_and_single_actions_come_from_the_file(tmp_path):
     mapping = load_mapping(write(tmp_path, 'action = "/robot/{module}/{service}"\n'
                                            '[services]\n"nav.Go" = "/move_base"\n'
                                            '[status_codes]\nABORTED = "failed"\n'))
-    assert mapping.actions([("nav", "Go"), ("nav", "Stop")]) == {"nav.Go": "/move_base", "nav.Stop": "/robot/nav/Stop"}
+    routes = mapping.routes([("nav", "Go"), ("nav", "Stop")])
+    assert {q: r.name for q, r in routes.items()} == {"nav.Go": "/move_base", "nav.Stop": "/robot/nav/Stop"}
     assert mapping.final_code("ABORTED", ("boom",), {"ok": "T", "failed": "T"}) == "failed"
     assert mapping.world_topic is None and mapping.internal_topic is None
 
@@ -65,12 +66,69 @@ def test_a_bad_mapping_file_is_named_with_its_value(tmp_path, text, message):
 def test_services_a_mapping_cannot_tell_apart_are_refused(tmp_path):
     fixed = load_mapping(write(tmp_path, 'action = "/all"\n'))
     with pytest.raises(UntimelyError, match=r"no action for rflex.Init; add it under \[services\]"):
-        fixed.actions([("rflex", "Init")])
+        fixed.routes([("rflex", "Init")])
     by_service = load_mapping(write(tmp_path, 'action = "/{service}"\n[services]\n"sick.Init" = "/Init"\n"rflex.Init" = "/Init"\n'))
     with pytest.raises(UntimelyError, match="sick.Init and rflex.Init both map to /Init"):
-        by_service.actions([("sick", "Init"), ("rflex", "Init")])
+        by_service.routes([("sick", "Init"), ("rflex", "Init")])
 
 
 def test_a_missing_mapping_file_says_what_to_pass(tmp_path):
     with pytest.raises(InputFileError, match="mapping file not found; pass the ros.toml beside the interface"):
         load_mapping(tmp_path / "nope.toml")
+
+
+def test_typed_routes_name_their_types_fields_and_defaults(interface):
+    typed = load_mapping(DEFAULT_MISSION_DIR / "ros-typed.toml")
+    routes = typed.routes([(s.module, s.name) for s in interface.services.values()])
+    goto, init, stop = routes["ndd.GotoPosition"], routes["ndd.Init"], routes["ndd.Stop"]
+    assert (goto.kind, goto.name, goto.type) == ("action", "/move_base", "move_base_msgs/MoveBase")
+    assert goto.fields == {"x": "target_pose.pose.position.x", "y": "target_pose.pose.position.y"}
+    assert goto.defaults["target_pose.header.frame_id"] == "map"
+    assert (init.kind, init.type, init.code, init.success) == ("service", "std_srvs/Trigger", "message", "success")
+    assert stop.generic and stop.name == "/dala/ndd"
+
+
+class Response:
+    def __init__(self, success, message):
+        self.success, self.message = success, message
+
+
+@pytest.mark.parametrize("success, message, code", [
+    (False, "wait_init", "wait_init"),  # the catalogue's code, whatever success says
+    (True, "", "ok"),
+    (True, "done", "ok"),
+    (False, "motor fault", "failure"),
+])
+def test_a_service_response_gives_its_code_or_ok_or_failure(interface, success, message, code):
+    init = load_mapping(DEFAULT_MISSION_DIR / "ros-typed.toml").overrides["ndd.Init"]
+    assert init.response_code(Response(success, message), interface.replies) == code
+
+
+@pytest.mark.parametrize("text, message", [
+    ('[services."a.B"]\naction = "/x"\nservice = "/y"\n', "give exactly one of action = NAME or service = NAME"),
+    ('[services."a.B"]\nservice = "/y"\n', "type = ''; give a non-empty string"),
+    ('[services."a.B"]\naction = "/x"\ntype = "MoveBase"\n', "type = 'MoveBase' is not \"package/Name\""),
+    ('[services."a.B"]\naction = "/x"\nfields = { x = "a.x" }\n', "carries the arguments as JSON"),
+    ('[services."a.B"]\naction = "/x"\ntype = "p/T"\nsuccess = "ok"\n', "success and failure are for ROS services"),
+    ('[services."a.B"]\naction = "/x"\ntype = "p/T"\ngoal = {}\n', "unknown key(s) ['goal']"),
+])
+def test_a_bad_route_is_named_with_its_value(tmp_path, text, message):
+    with pytest.raises(InputFileError, match=r"ros.toml.*\[services\] a.B") as e:
+        load_mapping(write(tmp_path, text))
+    assert message in str(e.value)
+
+
+def test_a_typed_route_serves_one_service_only(tmp_path):
+    shared = load_mapping(write(tmp_path, '[services."a.B"]\naction = "/x"\ntype = "p/T"\n'
+                                          '[services."a.C"]\naction = "/x"\ntype = "p/T"\n'))
+    with pytest.raises(UntimelyError, match="a.B and a.C both map to /x"):
+        shared.routes([("a", "B"), ("a", "C")])
+
+
+def test_a_recorded_bag_holds_every_action_topic_and_the_json_topics(interface):
+    from harness.adapters.ros.recorder import recorded_topics
+    typed = load_mapping(DEFAULT_MISSION_DIR / "ros-typed.toml")
+    topics = recorded_topics(typed, [(s.module, s.name) for s in interface.services.values()])
+    assert {"/move_base/goal", "/move_base/result", "/dala/ndd/feedback", "/dala/ndd/status", "/dala/ndd/cancel",
+            "/dala/internal", "/dala/pong"} <= set(topics)
+    assert not [t for t in topics if "init" in t]  # the Init ROS services: no topics to record

@@ -4,7 +4,8 @@ The file (CSV, JSON lines or Parquet) holds the events columns, one event per ro
 optionally `outcome` and `sut` per trace. Every row is checked against the interface first;
 bad rows are reported with their line and value and nothing is written. Then one transaction
 adds a campaign (mission = the file, seed 0), the traces (integer ids; the file's own trace
-name kept as traces.label) and their events.
+name kept as traces.label) and their events. ROS bags become the same rows first
+(harness/store/bags: one trace per bag) and are checked alike.
 """
 from __future__ import annotations
 
@@ -20,6 +21,7 @@ import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 
 from harness.errors import InputFileError
+from harness.store.bags import is_bag, read_bags
 from harness.store.export import with_exported_traces
 from harness.files import read_text
 from harness.target.interface import Interface, load_interface
@@ -201,10 +203,19 @@ def _refuse_a_second_import(con, path: Path, digest: str) -> None:
                              "To judge them again run analyze; to keep two copies use another --db")
 
 
+def _digest(path: Path) -> str:
+    """SHA-256 of the file, or of every file in a folder (a rosbag2 bag, a folder of bags), by name."""
+    files = sorted(p for p in path.rglob("*") if p.is_file()) if path.is_dir() else [path]
+    sha = hashlib.sha256()
+    for file in files:
+        sha.update(str(file.relative_to(path) if path.is_dir() else "").encode() + file.read_bytes())
+    return sha.hexdigest()
+
+
 def load(con, path: Path, interface: Interface) -> tuple[int, int, int]:
     """Campaign, traces and events in one transaction: (campaign_id, first trace id, traces).
     A file whose contents the store already holds is refused (the campaign records its SHA-256)."""
-    digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    digest = _digest(path)
     with transaction(con):
         _refuse_a_second_import(con, path, digest)
         campaign_id = next_id(con, "campaigns", "campaign_id")
@@ -230,9 +241,10 @@ def load(con, path: Path, interface: Interface) -> tuple[int, int, int]:
     return campaign_id, first, count
 
 
-def import_file(con, path: str | Path, interface: Interface) -> tuple[int, int, int]:
+def import_file(con, path: str | Path, interface: Interface, ros: str | None = None) -> tuple[int, int, int]:
+    """Events from a file of events, or from bags (`ros`: their mapping file, else ros.toml beside the interface)."""
     path = Path(path)
-    table, unit = read(path)
+    table, unit = read_bags(path, interface, ros) if is_bag(path) else read(path)
     known = {"staged": table,
              "known_services": pa.table({"module": [s.module for s in interface.services.values()],
                                          "service": [s.name for s in interface.services.values()]}),
@@ -255,7 +267,7 @@ def main(args) -> int:
     interface = load_interface(args.interface)
     con = connect(args.db)
     path = Path(args.file)
-    campaign_id, first, count = import_file(con, path, interface)
+    campaign_id, first, count = import_file(con, path, interface, args.ros)
     events = con.execute("select count(*) from events where trace_id between ? and ?",
                          [first, first + count - 1]).fetchone()[0]
     print(f"Imported {count} traces ({events} events) from {path} as campaign {campaign_id}, "

@@ -17,8 +17,9 @@ import signal
 import sys
 import threading
 
-from harness.adapters.ros.mapping import load_mapping
+from harness.adapters.ros.mapping import interface_services, load_mapping
 from harness.adapters.ros.processes import Child, ros_home, start_master, stop_all
+from harness.adapters.ros.recorder import recorded_topics, recording_folder, start_recorder, stop_recorder
 from harness.errors import UntimelyError
 from harness.run.external.protocol import BENCH_MESSAGES, PROTO, ProtocolViolation, decode, encode
 
@@ -55,9 +56,20 @@ def serve(adapter, stream) -> None:
         handlers[message["op"]](message)
 
 
+def node_environment(mapping, hello: dict) -> dict[str, str]:
+    """What a node learns from the launcher: the time scale; for a node that hands requests on to a
+    layer of its own (cpp/dala_forward_node.cpp), the bench's hello and the routes, one a line:
+    KIND NAME TYPE module.Service."""
+    routes = mapping.routes(interface_services(hello["interface"]))
+    return {"UNTIMELY_TIME_SCALE": repr(hello["time_scale"]),
+            "UNTIMELY_HELLO": json.dumps(hello, separators=(",", ":")),
+            "UNTIMELY_ROUTES": "\n".join(f"{r.kind} {r.name} {r.type} {q}" for q, r in routes.items())}
+
+
 def run(args, out: LineWriter) -> None:
     mapping = load_mapping(args.mapping)
     children: list[Child] = []
+    recorder = None
     home = ros_home()
     ros_up = False
     try:
@@ -69,7 +81,10 @@ def run(args, out: LineWriter) -> None:
         if hello["op"] != "hello" or hello["proto"] != PROTO:
             raise UntimelyError(f"the bench's first line must be a hello of {PROTO}, got {json.dumps(hello)[:200]}")
         time_scale = hello["time_scale"]
-        node = Child("node", args.node, {**env, "UNTIMELY_TIME_SCALE": repr(time_scale)})
+        if recording_folder():
+            topics = recorded_topics(mapping, interface_services(hello["interface"]))
+            recorder = start_recorder(recording_folder(), hello["run"], topics, env, args.startup_timeout)
+        node = Child("node", args.node, {**env, **node_environment(mapping, hello)})
         children.append(node)
         os.environ.update(env)
         import rospy  # only now: rospy reads the master's address from the environment
@@ -82,6 +97,8 @@ def run(args, out: LineWriter) -> None:
         adapter.hello(PROTO, f"ROS 1 actionlib adapter (master {env['ROS_MASTER_URI']}; node: {' '.join(args.node)})")
         serve(adapter, sys.stdin)
     finally:
+        if recorder:
+            stop_recorder(recorder)
         stop_all(children)
         if ros_up:
             rospy.signal_shutdown("bye")

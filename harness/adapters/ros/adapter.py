@@ -1,9 +1,12 @@
-"""The generic ROS 1 adapter: `untimely/1` requests become actionlib goals, goal statuses become replies.
+"""The generic ROS 1 adapter: `untimely/1` requests become actionlib goals or ROS service calls,
+goal statuses and responses become replies.
 
-Nothing here knows Dala: the services come from the bench's hello, the action names and the
-status codes from the mapping file. Rules (docs/ros.md):
+Nothing here knows Dala: the services come from the bench's hello, the routes and the status
+codes from the mapping file. Rules (docs/ros.md):
 
-- a request is a goal `untimely_msgs/Request` (service name, JSON arguments) to its mapped action;
+- a request is a goal of its route's action: the generic `untimely_msgs/Request` (service name,
+  JSON arguments) or a typed goal whose fields its arguments fill (messages.fill); or it is a
+  call of its route's ROS service, whose response is the final reply (Route.response_code);
 - the first feedback before the result is the intermediate reply; ACTIVE alone is none (a short
   goal's result may come without ACTIVE ever being seen); feedback after the result is dropped
   (replies.py);
@@ -25,9 +28,10 @@ import rospy
 from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from std_msgs.msg import String
 
-from harness.adapters.ros.mapping import Mapping
-from harness.adapters.ros.messages import RequestAction, RequestGoal
+from harness.adapters.ros.mapping import Mapping, interface_services
+from harness.adapters.ros.messages import action_classes, fill, service_class
 from harness.adapters.ros.replies import Replies
+from harness.adapters.ros.routes import Route
 from harness.errors import UntimelyError
 
 STATUS_NAMES = {getattr(GoalStatus, name): name for name in
@@ -35,21 +39,16 @@ STATUS_NAMES = {getattr(GoalStatus, name): name for name in
                  "PREEMPTING", "RECALLING", "RECALLED", "LOST")}
 
 
-def interface_services(interface: dict) -> list[tuple[str, str]]:
-    """(module, service) pairs of the hello's interface: {"modules": {module: {service: kind}}, ...}."""
-    modules = interface.get("modules")
-    if not isinstance(modules, dict) or not modules:
-        raise UntimelyError(f"the bench's hello has no interface modules: {json.dumps(interface)[:200]}")
-    return [(module, service) for module, services in modules.items() for service in services]
-
-
 class Adapter:
     def __init__(self, mapping: Mapping, interface: dict, time_scale: float, write: Callable[[dict], None]):
         self.mapping, self.write, self.time_scale = mapping, write, time_scale
         self.catalogue: dict[str, str] = dict(interface.get("replies") or {})
-        self.actions = mapping.actions(interface_services(interface))
+        self.routes = mapping.routes(interface_services(interface))
         self.lock = threading.Lock()  # guards the state below
-        self.clients = {name: actionlib.ActionClient(name, RequestAction) for name in set(self.actions.values())}
+        actions = {route.name: route for route in self.routes.values() if route.kind == "action"}
+        self.classes = {name: action_classes(route, mapping.folder) for name, route in actions.items()}
+        self.clients = {name: actionlib.ActionClient(name, classes.Action) for name, classes in self.classes.items()}
+        self.services = {route.name: service_class(route) for route in self.routes.values() if route.kind == "service"}
         self.heartbeats: dict[str, float] = {}  # action -> monotonic time of its last status
         self.pending_pings: dict[int, bool] = {}  # ping id -> echoed through ROS (or no ping topic)
         self.goals: dict[int, actionlib.ClientGoalHandle] = {}  # kept: actionlib holds only weak references
@@ -78,6 +77,7 @@ class Adapter:
         subscriber connects is lost); `alive()` names a reason to give up."""
         deadline = time.monotonic() + timeout_s
         waits = [(name, lambda c=client: c.wait_for_server(rospy.Duration(0.1))) for name, client in self.clients.items()]
+        waits += [(name, lambda n=name: self._service_up(n)) for name in self.services]
         waits += [(topic.name, lambda t=topic: t.get_num_connections() > 0 or time.sleep(0.1)) for topic in self.topics]
         if self.pinger:  # the SUT echoes once its side of every topic is connected too
             waits.append((f"an echo on {self.mapping.pong_topic}", self._echoed))
@@ -86,6 +86,14 @@ class Adapter:
                 problem = alive()
                 if problem or time.monotonic() > deadline:
                     raise UntimelyError(problem or f"{name} did not come up within {timeout_s:g} s")
+
+    @staticmethod
+    def _service_up(name: str) -> bool:
+        try:
+            rospy.wait_for_service(name, 0.1)
+            return True
+        except rospy.ROSException:
+            return False
 
     def _echoed(self) -> bool:
         """One start-up ping (id 0; the bench's count from 1) through the SUT and back."""
@@ -99,15 +107,41 @@ class Adapter:
     # -- bench -> ROS --------------------------------------------------------------------------
     def request(self, message: dict) -> None:
         rqst_id, module, service = message["id"], message["module"], message["service"]
-        action = self.actions.get(f"{module}.{service}")
-        if action is None:
+        route = self.routes.get(f"{module}.{service}")
+        if route is None:
             raise UntimelyError(f"request {rqst_id} names {module}.{service}, which the hello's interface does not declare")
-        goal = RequestGoal(service=service, args_json=json.dumps(message["args"]))
+        if route.kind == "service":
+            self._call(rqst_id, route, message["args"])
+            return
+        classes = self.classes[route.name]
+        if route.generic:
+            goal = classes.Goal(service=service, args_json=json.dumps(message["args"]))
+        else:
+            goal = fill(classes.Goal(), route, message["args"])
         with self.lock:
-            handle = self.clients[action].send_goal(goal, transition_cb=lambda gh: self._transition(rqst_id, gh),
-                                                    feedback_cb=lambda gh, fb: self.replies.feedback(rqst_id))
+            handle = self.clients[route.name].send_goal(
+                goal, transition_cb=lambda gh: self._transition(rqst_id, route, gh),
+                feedback_cb=lambda gh, fb: self.replies.feedback(rqst_id))
             self.goals[rqst_id] = handle
             self.goal_ids[handle.comm_state_machine.action_goal.goal_id.id] = rqst_id
+
+    def _call(self, rqst_id: int, route: Route, args: dict) -> None:
+        """A ROS service call blocks until its response: each runs on its own thread. The call's
+        connection header names it, so the SUT's ground truth can say which request it was."""
+        kind = self.services[route.name]
+        request = fill(kind._request_class(), route, args)
+        call_id = f"call-{rqst_id}"
+        with self.lock:
+            self.goal_ids[call_id] = rqst_id
+
+        def call() -> None:
+            try:
+                response = rospy.ServiceProxy(route.name, kind, headers={"untimely_call": call_id})(request)
+            except (rospy.ServiceException, rospy.ROSException) as e:
+                self.replies.ended(rqst_id, f"a failed call ({e})", None)
+                return
+            self.replies.ended(rqst_id, "RESPONSE", route.response_code(response, self.catalogue))
+        threading.Thread(target=call, name=f"call {rqst_id}", daemon=True).start()
 
     def ping(self, message: dict) -> None:
         with self.lock:
@@ -117,10 +151,11 @@ class Adapter:
             self._answer_pings()
 
     # -- ROS -> bench (ROS threads) ------------------------------------------------------------
-    def _transition(self, rqst_id: int, handle) -> None:
+    def _transition(self, rqst_id: int, route: Route, handle) -> None:
         if handle.get_comm_state() == actionlib.CommState.DONE:
             status = STATUS_NAMES.get(handle.get_goal_status())
-            texts = (getattr(handle.get_result(), "code", None), handle.get_goal_status_text())
+            result = handle.get_result()
+            texts = (getattr(result, route.code or "code", None), handle.get_goal_status_text())
             self.replies.ended(rqst_id, status, self.mapping.final_code(status, texts, self.catalogue))
 
     def _heartbeat(self, _statuses, action: str) -> None:

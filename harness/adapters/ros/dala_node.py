@@ -1,7 +1,10 @@
-"""The simulated Dala layer as a ROS node: one actionlib server per module on a real rosmaster.
+"""The simulated Dala layer as a ROS node: the mapping's action servers and ROS services on a real rosmaster.
 
 The layer's logic runs on a LayerHost (harness/sim/host.py) in wall-clock or scaled time; this
-node is only its ROS face. A goal is a request; the layer's replies drive the goal's status:
+node is only its ROS face, serving every route of the mapping file it is given (routes.py): the
+generic action (one server per module by default), typed actions (the goal's fields give the
+arguments) and ROS services (the call waits for the final reply, which fills the response's code
+and success fields). A goal is a request; the layer's replies drive the goal's status:
 
 - intermediate (the activity started) -> ACTIVE, plus one feedback `running` (the adapter's
   intermediate reply);
@@ -17,7 +20,7 @@ pings go unanswered: the trace hangs, as in-process. The adapter's pings also cr
 echoes each (ros.toml's ping_topic) once the layer answers it, so the bench's measured round trip
 includes the ROS transport.
 
-    python -m harness.adapters.ros.dala_node --variant reference [--time-scale 10] [--mission DIR]
+    python -m harness.adapters.ros.dala_node --variant reference [--time-scale 10] [--mission DIR] [--mapping FILE]
 """
 from __future__ import annotations
 
@@ -38,7 +41,8 @@ from std_msgs.msg import String
 
 from harness import DEFAULT_MISSION_DIR
 from harness.adapters.ros.mapping import load_mapping
-from harness.adapters.ros.messages import RequestAction, RequestFeedback, RequestResult
+from harness.adapters.ros.messages import action_classes, service_class
+from harness.adapters.ros.routes import Route, read_field
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.sim.host import LayerHost
@@ -46,79 +50,26 @@ from harness.sim.host import LayerHost
 HEARTBEAT_HZ = 5.0  # actionlib's default status rate
 
 
-class DalaNode:
-    def __init__(self, variant: str, mission: Path, time_scale: float):
-        self.interface = load_interface(mission / "interface.toml")
-        self.mapping = load_mapping(mission / "ros.toml")
-        self.time_scale = time_scale
-        self.failure: str | None = None
-        self.world_pub = rospy.Publisher(self.mapping.world_topic, String, queue_size=100) \
-            if self.mapping.world_topic else None
-        self.internal_pub = rospy.Publisher(self.mapping.internal_topic, String, queue_size=1000) \
-            if self.mapping.internal_topic else None
-        self.host = LayerHost(variant, self.interface, mission / "world.toml", time_scale,
-                              on_world=self._world, on_error=self._failed)
-        self.origin = time.time() - self.host.env.clock() / time_scale  # wall-clock epoch of the host's t = 0
-        self.pong = rospy.Publisher(self.mapping.pong_topic, String, queue_size=100) \
-            if self.mapping.ping_topic else None
-        self.ids = itertools.count(1)
-        self.goals: dict[int, actionlib.ServerGoalHandle] = {}
-        # action name -> {goal's service name -> "module.Service"}
-        self.routes: dict[str, dict[str, str]] = {}
-        actions = self.mapping.actions([(s.module, s.name) for s in self.interface.services.values()])
-        for qualified, action in actions.items():
-            self.routes.setdefault(action, {})[self.interface.services[qualified].name] = qualified
-        # Heartbeats are ours (see the module doc): actionlib's own status timer stays off.
-        rospy.set_param("actionlib_status_frequency", 0.0)
-        self.servers = {action: actionlib.ActionServer(action, RequestAction, self._goal_for(action),
-                                                       auto_start=False) for action in self.routes}
+class Goal:
+    """A request that came as a goal: the layer's replies set its status (module doc)."""
 
-    def start(self) -> None:
-        self.host.start()
-        for server in self.servers.values():
-            server.start()
-        if self.pong:
-            rospy.Subscriber(self.mapping.ping_topic, String, self._ping)
-        threading.Thread(target=self._heartbeat, name="heartbeat", daemon=True).start()
+    def __init__(self, handle, replies: dict[str, str], result_class, feedback_class, route: Route):
+        self.handle, self.replies, self.route = handle, replies, route
+        self.result_class, self.feedback_class = result_class, feedback_class
+        self.id = handle.get_goal_id().id
 
-    def _stamp(self, t: float) -> float:
-        """The wall-clock epoch of host time t (mission seconds)."""
-        return self.origin + t / self.time_scale
+    def started(self) -> None:
+        self.handle.set_accepted()
+        if self.route.generic:
+            self.handle.publish_feedback(self.feedback_class(phase="running"))
+        else:
+            self.handle.publish_feedback(self.feedback_class())
 
-    # -- goals -> layer requests (ROS threads) -------------------------------------------------
-    def _goal_for(self, action: str):
-        def receive(handle) -> None:
-            goal = handle.get_goal()
-            qualified = self.routes[action].get(goal.service)
-            try:
-                args = json.loads(goal.args_json or "{}")
-            except ValueError:
-                args = None
-            if qualified is None or not isinstance(args, dict):
-                problem = f"{action} serves {sorted(self.routes[action])}; goal {goal.service!r} {goal.args_json!r}"
-                handle.set_rejected(RequestResult(code=problem), problem)
-                return
-            rqst_id = next(self.ids)
-            self.goals[rqst_id] = handle
-            # The layer reads argument values as text, whatever their JSON type (as the simulator adapter).
-            self.host.request(rqst_id, qualified, {k: str(v) for k, v in args.items()}, self._reply)
-        return receive
-
-    # -- layer replies -> goal statuses (the host's thread) ------------------------------------
-    def _reply(self, rqst_id: int, kind: str, code: str | None, t: float) -> None:
-        handle = self.goals[rqst_id]
-        if self.internal_pub:
-            self.internal_pub.publish(json.dumps({"goal_id": handle.get_goal_id().id, "kind": kind,
-                                                  "code": code, "stamp": self._stamp(t)}))
-        if kind == "intermediate":
-            handle.set_accepted()
-            handle.publish_feedback(RequestFeedback(phase="running"))
-        elif kind == "final":
-            del self.goals[rqst_id]
-            self._end(handle, code)
-
-    def _end(self, handle, code: str) -> None:
-        result, cls = RequestResult(code=code), self.interface.replies.get(code)
+    def end(self, code: str) -> None:
+        result = self.result_class()
+        if self.route.code or self.route.generic:
+            setattr(result, self.route.code or "code", code)
+        handle, cls = self.handle, self.replies.get(code)
         pending = handle.get_goal_status().status == GoalStatus.PENDING
         if cls == "R" and pending:
             handle.set_rejected(result, code)
@@ -131,6 +82,123 @@ class DalaNode:
             handle.set_canceled(result, code)
         else:
             handle.set_aborted(result, code)
+
+
+class Call:
+    """A request that came as a ROS service call: the call waits for the final reply."""
+
+    def __init__(self, call_id: str):
+        self.id, self.code, self.done = call_id, None, threading.Event()
+
+    def started(self) -> None:
+        pass  # a ROS service has no intermediate reply
+
+    def end(self, code: str) -> None:
+        self.code = code
+        self.done.set()
+
+
+class DalaNode:
+    def __init__(self, variant: str, mission: Path, mapping: Path, time_scale: float):
+        self.interface = load_interface(mission / "interface.toml")
+        self.mapping = load_mapping(mapping)
+        self.time_scale = time_scale
+        self.failure: str | None = None
+        self.world_pub = rospy.Publisher(self.mapping.world_topic, String, queue_size=100) \
+            if self.mapping.world_topic else None
+        self.internal_pub = rospy.Publisher(self.mapping.internal_topic, String, queue_size=1000) \
+            if self.mapping.internal_topic else None
+        self.host = LayerHost(variant, self.interface, mission / "world.toml", time_scale,
+                              on_world=self._world, on_error=self._failed)
+        self.origin = time.time() - self.host.env.clock() / time_scale  # wall-clock epoch of the host's t = 0
+        self.pong = rospy.Publisher(self.mapping.pong_topic, String, queue_size=100) \
+            if self.mapping.ping_topic else None
+        self.ids = itertools.count(1)
+        self.goals: dict[int, Goal | Call] = {}
+        routes = self.mapping.routes([(s.module, s.name) for s in self.interface.services.values()])
+        # generic action name -> {goal's service name -> "module.Service"}
+        self.generic: dict[str, dict[str, str]] = {}
+        for qualified, route in routes.items():
+            if route.generic:
+                self.generic.setdefault(route.name, {})[self.interface.services[qualified].name] = qualified
+        # Heartbeats are ours (see the module doc): actionlib's own status timer stays off.
+        rospy.set_param("actionlib_status_frequency", 0.0)
+        self.servers, self.services = {}, []
+        for qualified, route in routes.items():
+            if route.kind == "service":
+                kind = service_class(route)
+                self.services.append((route.name, kind, self._call_for(qualified, route, kind._response_class)))
+            elif route.name not in self.servers:
+                classes = action_classes(route, self.mapping.folder)
+                self.servers[route.name] = actionlib.ActionServer(
+                    route.name, classes.Action, self._goal_for(qualified, route, classes), auto_start=False)
+
+    def start(self) -> None:
+        self.host.start()
+        for server in self.servers.values():
+            server.start()
+        for name, kind, handler in self.services:
+            rospy.Service(name, kind, handler)
+        if self.pong:
+            rospy.Subscriber(self.mapping.ping_topic, String, self._ping)
+        threading.Thread(target=self._heartbeat, name="heartbeat", daemon=True).start()
+
+    def _stamp(self, t: float) -> float:
+        """The wall-clock epoch of host time t (mission seconds)."""
+        return self.origin + t / self.time_scale
+
+    # -- goals -> layer requests (ROS threads) -------------------------------------------------
+    def _goal_for(self, qualified: str, route: Route, classes):
+        result_class, feedback_class = classes.Result, classes.Feedback
+        services = self.generic.get(route.name, {})
+
+        def receive(handle) -> None:
+            goal = handle.get_goal()
+            if route.generic:
+                target = services.get(goal.service)
+                try:
+                    args = json.loads(goal.args_json or "{}")
+                except ValueError:
+                    args = None
+                if target is None or not isinstance(args, dict):
+                    problem = f"{route.name} serves {sorted(services)}; goal {goal.service!r} {goal.args_json!r}"
+                    handle.set_rejected(result_class(code=problem), problem)
+                    return
+            else:
+                target, args = qualified, {arg: read_field(goal, path) for arg, path in route.fields.items()}
+            self._request(target, args, Goal(handle, self.interface.replies, result_class, feedback_class, route))
+        return receive
+
+    def _call_for(self, qualified: str, route: Route, response_class):
+        def serve(request):
+            call = Call(request._connection_header.get("untimely_call", ""))
+            self._request(qualified, {arg: read_field(request, path) for arg, path in route.fields.items()}, call)
+            call.done.wait()
+            response = response_class()
+            if route.code:
+                setattr(response, route.code, call.code)
+            if route.success:
+                setattr(response, route.success, call.code == "ok")
+            return response
+        return serve
+
+    def _request(self, qualified: str, args: dict, ending) -> None:
+        rqst_id = next(self.ids)
+        self.goals[rqst_id] = ending
+        # The layer reads argument values as text, whatever their type (as the simulator adapter).
+        self.host.request(rqst_id, qualified, {k: str(v) for k, v in args.items()}, self._reply)
+
+    # -- layer replies -> goal statuses or responses (the host's thread) -----------------------
+    def _reply(self, rqst_id: int, kind: str, code: str | None, t: float) -> None:
+        ending = self.goals[rqst_id]
+        if self.internal_pub:
+            self.internal_pub.publish(json.dumps({"goal_id": ending.id, "kind": kind,
+                                                  "code": code, "stamp": self._stamp(t)}))
+        if kind == "intermediate":
+            ending.started()
+        elif kind == "final":
+            del self.goals[rqst_id]
+            ending.end(code)
 
     def _world(self, t: float, kind: str, detail: str) -> None:
         if self.world_pub:
@@ -175,13 +243,14 @@ def main(argv: list[str] | None = None) -> int:
                         help="mission seconds per wall second (default: $UNTIMELY_TIME_SCALE, else 1)")
     parser.add_argument("--mission", type=Path, default=DEFAULT_MISSION_DIR,
                         help="folder of interface.toml, world.toml and ros.toml")
+    parser.add_argument("--mapping", type=Path, help="the mapping file (default: the mission folder's ros.toml)")
     args = parser.parse_args(argv)
     stopped = threading.Event()
     for signum in (signal.SIGTERM, signal.SIGINT):
         signal.signal(signum, lambda *_: stopped.set())
     rospy.init_node("dala", disable_rosout=True, disable_signals=True)
     try:
-        node = DalaNode(args.variant, args.mission, args.time_scale)
+        node = DalaNode(args.variant, args.mission, args.mapping or args.mission / "ros.toml", args.time_scale)
     except (UntimelyError, ValueError) as e:
         print(f"dala_node: {e}", file=sys.stderr, flush=True)
         return 2

@@ -1,10 +1,13 @@
-"""The mapping file beside an interface (e.g. missions/dala/ros.toml): services -> actionlib actions,
-goal statuses -> reply codes. Read by the generic adapter; no ROS import, so it can be checked anywhere."""
+"""The mapping file beside an interface (e.g. missions/dala/ros.toml): services -> actionlib actions or
+ROS services (routes.py), goal statuses -> reply codes. Read by the adapter, the nodes and the bag
+importer; no ROS import, so it can be checked anywhere."""
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
 from pathlib import Path
 
+from harness.adapters.ros.routes import GENERIC_TYPE, Route, parse_route
 from harness.errors import InputFileError, UntimelyError
 from harness.target.interface import read_toml
 
@@ -19,8 +22,8 @@ DEFAULT_ACTION = "/{module}"
 @dataclass(frozen=True)
 class Mapping:
     path: str
-    action: str  # template of an action's name, from {module} and {service}
-    overrides: dict[str, str]  # "module.Service" -> action name
+    action: str  # template of the generic action's name, from {module} and {service}
+    overrides: dict[str, Route]  # "module.Service" -> its route, when not the template's generic action
     status_codes: dict[str, str]  # terminal status -> code when the result names none the catalogue knows
     heartbeat_stale_s: float  # a server whose last status is older than this (wall seconds) is not alive
     # Topics of std_msgs/String JSON, if the SUT has them; `stamp` is the instant's wall-clock epoch (time.time()).
@@ -30,25 +33,32 @@ class Mapping:
     ping_topic: str | None
     pong_topic: str | None
 
-    def actions(self, services: list[tuple[str, str]]) -> dict[str, str]:
-        """The action of each (module, service), by "module.Service". A goal names its service, not its
-        module, so two services of one name may not share an action; every service needs one."""
-        actions, served = {}, {}
+    @property
+    def folder(self) -> Path:
+        """Where the routes' definition files are."""
+        return Path(self.path).parent
+
+    def routes(self, services: list[tuple[str, str]]) -> dict[str, Route]:
+        """The route of each (module, service), by "module.Service". A generic goal names its service,
+        not its module, so two services of one name may not share a generic action; a typed action
+        or a ROS service names neither, so it serves one service only."""
+        routes: dict[str, Route] = {}
         for module, service in services:
             qualified = f"{module}.{service}"
             if qualified in self.overrides:
-                action = self.overrides[qualified]
+                route = self.overrides[qualified]
             elif "{module}" in self.action:
-                action = self.action.format(module=module, service=service)
+                route = Route("action", self.action.format(module=module, service=service), GENERIC_TYPE)
             else:
                 raise UntimelyError(f"{self.path}: no action for {qualified}; add it under [services], "
                                     "or make `action` a template with {module}")
-            clash = served.setdefault((action, service), qualified)
-            if clash != qualified:
-                raise UntimelyError(f"{self.path}: {clash} and {qualified} both map to {action}, where a goal "
-                                    "names only its service; give one of them another action")
-            actions[qualified] = action
-        return actions
+            clash = next((other for other, known in routes.items() if known.name == route.name and not (
+                route.generic and known.generic and other.split(".")[1] != service)), None)
+            if clash:
+                raise UntimelyError(f"{self.path}: {clash} and {qualified} both map to {route.name}, where a goal "
+                                    "or call could not tell them apart; give one of them another name")
+            routes[qualified] = route
+        return routes
 
     def final_code(self, status: str, texts: tuple[str | None, ...], catalogue: dict[str, str]) -> str | None:
         """The final reply of a goal that ended in `status` (a GoalStatus name) with the result's and the
@@ -62,6 +72,14 @@ class Mapping:
                     return text
         return self.status_codes[status]
 
+
+
+def interface_services(interface: dict) -> list[tuple[str, str]]:
+    """(module, service) pairs of the hello's interface: {"modules": {module: {service: kind}}, ...}."""
+    modules = interface.get("modules")
+    if not isinstance(modules, dict) or not modules:
+        raise UntimelyError(f"the bench's hello has no interface modules: {json.dumps(interface)[:200]}")
+    return [(module, service) for module, services in modules.items() for service in services]
 
 
 def _text(path, key, value) -> str:
@@ -86,7 +104,7 @@ def load_mapping(path: str | Path) -> Mapping:
     for service, name in (data.get("services") or {}).items():
         if service.count(".") != 1:
             raise InputFileError(path, f"[services] {service}", f"{service!r} is not \"module.Service\"")
-        overrides[service] = _text(path, f"[services] {service}", name)
+        overrides[service] = parse_route(path, service, name)
     codes = dict(DEFAULT_STATUS_CODES)
     for status, code in (data.get("status_codes") or {}).items():
         if status not in TERMINAL_STATUSES:

@@ -24,8 +24,8 @@ PR_SET_PDEATHSIG = 1
 _libc = ctypes.CDLL(None, use_errno=True)  # loaded before any fork: the child only calls into it
 
 
-def _die_with_parent() -> None:
-    _libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+def _dying_with_parent(death_signal: int):
+    return lambda: _libc.prctl(PR_SET_PDEATHSIG, death_signal)
 
 
 class ChildError(UntimelyError):
@@ -61,12 +61,15 @@ def ros_environment(master_port: int, home: str) -> dict[str, str]:
 class Child:
     """A process whose stderr is forwarded to ours, keeping its last lines for error messages."""
 
-    def __init__(self, name: str, argv: list[str], env: dict[str, str]):
+    def __init__(self, name: str, argv: list[str], env: dict[str, str], death_signal: int = signal.SIGKILL,
+                 own_group: bool = False):
+        """`death_signal` reaches the child when the launcher dies; `own_group` keeps it out of the
+        launcher's process group, which the bench kills after its grace period."""
         self.name, self.argv = name, argv
         try:
             self.process = subprocess.Popen(argv, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
                                             stderr=subprocess.PIPE, text=True, errors="replace",
-                                            preexec_fn=_die_with_parent)
+                                            preexec_fn=_dying_with_parent(death_signal), start_new_session=own_group)
         except OSError as e:
             raise ChildError(f"cannot start the {name} ({' '.join(argv)!r}): {e}; check the command") from None
         self.last_lines: collections.deque[str] = collections.deque(maxlen=20)

@@ -1,0 +1,98 @@
+"""How one service of the interface reaches ROS 1 (a `[services."module.Service"]` table of ros.toml).
+
+Three kinds, each a choice per service:
+
+- the generic action `untimely_msgs/Request` (the default): the goal names the service and carries
+  its arguments as JSON, so one action server may serve a whole module;
+- a typed action (`action = NAME`, `type = "move_base_msgs/MoveBase"`): `fields` says which goal
+  field each argument fills, `defaults` fills the fields the script does not set; the result's
+  code field (`code`, if the result has one) or the status text gives the final reply;
+- a ROS service (`service = NAME`, `type = "std_srvs/Trigger"`): the request's fields as above; the
+  response is the final reply: its `code` field when the catalogue knows the text, else `ok` when
+  its `success` field is true, else `failure`.
+
+No ROS import: the file is checked anywhere.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from harness.errors import InputFileError
+
+GENERIC_TYPE = "untimely_msgs/Request"
+ROUTE_KEYS = {"action", "service", "type", "definition", "fields", "defaults", "code", "success", "failure"}
+
+
+@dataclass(frozen=True)
+class Route:
+    kind: str  # "action" or "service"
+    name: str  # the action server's or ROS service's name
+    type: str  # "package/Name"; GENERIC_TYPE for the generic action
+    fields: dict[str, str] = field(default_factory=dict)  # argument -> goal or request field ("a.b.c")
+    defaults: dict[str, object] = field(default_factory=dict)  # field -> value the script does not set
+    code: str | None = None  # result or response field carrying the reply code
+    success: str | None = None  # ROS service: bool response field, true -> ok
+    failure: str = "failure"  # ROS service: the code of a response that is neither
+    definition: str | None = None  # .action file (beside the mapping) for a type no package has
+
+    @property
+    def generic(self) -> bool:
+        return self.type == GENERIC_TYPE
+
+    def response_code(self, response, catalogue: dict[str, str]) -> str:
+        """The final reply of a ROS service's response."""
+        text = read_field(response, self.code) if self.code else None
+        if text in catalogue:
+            return text
+        if self.success and read_field(response, self.success):
+            return "ok"
+        return self.failure
+
+
+def read_field(message, path: str):
+    for name in path.split("."):
+        message = getattr(message, name)
+    return message
+
+
+def _text(path, key: str, value) -> str:
+    if not isinstance(value, str) or not value:
+        raise InputFileError(path, key, f"{key} = {value!r}; give a non-empty string")
+    return value
+
+
+def parse_route(path, service: str, value) -> Route:
+    """A [services] entry: a string is the generic action's name; a table names a type."""
+    key = f"[services] {service}"
+    if isinstance(value, str):
+        return Route("action", _text(path, key, value), GENERIC_TYPE)
+    if not isinstance(value, dict):
+        raise InputFileError(path, key, f"{value!r} is neither an action name nor a table")
+    unknown = set(value) - ROUTE_KEYS
+    if unknown:
+        raise InputFileError(path, key, f"unknown key(s) {sorted(unknown)}; a route takes {', '.join(sorted(ROUTE_KEYS))}")
+    kinds = [kind for kind in ("action", "service") if kind in value]
+    if len(kinds) != 1:
+        raise InputFileError(path, key, "give exactly one of action = NAME or service = NAME")
+    kind = kinds[0]
+    type_ = _text(path, f"{key}.type", value.get("type", GENERIC_TYPE if kind == "action" else ""))
+    if type_.count("/") != 1:
+        raise InputFileError(path, f"{key}.type", f"type = {type_!r} is not \"package/Name\"")
+    if kind == "service" and type_ == GENERIC_TYPE:
+        raise InputFileError(path, f"{key}.type", f"{GENERIC_TYPE} is an action; give the ROS service's type")
+    fields = value.get("fields", {})
+    defaults = value.get("defaults", {})
+    for table, entries in (("fields", fields), ("defaults", defaults)):
+        if not isinstance(entries, dict):
+            raise InputFileError(path, f"{key}.{table}", f"{table} = {entries!r}; give a table")
+    for argument, target in fields.items():
+        _text(path, f"{key}.fields.{argument}", target)
+    if type_ == GENERIC_TYPE and (fields or defaults):
+        raise InputFileError(path, key, f"{GENERIC_TYPE} carries the arguments as JSON; fields and defaults need a type")
+    options = {name: _text(path, f"{key}.{name}", value[name]) for name in ("code", "success", "failure", "definition") if name in value}
+    if kind == "action" and ({"success", "failure"} & set(options)):
+        raise InputFileError(path, key, "success and failure are for ROS services; an action ends with its goal status")
+    if kind == "service" and "definition" in options:
+        raise InputFileError(path, f"{key}.definition", "only actions can be generated from text; install the "
+                             "service's message package")
+    return Route(kind, _text(path, f"{key}.{kind}", value[kind]), type_, dict(fields), dict(defaults), **options)

@@ -1,0 +1,62 @@
+"""A ROS 1 .bag as one trace: the actionlib topics of every action the mapping names.
+
+Per action namespace NS: NS/goal (the request; the goal's goal_id.stamp is the client's send
+instant, which numbers the requests), NS/feedback (the first the server sent before the result,
+by their header stamps, is the intermediate reply), NS/result (the final: GoalStatus and the
+result's text mapped to a catalogue code as the live adapter does), NS/status (the final of a
+goal whose result the bag lost). Goals are paired by goal_id.id; NS/cancel changes nothing by
+itself (the preempted goal's result says how it ended). ROS 1 services are not topics: a bag
+cannot hold them.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from rosbags.highlevel import AnyReader
+
+from harness.errors import UntimelyError
+from harness.store.bags.routes import Routes
+from harness.store.bags.timeline import Timeline, seconds
+
+STATUS = ("PENDING", "ACTIVE", "PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED", "PREEMPTING", "RECALLING",
+          "RECALLED", "LOST")
+TERMINAL = {"PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED", "RECALLED"}
+
+
+def read_ros1(path: Path, routes: Routes) -> tuple[Timeline, list[str]]:
+    """The bag's timeline, and notes on what it cannot hold."""
+    actions = routes.named("action")
+    with AnyReader([path]) as reader:
+        topics = {}
+        for connection in reader.connections:
+            namespace, _, leaf = connection.topic.rpartition("/")
+            if namespace in actions and leaf in ("goal", "feedback", "result", "status"):
+                topics.setdefault(connection.topic, []).append(connection)
+        if not topics:
+            raise UntimelyError(f"no actionlib topic of the mapping {routes.mapping.path} in this bag; it records "
+                             f"{', '.join(sorted({c.topic for c in reader.connections})) or 'nothing'}")
+        timeline = Timeline(reader.start_time * 1e-9)
+        wanted = [c for connections in topics.values() for c in connections]
+        for connection, received_ns, raw in reader.messages(connections=wanted):
+            namespace, _, leaf = connection.topic.rpartition("/")
+            message, received = reader.deserialize(raw, connection.msgtype), received_ns * 1e-9
+            carried = actions[namespace]
+            if leaf == "goal":
+                target = routes.target(carried, message.goal)
+                if target is not None:
+                    timeline.request(message.goal_id.id, received, *target, sent_s=seconds(message.goal_id.stamp))
+            elif leaf == "feedback":
+                timeline.intermediate(message.status.goal_id.id, received, seconds(message.header.stamp))
+            elif leaf == "result":
+                status = message.status
+                route = carried[0][1]
+                code = routes.final_code(route, STATUS[status.status], message.result, status.text)
+                timeline.final(status.goal_id.id, received, code, seconds(message.header.stamp))
+            else:
+                for status in message.status_list:
+                    if STATUS[status.status] in TERMINAL:
+                        code = routes.final_code(carried[0][1], STATUS[status.status], None, status.text)
+                        timeline.status_final(status.goal_id.id, received, code)
+    services = routes.named("service")
+    notes = [f"ROS 1 services are no topics, so a bag holds no call of {', '.join(sorted(services))}"] if services else []
+    return timeline, notes

@@ -1,0 +1,139 @@
+"""A ROS 2 rosbag2 bag (MCAP or SQLite3) as one trace, read raw (ros2_types.py says why).
+
+Per action NAME of the mapping: NAME/_action/status (a goal's first appearance is its request
+when introspection is off; a terminal status is its final when no result was recorded),
+NAME/_action/feedback (the first before the final is the intermediate reply) and, where
+recorded, the introspection of its services: NAME/_action/send_goal/_service_event (the request,
+its goal's fields as arguments; a response `accepted = false` is a REJECTED final) and
+NAME/_action/get_result/_service_event (the final: status and result mapped to a catalogue code
+as the live adapter does). Per ROS service NAME: NAME/_service_event, whose response gives the
+final reply (Route.response_code). Events of one call are paired by client GID and sequence
+number; the client's side (request sent, response received) is the observed one when recorded,
+else the server's.
+"""
+from __future__ import annotations
+
+from rosbags.rosbag2 import Reader
+
+from harness.store.bags.ros2_types import register, typestore
+from harness.errors import UntimelyError
+from harness.store.bags.routes import Routes
+from harness.store.bags.timeline import Timeline, seconds
+
+STATUS = {4: "SUCCEEDED", 5: "PREEMPTED", 6: "ABORTED"}  # action_msgs/GoalStatus terminal codes
+REQUEST_SENT, REQUEST_RECEIVED, RESPONSE_SENT, RESPONSE_RECEIVED = range(4)
+INTROSPECTION = ("ros2 service introspection is off: turn it on in the client or server "
+                 "(configure_introspection, ServiceIntrospectionState.CONTENTS) and record the "
+                 "_service_event topics too")
+
+
+def _topics(routes: Routes) -> dict[str, tuple[str, str]]:
+    """Topic -> (what it carries, the action's or service's name)."""
+    topics = {}
+    for name in routes.named("action"):
+        for leaf, what in (("_action/status", "status"), ("_action/feedback", "feedback"),
+                           ("_action/send_goal/_service_event", "send_goal"),
+                           ("_action/get_result/_service_event", "get_result")):
+            topics[f"{name}/{leaf}"] = (what, name)
+    for name in routes.named("service"):
+        topics[f"{name}/_service_event"] = ("call", name)
+    return topics
+
+
+def _key(uuid) -> bytes:
+    return bytes(bytearray(uuid.uuid))
+
+
+def _calls(events: list) -> list:
+    """(call, request time, request, response time, response, send stamp) of each call, paired by
+    client GID and sequence number; the client's instants preferred to the server's."""
+    calls: dict[tuple, dict[int, tuple]] = {}
+    for received, event in events:
+        pair = calls.setdefault((bytes(bytearray(event.info.client_gid)), event.info.sequence_number), {})
+        pair.setdefault(event.info.event_type, (received, event))
+    paired = []
+    for call, pair in calls.items():
+        sent = pair.get(REQUEST_SENT) or pair.get(REQUEST_RECEIVED)
+        answered = pair.get(RESPONSE_RECEIVED) or pair.get(RESPONSE_SENT)
+        if sent and sent[1].request:
+            paired.append((call, sent[0], sent[1].request[0], answered[0] if answered else None,
+                           answered[1].response[0] if answered and answered[1].response else None,
+                           seconds(sent[1].info.stamp)))
+    return paired
+
+
+def _send_goals(timeline: Timeline, routes: Routes, carried, events) -> None:
+    route = carried[0][1]
+    for _, sent, request, answered, response, stamp in _calls(events):
+        target = routes.target(carried, request.goal)
+        if target is not None:
+            timeline.request(_key(request.goal_id), sent, *target, sent_s=stamp)
+            if response is not None and not response.accepted:
+                timeline.final(_key(request.goal_id), answered, routes.final_code(route, "REJECTED", None, ""))
+
+
+def _service_calls(timeline: Timeline, routes: Routes, carried, events) -> None:
+    for call, sent, request, answered, response, stamp in _calls(events):
+        timeline.request(call, sent, *routes.target(carried, request), sent_s=stamp)
+        if response is not None:
+            timeline.final(call, answered, carried[0][1].response_code(response, routes.catalogue))
+
+
+def _statuses(timeline: Timeline, routes: Routes, carried, events) -> None:
+    route = carried[0][1]
+    for received, message in events:
+        for status in message.status_list:
+            key = _key(status.goal_info.goal_id)
+            if not route.generic:  # a generic goal's service is in its goal only
+                timeline.request(key, received, carried[0][0], None, sent_s=seconds(status.goal_info.stamp))
+            if status.status in STATUS:
+                timeline.status_final(key, received, routes.final_code(route, STATUS[status.status], None, ""))
+
+
+def _results(timeline: Timeline, routes: Routes, carried, events) -> None:
+    for _, _, request, answered, response, _ in _calls(events):
+        if response is not None and response.status in STATUS:
+            timeline.final(_key(request.goal_id), answered,
+                           routes.final_code(carried[0][1], STATUS[response.status], response.result, ""))
+
+
+def _feedback(timeline: Timeline, routes: Routes, carried, events) -> None:
+    for received, message in events:
+        timeline.intermediate(_key(message.goal_id), received)
+
+
+# In this order: requests before what refers to them.
+HANDLERS = {"send_goal": _send_goals, "call": _service_calls, "status": _statuses, "get_result": _results,
+            "feedback": _feedback}
+
+
+def read_ros2(folder, routes: Routes) -> tuple[Timeline, list[str]]:
+    topics, store = _topics(routes), typestore()
+    by_kind: dict[tuple[str, str], list] = {}
+    with Reader(folder) as reader:
+        wanted = [c for c in reader.connections if c.topic in topics]
+        if not wanted:
+            raise UntimelyError(f"no topic of the mapping {routes.mapping.path} in this bag; it records "
+                                f"{', '.join(sorted({c.topic for c in reader.connections})) or 'nothing'}")
+        for connection in wanted:
+            register(store, connection.msgtype, connection.msgdef.data)
+        timeline = Timeline(reader.start_time * 1e-9)
+        for connection, received_ns, raw in reader.messages(connections=wanted):
+            by_kind.setdefault(topics[connection.topic], []).append(
+                (received_ns * 1e-9, store.deserialize_cdr(raw, connection.msgtype)))
+    named = {**routes.named("action"), **routes.named("service")}
+    for (what, name), events in sorted(by_kind.items(), key=lambda item: list(HANDLERS).index(item[0][0])):
+        HANDLERS[what](timeline, routes, named[name], events)
+    return timeline, _lacking(routes, {what for what, _ in by_kind})
+
+
+def _lacking(routes: Routes, recorded: set[str]) -> list[str]:
+    """Notes on what the bag lacks of the mapping."""
+    notes = []
+    if routes.named("action") and "send_goal" not in recorded:
+        notes.append("no goal introspection: requests come from the status topic, without arguments, and "
+                     f"rejected goals are missing ({INTROSPECTION})")
+    services = routes.named("service")
+    if services and "call" not in recorded:
+        notes.append(f"no call of the ROS services {', '.join(sorted(services))}: {INTROSPECTION}")
+    return notes

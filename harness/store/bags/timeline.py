@@ -1,0 +1,90 @@
+"""One bag's requests and replies as the rows of one trace, whatever order the bag holds them in.
+
+A bag stores each topic's messages as they were received, so a goal's result may precede its
+feedback, or an introspection event its request. The rules are the live adapter's (replies.py):
+a request gets at most one intermediate reply, only before its final, and at most one final; a
+reply to a request the bag never saw (recording started late) is left out and counted. Feedback
+and result travel on separate topics, so a recorder may receive a goal's feedback after its
+result; where the SUT stamped both (ROS 1 headers), its own clock says which came first, and an
+intermediate reply it sent first is kept, no later than the final.
+Requests are numbered in the order their clients sent them (the client's own stamp), as the
+bench numbers a script's requests.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+
+@dataclass
+class Request:
+    order: tuple  # the client's send stamp, then the receive time: the request's number
+    t: float
+    qualified: str
+    args: dict | None
+    intermediate: float | None = None
+    intermediate_stamp: float | None = None  # the SUT's own send stamp, where it gives one
+    final: tuple[float, str] | None = None
+    final_stamp: float | None = None
+    status_final: tuple[float, str] | None = None  # a terminal status, for a goal whose result is not in the bag
+
+
+class Timeline:
+    def __init__(self, origin_s: float):
+        self.origin_s = origin_s  # the bag's first receive stamp: t = 0
+        self.requests: dict[object, Request] = {}
+        self.orphans = 0  # replies to goals whose request the bag does not hold
+
+    def request(self, key, received_s: float, qualified: str, args: dict | None, sent_s: float | None = None) -> None:
+        if key not in self.requests:
+            t = received_s - self.origin_s
+            self.requests[key] = Request((sent_s if sent_s is not None else received_s, received_s), t, qualified, args)
+
+    def intermediate(self, key, received_s: float, stamp_s: float | None = None) -> None:
+        request = self.requests.get(key)
+        if request is None:
+            self.orphans += 1
+        elif request.intermediate is None:
+            request.intermediate, request.intermediate_stamp = received_s - self.origin_s, stamp_s
+
+    def final(self, key, received_s: float, code: str | None, stamp_s: float | None = None) -> None:
+        request = self.requests.get(key)
+        if request is None:
+            self.orphans += 1
+        elif request.final is None and code is not None:
+            request.final, request.final_stamp = (received_s - self.origin_s, code), stamp_s
+
+    def status_final(self, key, received_s: float, code: str | None) -> None:
+        """A terminal status seen in a status list: the final only if the bag holds no result."""
+        request = self.requests.get(key)
+        if request is not None and request.status_final is None and code is not None:
+            request.status_final = (received_s - self.origin_s, code)
+
+    def rows(self, label: str) -> list[dict]:
+        """The events of the trace `label`, in time order (a request before its replies)."""
+        events = []
+        for number, request in enumerate(sorted(self.requests.values(), key=lambda r: r.order), 1):
+            request.final = request.final or request.status_final
+            module, service = request.qualified.split(".")
+            args = json.dumps(request.args) if request.args is not None else None
+            events.append((request.t, 0, number, "request", module, service, args, None))
+            final_t = request.final[0] if request.final else None
+            if request.intermediate is not None and (final_t is None or request.intermediate <= final_t
+                                                     or _sent_before(request.intermediate_stamp, request.final_stamp)):
+                t = request.intermediate if final_t is None else min(request.intermediate, final_t)
+                events.append((max(t, request.t), 1, number, "intermediate", module, service, None, None))
+            if request.final:
+                events.append((max(final_t, request.t), 2, number, "final", module, service, None, request.final[1]))
+        events.sort(key=lambda e: (e[0], e[2], e[1]))
+        return [{"trace_id": label, "seq": seq, "t": round(t, 9), "kind": kind, "rqst_id": number, "module": module,
+                 "service": service, "args": args, "reply": reply}
+                for seq, (t, _, number, kind, module, service, args, reply) in enumerate(events, 1)]
+
+
+def _sent_before(first: float | None, second: float | None) -> bool:
+    return first is not None and second is not None and first <= second
+
+
+def seconds(stamp) -> float:
+    """A message's time stamp (sec, nanosec) in seconds."""
+    return stamp.sec + stamp.nanosec * 1e-9

@@ -1,0 +1,149 @@
+"""ROS 1 bags without ROS: bags written here with rosbags' rosbag1 writer, holding the actionlib
+topics of the generic action (untimely_msgs/Request, the seven messages genaction derives from
+harness/adapters/ros/untimely_msgs/Request.action), import to the traces the test expects
+(harness/store/bags/ros1.py). The bag recorded by Debian's rosbag during a live run is in
+test_ros_bags1.py."""
+import json
+
+import pytest
+from rosbags.rosbag1 import Writer
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+from harness import DEFAULT_MISSION_DIR
+from harness.errors import InputFileError
+from harness.store.database import connect
+from harness.store.importer import import_file
+
+ACTION = {  # what genaction.py writes for Request.action
+    "RequestActionGoal": "Header header\nactionlib_msgs/GoalID goal_id\nRequestGoal goal\n",
+    "RequestActionResult": "Header header\nactionlib_msgs/GoalStatus status\nRequestResult result\n",
+    "RequestActionFeedback": "Header header\nactionlib_msgs/GoalStatus status\nRequestFeedback feedback\n",
+    "RequestGoal": "string service\nstring args_json\n",
+    "RequestResult": "string code\n",
+    "RequestFeedback": "string phase\n",
+}
+PENDING, ACTIVE, PREEMPTED, SUCCEEDED, ABORTED, REJECTED = range(6)
+
+
+class Bag:
+    def __init__(self, path):
+        self.store = get_typestore(Stores.ROS1_NOETIC)
+        for name, text in ACTION.items():
+            self.store.register(get_types_from_msg(text, f"untimely_msgs/msg/{name}"))
+        self.types = self.store.types
+        self.writer = Writer(path)
+        self.writer.open()
+        self.connections = {}
+
+    def _time(self, s):
+        return self.types["builtin_interfaces/msg/Time"](sec=int(s), nanosec=round((s % 1) * 1e9))
+
+    def _header(self, s):
+        return self.types["std_msgs/msg/Header"](seq=0, stamp=self._time(s), frame_id="")
+
+    def _status(self, goal, status, text, s):
+        goal_id = self.types["actionlib_msgs/msg/GoalID"](stamp=self._time(s), id=goal)
+        return self.types["actionlib_msgs/msg/GoalStatus"](goal_id=goal_id, status=status, text=text)
+
+    def write(self, topic, name, at, message):
+        msgtype = f"untimely_msgs/msg/{name}" if "/" not in name else name
+        if topic not in self.connections:
+            self.connections[topic] = self.writer.add_connection(topic, msgtype, typestore=self.store)
+        self.writer.write(self.connections[topic], int(at * 1e9), self.store.serialize_ros1(message, msgtype))
+
+    def goal(self, at, goal, service, sent=None, **args):
+        types = self.types
+        message = types["untimely_msgs/msg/RequestActionGoal"](
+            header=self._header(at), goal_id=types["actionlib_msgs/msg/GoalID"](stamp=self._time(sent or at), id=goal),
+            goal=types["untimely_msgs/msg/RequestGoal"](service=service, args_json=json.dumps(args)))
+        self.write("/dala/ndd/goal", "RequestActionGoal", at, message)
+
+    def feedback(self, at, goal, stamp=None):
+        message = self.types["untimely_msgs/msg/RequestActionFeedback"](
+            header=self._header(stamp or at), status=self._status(goal, ACTIVE, "", at),
+            feedback=self.types["untimely_msgs/msg/RequestFeedback"](phase="running"))
+        self.write("/dala/ndd/feedback", "RequestActionFeedback", at, message)
+
+    def result(self, at, goal, status, code, stamp=None):
+        message = self.types["untimely_msgs/msg/RequestActionResult"](
+            header=self._header(stamp or at), status=self._status(goal, status, code, at),
+            result=self.types["untimely_msgs/msg/RequestResult"](code=code))
+        self.write("/dala/ndd/result", "RequestActionResult", at, message)
+
+    def close(self):
+        self.writer.close()
+
+
+def imported(path, interface, **options):
+    con = connect(":memory:")
+    import_file(con, path, interface, **options)
+    rows = con.execute("select label, seq, round(t, 3), kind, rqst_id, service, args::varchar, reply "
+                       "from events join traces using (trace_id) order by trace_id, seq").fetchall()
+    return [(*row[:6], json.loads(row[6]) if row[6] else None, row[7]) for row in rows]
+
+
+def test_a_ros1_bag_imports_rejected_aborted_and_preempted_goals(tmp_path, interface):
+    bag = Bag(tmp_path / "drive.bag")
+    bag.goal(10.0, "g1", "GotoPosition", x=9.0, y=4.0)  # before Init: REJECTED, the result's code
+    bag.result(10.01, "g1", REJECTED, "wait_init")
+    bag.goal(11.0, "g2", "Init")
+    bag.result(11.5, "g2", SUCCEEDED, "ok")
+    bag.goal(12.0, "g3", "GotoPosition", x=3.0, y=2.0)
+    bag.feedback(12.01, "g3")
+    bag.goal(13.0, "g4", "GotoPosition", x=5.0, y=5.0)
+    bag.result(13.01, "g3", PREEMPTED, "")  # preempted by g4: the fallback of [status_codes]
+    bag.result(14.0, "g4", ABORTED, "")  # the result names no code, the status text neither
+    bag.feedback(14.02, "g4", stamp=13.5)  # received after its result, sent before it: kept
+    bag.close()
+    with pytest.raises(InputFileError, match=r"drive.bag:.*'aborted' is not in the reply catalogue"):
+        imported(tmp_path / "drive.bag", interface)  # Dala's ros.toml: ABORTED = "aborted", not catalogued
+    mapping = tmp_path / "ros.toml"
+    mapping.write_text((DEFAULT_MISSION_DIR / "ros.toml").read_text().replace('ABORTED = "aborted"',
+                                                                              'ABORTED = "goal_unreachable"'))
+    assert imported(tmp_path / "drive.bag", interface, ros=str(mapping)) == [
+        ("drive.bag", 1, 0.0, "request", 1, "GotoPosition", {"x": 9.0, "y": 4.0}, None),
+        ("drive.bag", 2, 0.01, "final", 1, "GotoPosition", None, "wait_init"),
+        ("drive.bag", 3, 1.0, "request", 2, "Init", {}, None),
+        ("drive.bag", 4, 1.5, "final", 2, "Init", None, "ok"),
+        ("drive.bag", 5, 2.0, "request", 3, "GotoPosition", {"x": 3.0, "y": 2.0}, None),
+        ("drive.bag", 6, 2.01, "intermediate", 3, "GotoPosition", None, None),
+        ("drive.bag", 7, 3.0, "request", 4, "GotoPosition", {"x": 5.0, "y": 5.0}, None),
+        ("drive.bag", 8, 3.01, "final", 3, "GotoPosition", None, "interrupted"),
+        ("drive.bag", 9, 4.0, "intermediate", 4, "GotoPosition", None, None),
+        ("drive.bag", 10, 4.0, "final", 4, "GotoPosition", None, "goal_unreachable"),
+    ]
+
+
+def test_requests_are_numbered_in_the_order_their_client_sent_them(tmp_path, interface):
+    bag = Bag(tmp_path / "order.bag")
+    bag.goal(1.0, "late", "Init", sent=0.6)  # received first, sent second
+    bag.goal(1.1, "early", "Stop", sent=0.5)
+    bag.close()
+    rows = imported(tmp_path / "order.bag", interface)
+    assert [(r[3], r[4], r[5]) for r in rows] == [("request", 2, "Init"), ("request", 1, "Stop")]
+
+
+def test_a_folder_of_bags_is_one_trace_each(tmp_path, interface):
+    for name in ("a.bag", "b.bag"):
+        bag = Bag(tmp_path / name)
+        bag.goal(1.0, "g", "Init")
+        bag.result(1.5, "g", SUCCEEDED, "ok")
+        bag.close()
+    assert [(r[0], r[3]) for r in imported(tmp_path, interface)] == [
+        ("a.bag", "request"), ("a.bag", "final"), ("b.bag", "request"), ("b.bag", "final")]
+
+
+def test_a_bag_without_the_mapped_topics_is_refused_naming_them(tmp_path, interface):
+    bag = Bag(tmp_path / "chat.bag")
+    bag.write("/chatter", "std_msgs/msg/String", 1.0, bag.types["std_msgs/msg/String"](data="hi"))
+    bag.close()
+    with pytest.raises(InputFileError, match=r"chat.bag:+ no actionlib topic of the mapping .*ros.toml in this bag; "
+                                             r"it records /chatter"):
+        imported(tmp_path / "chat.bag", interface)
+
+
+def test_a_file_that_is_no_bag_is_refused_naming_it(tmp_path, interface):
+    (tmp_path / "broken.bag").write_text("not a bag")
+    with pytest.raises(InputFileError, match=r"broken.bag:+ cannot read the bag \(AnyReaderError: File magic is "
+                                             r"invalid.\); is it whole\?"):
+        imported(tmp_path / "broken.bag", interface)

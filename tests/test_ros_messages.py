@@ -1,0 +1,42 @@
+"""Message classes of typed routes (harness/adapters/ros/messages.py), under Debian's ROS Python:
+an action of a package Debian lacks, generated from its .action text (with a dependency on
+Debian's geometry_msgs), filled from a request's arguments and the route's defaults."""
+import json
+import subprocess
+
+from tests.ros_driver import ensure_ros_venv, requires_ros
+
+pytestmark = requires_ros
+
+PROBE = """
+import json, sys
+from pathlib import Path
+from harness.adapters.ros.messages import action_classes, fill
+from harness.adapters.ros.routes import Route
+from harness.errors import UntimelyError
+route = Route("action", "/dock", "dock_msgs/Dock", {"x": "pose.position.x", "speed": "speed", "slow": "slow"},
+              {"pose.orientation.w": 1.0}, code="code", definition="Dock.action")
+classes = action_classes(route, Path(sys.argv[1]))
+goal = fill(classes.Goal(), route, {"x": "3.5", "speed": 0.2, "slow": "true"})
+problems = []
+for args in ({"y": 1}, {"x": "abc"}):
+    try:
+        fill(classes.Goal(), route, args)
+    except UntimelyError as e:
+        problems.append(str(e))
+print(json.dumps({"goal": [goal.pose.position.x, goal.speed, goal.slow, goal.pose.orientation.w],
+                  "result": classes.Result.__slots__, "type": classes.Action._type, "problems": problems}))
+"""
+
+
+def test_an_action_debian_lacks_is_generated_from_its_text_and_filled(tmp_path):
+    (tmp_path / "Dock.action").write_text("geometry_msgs/Pose pose\nfloat64 speed\nbool slow\n---\nstring code\n"
+                                          "---\nfloat64 progress\n")
+    python = ensure_ros_venv()
+    out = subprocess.run([str(python), "-c", PROBE, str(tmp_path)], capture_output=True, text=True, check=True)
+    found = json.loads(out.stdout)
+    assert found["goal"] == [3.5, 0.2, True, 1.0]  # text and JSON values converted to the fields' types
+    assert found["result"] == ["code"] and found["type"] == "dock_msgs/DockAction"
+    assert found["problems"] == [
+        "argument y=1 has no field in dock_msgs/Dock; add it to the route's fields in ros.toml",
+        "'abc' cannot fill dock_msgs/Dock field pose.position.x, a float64"]
