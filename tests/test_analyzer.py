@@ -67,6 +67,20 @@ def test_inversions_count_differing_verdicts_and_what_the_flag_caught():
             in summary(con, EPSILON))
 
 
+def test_a_request_the_layer_never_took_is_no_inversion():
+    """A hung layer never takes the last request: it is judged (omega) on the observed side only,
+    which no reordering could change, so neither the view nor the flag's recall counts it."""
+    trace = Trace(sut="bip-a", seed=0, outcome="hung")
+    trace.events = [_row(1, 0.0, "request", 1, "rflex.Init"), _row(2, 1.0, "final", 1, "rflex.Init", "ok"),
+                    _row(3, 1.5, "request", 2, "rflex.TrackSpeedStart")]
+    trace.internal_events = trace.events[:2]
+    con = judged_traces("test", [(trace, None)], [PEX], EPSILON)
+    assert con.execute("select rqst_id, verdict from verdicts").fetchall() == [(2, "omega")]
+    assert con.execute("select count(*) from verdicts_internal").fetchone()[0] == 0
+    assert con.execute("select count(*) from inversions").fetchone()[0] == 0
+    assert analyzer.flag_accuracy(con) == (0, 0, 0, 0)
+
+
 def test_traces_without_ground_truth_have_no_inversions():
     con = judged_store(load(HERE / "tables.trace"), EPSILON)
     assert con.execute("select count(*) from inversions").fetchone()[0] == 0

@@ -68,7 +68,7 @@ class Oracle:
 def render_oracles(properties: list[Property], epsilon: float, interface: Interface | None = None) -> list[Oracle]:
     if not properties:
         raise PropertyError("no properties to judge; give a properties file with [[property]] entries")
-    return [Oracle(p, target, render_property(p, events, epsilon, interface))
+    return [Oracle(p, target, render_property(p, events, epsilon, interface, peers=properties))
             for events, target in SOURCES for p in properties]
 
 
@@ -149,10 +149,10 @@ def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
 
 
 def flag_accuracy(con) -> tuple[int, int, int, int]:
-    """Over the traces with a ground truth: (verdicts, inverted verdicts, inverted and flagged,
-    flagged). Recall = inverted and flagged / inverted; precision = inverted and flagged / flagged."""
+    """Over the requests judged on both timelines: (verdicts, inverted verdicts, inverted and
+    flagged, flagged). Recall = inverted and flagged / inverted; precision = inverted and flagged / flagged."""
     judged, flagged = con.execute("""select count(*), count(*) filter (where suspicious) from verdicts
-                                     semi join (select distinct trace_id from internal_events) using (trace_id)
+                                     semi join verdicts_internal using (trace_id, property_id, module, service, rqst_id)
                                   """).fetchone()
     inverted, caught = con.execute("select count(*), count(*) filter (where suspicious) from inversions").fetchone()
     return judged, inverted, caught, flagged

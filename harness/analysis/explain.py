@@ -73,7 +73,8 @@ class Explainer:
         for property_id in dict.fromkeys(p for _, p, _ in keys):
             wanted = [(t, r) for t, p, r in keys if p == property_id]
             cursor = self.con.execute(render_property(self.properties[property_id], "events", self.epsilon,
-                                                      self.interface, explain=wanted))
+                                                      self.interface, explain=wanted,
+                                                      peers=list(self.properties.values())))
             names = [d[0] for d in cursor.description]
             for row in cursor.fetchall():
                 pair = dict(zip(names, row))

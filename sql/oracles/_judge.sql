@@ -12,7 +12,8 @@ coalesce(round({{ seconds }}, 6) < {{ epsilon }}, false)
 -- (the largest conflicting shift) or any one non-conflict would have to start (the smallest).
 -- A pair is `near` when its shift is below epsilon, both rounded to microseconds (a 10 ms gap
 -- is never on either side of 10 ms by float rounding); the order of the others is sure.
--- `caused`: a pair that says C cannot hold (a candidate cause of x(i)'s end, see ee.sql).
+-- `caused`: a pair that says C is false with a conflict that was not rejected (x(i)'s end had a
+-- cause, see ee.sql).
 {{ name }}_agg as (
     select trace_id, rqst_id,
            bool_or(conflicts) as any_conflict,
@@ -23,7 +24,8 @@ coalesce(round({{ seconds }}, 6) < {{ epsilon }}, false)
            -- every conflict rejected (na), C false with a conflict that was not rejected
            not coalesce(bool_or(conflicts and not near or {{ caused }}), false) as may_hold,
            coalesce(bool_and(conflict_rejected) filter (where conflicts and not near), true)
-               and coalesce(bool_or((conflicts or near) and conflict_rejected), false) as may_be_na,
+               and coalesce(bool_or((conflicts or near) and conflict_rejected), false)
+               and not coalesce(bool_or({{ caused }}), false) as may_be_na,
            coalesce(bool_or((conflicts or near) and not conflict_rejected), false) as may_fail
     from (select *, {{ near('shift') }} as near from {{ name }}_pairs)
     group by trace_id, rqst_id

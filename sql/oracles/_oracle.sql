@@ -4,7 +4,7 @@
     decided the condition of some requests instead (explain.requests: (trace_id, rqst_id) pairs). Rendered by harness/oracles.py. -#}
 {% import 'oracles/_base.sql' as base %}
 {% import template as oracle with context %}
-with {{ base.requests(events, services, explain.traces if explain else none) }},
+with {{ base.requests(events, modules, explain.traces if explain else none) }},
 {{ oracle.ctes('p', **parameters) }}
 {% if explain %}
 select * from p_pairs where (trace_id, rqst_id) in ({{ explain.requests | join(', ') }})

@@ -9,23 +9,30 @@
 {{ base.relevant(name, 'x', x) }},
 {{ base.relevant(name, 'y', y) }},
 -- An interruption, or the end of an activity that runs until stopped, has a cause: a request
--- to the module of x or of y, sent while x(i) ran (or within epsilon after its end) and still
--- being processed then (not ended more than epsilon before it). A control request replies at
--- once and stops nothing. When every candidate cause is a y(j), one of them stays before the
--- end whatever the observed order: C cannot hold (`caused`).
+-- sent while x(i) ran (or within epsilon before its request or after its end) and still being processed then (not
+-- ended more than epsilon before it), to the module of x or of y, or to a module that some
+-- property says may interrupt x with the code x(i) ended with (`enders`). A control request
+-- replies at once and a rejected one never ran: neither stops anything. When every candidate
+-- cause is a y(j), one of them stays before the end whatever the observed order: C is false
+-- with a conflict that was not rejected (`caused`).
+{{ name }}_enders as (
+    select * from (values {% for x_service, code, module in enders %}({{ x_service | lit }}, {{ code | lit }}, {{ module | lit }}){{ ', ' if not loop.last }}{% else %}(null, null, null){% endfor %}) as e(x_service, reply, module)
+),
 {{ name }}_callers as (
     select * from requests
-    where module in ({{ (x + y) | modules | map('lit') | join(', ') }}){% if control %} and not {{ base.among(control) }}{% endif %}
+    where class is distinct from 'R'{% if control %} and not {{ base.among(control) }}{% endif %}
 
 ),
 {{ name }}_caused as (
     select x.trace_id, x.rqst_id, bool_and({{ base.among(y, 'c.') }}) as caused
     from {{ name }}_x x
     join {{ name }}_callers c on c.trace_id = x.trace_id and c.rqst_id <> x.rqst_id
-         and {{ base.before('x.', 'c.') }}
+         and ({{ base.before('x.', 'c.') }} or {{ judge.near('x.t - c.t') }})
          and (coalesce({{ base.before('c.', 'x.final_') }}, true) or {{ judge.near('c.t - x.final_t') }})
          and (c.final_t is null or not {{ base.before('c.final_', 'x.final_') }}
               or {{ judge.near('x.final_t - c.final_t') }})
+         and (c.module in ({{ (x + y) | modules | map('lit') | join(', ') }})
+              or (x.module || '.' || x.service, x.reply, c.module) in (from {{ name }}_enders))
     where x.class = 'Z'{% if until_stopped %} or {{ base.among(until_stopped, 'x.') }}{% endif %}
 
     group by x.trace_id, x.rqst_id
