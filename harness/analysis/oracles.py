@@ -18,7 +18,8 @@ from harness.store.sql import ENV
 from harness.target.interface import Interface, Property
 
 # The columns of the verdicts table in the order every oracle query returns them (sql/views/verdicts.sql).
-VERDICT_COLUMNS = "trace_id, property_id, family, rqst_id, module, service, c_holds, verdict, margin_s, suspicious"
+VERDICT_COLUMNS = ("trace_id, property_id, family, rqst_id, module, service, c_holds, verdict, margin_s, suspicious, "
+                   "certain, alternatives")
 PARAMETERS = ("x", "y", "q", "r_p", "z_p")
 _TABLE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _SERVICE = re.compile(r"[^.\s']+\.[^.\s']+")

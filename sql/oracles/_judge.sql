@@ -52,7 +52,8 @@ case when reply is null then 'omega'
 {% macro judged(name, code, accepted) -%}
 -- the verdict table: `code` is the property's own rejection or interruption code, `accepted`
 -- the reply classes that mean the activity ran; c_holds NULL = C undefined for this request.
--- Suspicious: a condition that reordering the near pairs could give changes the verdict.
+-- alternatives: the other verdicts that the conditions reordering the near pairs could give
+-- would make, sorted; none: the verdict is certain.
 {{ name }}_verdict as (
     select *, {{ verdict('c_holds', 'conflicts_rejected', code, accepted) }} as verdict
     from {{ name }}_cond
@@ -60,10 +61,12 @@ case when reply is null then 'omega'
 {{ name }}_judged as (
     select trace_id, rqst_id, module, service, reply, c_holds, verdict,
            case when c_holds is not null then nullif(margin_s, 'infinity') end as margin_s,
-           c_holds is not null and (
-               may_hold and {{ verdict('true', 'false', code, accepted) }} <> verdict
-               or may_be_na and {{ verdict('false', 'true', code, accepted) }} <> verdict
-               or may_fail and {{ verdict('false', 'false', code, accepted) }} <> verdict) as suspicious
+           case when c_holds is null then []::varchar[]
+                else list_sort(list_distinct(list_filter([
+                    case when may_hold then {{ verdict('true', 'false', code, accepted) }} end,
+                    case when may_be_na then {{ verdict('false', 'true', code, accepted) }} end,
+                    case when may_fail then {{ verdict('false', 'false', code, accepted) }} end],
+                    lambda other: other <> verdict))) end as alternatives
     from {{ name }}_verdict
 )
 {%- endmacro %}

@@ -10,6 +10,7 @@ with {{ base.requests(events, modules, explain.traces if explain else none) }},
 select * from p_pairs where (trace_id, rqst_id) in ({{ explain.requests | join(', ') }})
 {% else %}
 select trace_id, {{ id | lit }} as property_id, {{ family | lit }} as family, rqst_id, module, service,
-       c_holds, verdict, margin_s, suspicious
+       c_holds, verdict, margin_s, len(alternatives) > 0 as suspicious,
+       len(alternatives) = 0 as certain, alternatives
 from p_judged
 {% endif %}
