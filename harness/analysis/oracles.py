@@ -42,15 +42,15 @@ def _parameters(prop: Property) -> dict:
 
 
 def interrupters(properties: list[Property]) -> list[tuple[str, str, str]]:
-    """(x service, interruption code, module) for every module whose requests a property says may
-    end an x activity with that code: the y of EE, EX and MX_I properties (both ways for MX_I).
-    A cause of an interruption is looked for on these modules too (sql/oracles/ee.sql)."""
+    """(x service, interruption code, y service) for every request that a property says may end an
+    x activity with that code: the y of EE, EX and MX_I properties (both ways for MX_I). The
+    cause of an interruption is looked for among them (sql/oracles/ee.sql)."""
     found = set()
     for p in properties:
         if p.type not in ("EE", "EX", "MX_I") or not p.z_p:
             continue
         ways = [(p.x, p.y), (p.y, p.x)] if p.type == "MX_I" else [(p.x, p.y)]
-        found |= {(x, p.z_p, y.split(".")[0]) for xs, ys in ways for x in xs for y in ys}
+        found |= {(x, p.z_p, y) for xs, ys in ways for x in xs for y in ys}
     return sorted(found)
 
 
@@ -74,7 +74,7 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
         return ENV.get_template("oracles/_oracle.sql").render(
             template=template, id=prop.id, family=prop.family, events=events, epsilon=round(float(epsilon), 6),
             parameters=parameters, enders=enders,
-            modules=sorted(own | {module for *_, module in enders}),
+            modules=sorted(own | {service.split(".")[0] for *_, service in enders}),
             until_stopped=interface.until_stopped if interface else [],
             control=interface.of_kind("control") if interface else [],
             explain=dict(traces=sorted({int(t) for t, _ in explain}),

@@ -53,7 +53,8 @@ case when reply is null then 'omega'
 -- the verdict table: `code` is the property's own rejection or interruption code, `accepted`
 -- the reply classes that mean the activity ran; c_holds NULL = C undefined for this request.
 -- alternatives: the other verdicts that the conditions reordering the near pairs could give
--- would make, sorted; none: the verdict is certain.
+-- would make, sorted; none: the verdict is certain. A rejection with the property's own code is
+-- the layer's account that C was false when it took x(i): C true is no alternative for it.
 {{ name }}_verdict as (
     select *, {{ verdict('c_holds', 'conflicts_rejected', code, accepted) }} as verdict
     from {{ name }}_cond
@@ -63,7 +64,8 @@ case when reply is null then 'omega'
            case when c_holds is not null then nullif(margin_s, 'infinity') end as margin_s,
            case when c_holds is null then []::varchar[]
                 else list_sort(list_distinct(list_filter([
-                    case when may_hold then {{ verdict('true', 'false', code, accepted) }} end,
+                    case when may_hold and not (reply = {{ code | lit }} and class = 'R')
+                         then {{ verdict('true', 'false', code, accepted) }} end,
                     case when may_be_na then {{ verdict('false', 'true', code, accepted) }} end,
                     case when may_fail then {{ verdict('false', 'false', code, accepted) }} end],
                     lambda other: other <> verdict))) end as alternatives

@@ -9,14 +9,16 @@
 {{ base.relevant(name, 'x', x) }},
 {{ base.relevant(name, 'y', y) }},
 -- An interruption, or the end of an activity that runs until stopped, has a cause: a request
--- sent while x(i) ran (or within epsilon before its request or after its end) and still being processed then (not
--- ended more than epsilon before it), to the module of x or of y, or to a module that some
--- property says may interrupt x with the code x(i) ended with (`enders`). A control request
+-- sent while x(i) ran (or within epsilon before its request or after its end) and still being
+-- processed then (not ended more than epsilon before it). An interruption comes from a request
+-- that some property says may end x with that code (`enders`), or from any request to x's own
+-- module when a property says that module may (an undocumented behaviour such as GenoM's Init,
+-- which interrupts with AIB's code); another end from the module of x or of y. A control request
 -- replies at once and a rejected one never ran: neither stops anything. When every candidate
 -- cause is a y(j), one of them stays before the end whatever the observed order: C is false
 -- with a conflict that was not rejected (`caused`).
 {{ name }}_enders as (
-    select * from (values {% for x_service, code, module in enders %}({{ x_service | lit }}, {{ code | lit }}, {{ module | lit }}){{ ', ' if not loop.last }}{% else %}(null, null, null){% endfor %}) as e(x_service, reply, module)
+    select * from (values {% for x_service, code, y_service in enders %}({{ x_service | lit }}, {{ code | lit }}, {{ y_service | lit }}){{ ', ' if not loop.last }}{% else %}(null, null, null){% endfor %}) as e(x_service, reply, y_service)
 ),
 {{ name }}_callers as (
     select * from requests
@@ -31,8 +33,10 @@
          and (coalesce({{ base.before('c.', 'x.final_') }}, true) or {{ judge.near('c.t - x.final_t') }})
          and (c.final_t is null or not {{ base.before('c.final_', 'x.final_') }}
               or {{ judge.near('x.final_t - c.final_t') }})
-         and (c.module in ({{ (x + y) | modules | map('lit') | join(', ') }})
-              or (x.module || '.' || x.service, x.reply, c.module) in (from {{ name }}_enders))
+         and (case when x.class <> 'Z' then c.module in ({{ (x + y) | modules | map('lit') | join(', ') }})
+                   when c.module = x.module then (x.module || '.' || x.service, x.reply, c.module) in
+                       (select x_service, reply, split_part(y_service, '.', 1) from {{ name }}_enders)
+                   else (x.module || '.' || x.service, x.reply, c.module || '.' || c.service) in (from {{ name }}_enders) end)
     where x.class = 'Z'{% if until_stopped %} or {{ base.among(until_stopped, 'x.') }}{% endif %}
 
     group by x.trace_id, x.rqst_id
