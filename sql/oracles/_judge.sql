@@ -1,10 +1,10 @@
 {#- Judging a property's pairs (see _base.sql): its condition C per request, its verdict by
     the verdict table, and whether reordering events closer than `epsilon` could change that
-    verdict (`suspicious`, docs/analyzer.md). `epsilon` is read from the context: import this
-    file `with context`. -#}
+    verdict (`suspicious`, docs/analyzer.md). Epsilon is the trace's (CTE `epsilons`, see
+    _epsilon.sql), else `epsilon` from the context: import this file `with context`. -#}
 
-{% macro near(seconds) -%}
-coalesce(round({{ seconds }}, 6) < {{ epsilon }}, false)
+{% macro near(seconds, trace_epsilon='e.epsilon') -%}
+coalesce(round({{ seconds }}, 6) < coalesce({{ trace_epsilon }}, {{ epsilon }}), false)
 {%- endmacro %}
 
 {% macro condition(name, defined='true', caused='false') -%}
@@ -27,7 +27,7 @@ coalesce(round({{ seconds }}, 6) < {{ epsilon }}, false)
                and coalesce(bool_or((conflicts or near) and conflict_rejected), false)
                and not coalesce(bool_or({{ caused }}), false) as may_be_na,
            coalesce(bool_or((conflicts or near) and not conflict_rejected), false) as may_fail
-    from (select *, {{ near('shift') }} as near from {{ name }}_pairs)
+    from (select p.*, {{ near('p.shift') }} as near from {{ name }}_pairs p left join epsilons e using (trace_id))
     group by trace_id, rqst_id
 ),
 {{ name }}_cond as (

@@ -3,8 +3,10 @@
     `template`, and its verdict rows with the contract columns; with `explain`, the pairs that
     decided the condition of some requests instead (explain.requests: (trace_id, rqst_id) pairs). Rendered by harness/oracles.py. -#}
 {% import 'oracles/_base.sql' as base %}
+{% import 'oracles/_epsilon.sql' as eps %}
 {% import template as oracle with context %}
 with {{ base.requests(events, modules, explain.traces if explain else none) }},
+{{ eps.per_trace() }},
 {{ oracle.ctes('p', **parameters) }}
 {% if explain %}
 select * from p_pairs where (trace_id, rqst_id) in ({{ explain.requests | join(', ') }})

@@ -28,6 +28,7 @@
 {{ name }}_caused as (
     select x.trace_id, x.rqst_id, bool_and({{ base.among(y, 'c.') }}) as caused
     from {{ name }}_x x
+    left join epsilons e on e.trace_id = x.trace_id
     join {{ name }}_callers c on c.trace_id = x.trace_id and c.rqst_id <> x.rqst_id
          and ({{ base.before('x.', 'c.') }} or {{ judge.near('x.t - c.t') }})
          and (coalesce({{ base.before('c.', 'x.final_') }}, true) or {{ judge.near('c.t - x.final_t') }})
