@@ -17,7 +17,7 @@ SEED    ?= 2012
 JOBS    ?= 0
 STRATEGY ?= random
 
-.PHONY: venv ros test bench campaign analyze report clean
+.PHONY: venv ros test bench campaign analyze report paper clean
 
 venv: $(STAMP)
 
@@ -55,3 +55,10 @@ report: $(STAMP)
 
 clean:
 	rm -rf $(VENV) $(VENV_ROS) reports/*.duckdb reports/*.html reports/*.csv reports/traces
+
+# The paper's Tables II-IV beside ours, from a fresh default campaign (docs/paper.md).
+PAPER_DB ?= reports/paper.duckdb
+paper: $(STAMP)
+	rm -f $(PAPER_DB)
+	$(PY) -m harness campaign --db $(PAPER_DB) --seed $(SEED) --jobs $(JOBS)
+	$(PY) -m harness.report.paper --db $(PAPER_DB) --out docs/paper.md

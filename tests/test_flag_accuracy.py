@@ -8,10 +8,13 @@ and they differ. Recall = inverted and flagged / inverted; precision = inverted 
 import contextlib
 import io
 
+from pathlib import Path
+
 import duckdb
 import pytest
 
 from harness.cli import main
+from harness.report import paper
 
 CAMPAIGNS = {
     "dala-random": [],
@@ -79,3 +82,19 @@ def test_bad_verdicts_are_certain_only_where_a_protection_is_missing(campaign):
     for sut in suts & missing.keys():
         for family in missing[sut]:
             assert certain.get(f"{sut} {family}", 0) > 0, f"{sut} {family}: no certain FN"
+
+
+def test_make_paper_writes_the_committed_comparison_from_a_fresh_default_campaign(campaign, tmp_path):
+    """docs/paper.md is what `make paper` writes from the default campaign (seed 2012, 300 mutants):
+    the same run gives the same text, every differing cell has its reason, and the page names no
+    file outside the repository."""
+    name, con = campaign
+    if name != "dala-random":
+        pytest.skip("the paper's campaign is the default one")
+    db = con.execute("select path from duckdb_databases() where database_name = current_database()").fetchone()[0]
+    out = tmp_path / "paper.md"
+    assert paper.write(db, out) == []
+    text = out.read_text()
+    assert text == (Path(__file__).resolve().parent.parent / "docs" / "paper.md").read_text()
+    assert "shared" not in text
+    assert "| BIP-B | paper | 293 | 1 | 11 | 0 | 12 | 95.9% |" in text
