@@ -56,11 +56,12 @@ def interrupters(properties: list[Property]) -> list[tuple[str, str, str]]:
 
 def render_property(prop: Property, events: str = "events", epsilon: float = DEFAULT_EPSILON_S,
                     interface: Interface | None = None, explain: list[tuple[int, int]] = (),
-                    peers: list[Property] = ()) -> str:
+                    peers: list[Property] = (), runs: bool = True) -> str:
     """The oracle query of one property over the events table `events`: the verdicts columns.
     The interface, when given, says which requests may end an activity, and `peers` (the properties
     judged with it) on which other modules an interruption may come from (see sql/oracles/ee.sql).
-    `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions."""
+    `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions.
+    `runs`: whether the store has trace_runs, whose pings give a real-time trace its epsilon."""
     if not _TABLE_NAME.fullmatch(events):
         raise PropertyError(f"events source {events!r} is not a table name; use events or internal_events")
     if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
@@ -73,7 +74,7 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
     try:
         return ENV.get_template("oracles/_oracle.sql").render(
             template=template, id=prop.id, family=prop.family, events=events, epsilon=round(float(epsilon), 6),
-            parameters=parameters, enders=enders,
+            parameters=parameters, enders=enders, runs=runs,
             modules=sorted(own | {service.split(".")[0] for *_, service in enders}),
             until_stopped=interface.until_stopped if interface else [],
             control=interface.of_kind("control") if interface else [],

@@ -9,10 +9,15 @@
 greatest(ceil({{ rtt_s }} * {{ time_scale }} * 1e4) / 1e4, 1e-4)
 {%- endmacro %}
 
-{% macro per_trace() -%}
--- epsilon per trace: measured by the pings of a real-time run, else the analysis's
+{% macro per_trace(runs=true) -%}
+-- epsilon per trace: measured by the pings of a real-time run, else the analysis's (`runs`
+-- false: a store from before trace_runs, read as it is)
 epsilons as (
+{% if runs %}
     select trace_id, {{ measured('rtt_max_s', 'time_scale') }} as epsilon
     from trace_runs where rtt_max_s is not null
+{% else %}
+    select null::integer as trace_id, null::double as epsilon where false
+{% endif %}
 )
 {%- endmacro %}

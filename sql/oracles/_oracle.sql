@@ -6,7 +6,7 @@
 {% import 'oracles/_epsilon.sql' as eps %}
 {% import template as oracle with context %}
 with {{ base.requests(events, modules, explain.traces if explain else none) }},
-{{ eps.per_trace() }},
+{{ eps.per_trace(runs) }},
 {{ oracle.ctes('p', **parameters) }}
 {% if explain %}
 select * from p_pairs where (trace_id, rqst_id) in ({{ explain.requests | join(', ') }})
