@@ -25,21 +25,31 @@
     where class is distinct from 'R'{% if control %} and not {{ base.among(control) }}{% endif %}
 
 ),
+-- per x(i) whose end needs a cause, the modules it may come from, and the service (NULL: any)
+{{ name }}_sources as (
+    select x.trace_id, x.rqst_id, x.t, x.seq, x.final_t, x.final_seq, split_part(e.y_service, '.', 1) as module,
+           case when split_part(e.y_service, '.', 1) <> x.module then split_part(e.y_service, '.', 2) end as service
+    from {{ name }}_x x
+    join {{ name }}_enders e on e.x_service = x.module || '.' || x.service and e.reply = x.reply
+    where x.class = 'Z'
+{% if until_stopped %}
+    union
+    select x.trace_id, x.rqst_id, x.t, x.seq, x.final_t, x.final_seq, m.module, null
+    from {{ name }}_x x
+    cross join (values {% for m in (x + y) | modules %}({{ m | lit }}){{ ', ' if not loop.last }}{% endfor %}) as m(module)
+    where x.class is distinct from 'Z' and {{ base.among(until_stopped, 'x.') }}
+{% endif %}
+),
 {{ name }}_caused as (
     select x.trace_id, x.rqst_id, bool_and({{ base.among(y, 'c.') }}) as caused
-    from {{ name }}_x x
+    from {{ name }}_sources x
     left join epsilons e on e.trace_id = x.trace_id
-    join {{ name }}_callers c on c.trace_id = x.trace_id and c.rqst_id <> x.rqst_id
+    join {{ name }}_callers c on c.trace_id = x.trace_id and c.module = x.module and c.rqst_id <> x.rqst_id
+         and (x.service is null or c.service = x.service)
          and ({{ base.before('x.', 'c.') }} or {{ judge.near('x.t - c.t') }})
          and (coalesce({{ base.before('c.', 'x.final_') }}, true) or {{ judge.near('c.t - x.final_t') }})
          and (c.final_t is null or not {{ base.before('c.final_', 'x.final_') }}
               or {{ judge.near('x.final_t - c.final_t') }})
-         and (case when x.class <> 'Z' then c.module in ({{ (x + y) | modules | map('lit') | join(', ') }})
-                   when c.module = x.module then (x.module || '.' || x.service, x.reply, c.module) in
-                       (select x_service, reply, split_part(y_service, '.', 1) from {{ name }}_enders)
-                   else (x.module || '.' || x.service, x.reply, c.module || '.' || c.service) in (from {{ name }}_enders) end)
-    where x.class = 'Z'{% if until_stopped %} or {{ base.among(until_stopped, 'x.') }}{% endif %}
-
     group by x.trace_id, x.rqst_id
 ),
 -- each x(i) with every other y(j) of its trace, placed relative to x(i)'s activity
