@@ -10,11 +10,11 @@ import io
 
 from pathlib import Path
 
-import duckdb
 import pytest
 
 from harness.cli import main
 from harness.report import paper
+from harness.store.database import connect
 
 CAMPAIGNS = {
     "dala-random": [],
@@ -35,7 +35,7 @@ def campaign(request, tmp_path_factory):
     db = tmp_path_factory.mktemp(request.param) / "c.duckdb"
     with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
         assert main(["campaign", "--db", str(db), "--jobs", "1", *CAMPAIGNS[request.param]]) == 0
-    con = duckdb.connect(str(db), read_only=True)
+    con = connect(db, read_only=True)  # as harness.report.paper opens it, so both may be open at once
     yield request.param, con
     con.close()
 
