@@ -23,7 +23,7 @@ SEED    ?= 2012
 JOBS    ?= 0
 STRATEGY ?= random
 
-.PHONY: venv system ros ros-cpp test bench campaign analyze report clean
+.PHONY: venv system ros ros-cpp test bench campaign analyze report paper clean
 
 venv: $(STAMP)
 
@@ -91,3 +91,10 @@ report: $(STAMP)
 
 clean:
 	rm -rf $(VENV) $(VENV_ROS) $(ROS_CPP_DIR) reports/*.duckdb reports/*.html reports/*.csv reports/traces
+
+# The paper's Tables II-IV beside ours, from a fresh default campaign (docs/paper.md).
+PAPER_DB ?= reports/paper.duckdb
+paper: $(STAMP)
+	rm -f $(PAPER_DB)
+	$(PY) -m harness campaign --db $(PAPER_DB) --seed $(SEED) --jobs $(JOBS)
+	$(PY) -m harness.report.paper --db $(PAPER_DB) --out docs/paper.md

@@ -2,7 +2,7 @@
 
 On the default campaign (300 mutants; genom, bip-a, bip-b) and on a --time-mutations campaign
 with all five variants, prints the flag's recall (inverted verdicts it flags / inverted
-verdicts, target >= 95%) and precision (inverted verdicts among the flagged, target >= 50%),
+verdicts, target 100%) and precision (inverted verdicts among the flagged, target >= 80%; issue 23),
 against the `inversions` view; and the wall time of re-analysing the default campaign with the
 diff of the two analyses (target < 3 s), as a ratio to the target. Campaigns are built in a
 temporary folder unless given. Not a test:
@@ -29,7 +29,7 @@ from harness.target.interface import load_interface, load_properties  # noqa: E4
 from harness.store.database import connect  # noqa: E402
 
 CAMPAIGNS = {"default": [], "time-mutations": ["--time-mutations", "--sut", "genom,bip-a,bip-b,bare,reference"]}
-RECALL, PRECISION, REANALYSIS_S = 0.95, 0.50, 3.0
+RECALL, PRECISION, REANALYSIS_S = 1.0, 0.80, 3.0
 
 
 def campaign(folder: Path, name: str) -> Path:

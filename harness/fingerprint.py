@@ -17,7 +17,7 @@ TABLES = {
     "internal_events": ("trace_id, seq, t, kind, rqst_id, module, service, args, reply", "trace_id, seq"),
     "world_events": ("trace_id, t, kind, detail", "all"),
     "verdicts": ("trace_id, property_id, family, rqst_id, module, service, c_holds, verdict, margin_s, "
-                 "suspicious", "all"),
+                 "suspicious, certain, alternatives", "all"),
 }
 BATCH_ROWS = 50_000
 

@@ -17,6 +17,11 @@ def rate_interval(rate: float | None, low: float | None, high: float | None, n: 
     return f"{percent(rate)} [{percent(low)}, {percent(high)}] n={n}"
 
 
+def with_certain(text: str, certain: float | None) -> str:
+    """A rate's text and, after it, the rate counting only certain FN or FP ("c" for certain)."""
+    return f"{text} c={percent(certain)}"
+
+
 def cell(value, null: str = "NULL") -> str:
     if value is None:
         return null

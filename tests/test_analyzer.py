@@ -67,6 +67,20 @@ def test_inversions_count_differing_verdicts_and_what_the_flag_caught():
             in summary(con, EPSILON))
 
 
+def test_a_request_the_layer_never_took_is_no_inversion():
+    """A hung layer never takes the last request: it is judged (omega) on the observed side only,
+    which no reordering could change, so neither the view nor the flag's recall counts it."""
+    trace = Trace(sut="bip-a", seed=0, outcome="hung")
+    trace.events = [_row(1, 0.0, "request", 1, "rflex.Init"), _row(2, 1.0, "final", 1, "rflex.Init", "ok"),
+                    _row(3, 1.5, "request", 2, "rflex.TrackSpeedStart")]
+    trace.internal_events = trace.events[:2]
+    con = judged_traces("test", [(trace, None)], [PEX], EPSILON)
+    assert con.execute("select rqst_id, verdict from verdicts").fetchall() == [(2, "omega")]
+    assert con.execute("select count(*) from verdicts_internal").fetchone()[0] == 0
+    assert con.execute("select count(*) from inversions").fetchone()[0] == 0
+    assert analyzer.flag_accuracy(con) == (0, 0, 0, 0)
+
+
 def test_traces_without_ground_truth_have_no_inversions():
     con = judged_store(load(HERE / "tables.trace"), EPSILON)
     assert con.execute("select count(*) from inversions").fetchone()[0] == 0
@@ -127,16 +141,19 @@ def test_analyze_command_prints_tables_ii_to_iv(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "Judged 22 events of 6 traces against 2 properties" in out
     table2, table3, table4 = (_cells(out, a, b) for a, b in (("Table II -", "Table III"),
-                                                            ("Table III", "Table IV"), ("Table IV", "Least")))
-    assert table2 == [["sut", "total", "hung", "crashed", "with_fn", "with_fp", "bad", "t_rob"],
-                      ["A", "4", "1", "0", "1", "1", "3", "25.0%"], ["B", "2", "0", "1", "0", "0", "1", "50.0%"]]
-    # each rate with its 95% Wilson interval (textbook values: 1/2 -> 9.5-90.5, 1/1 -> 20.7-100) and n
-    assert table3 == [["family", "A", "B"], ["PEX", "50.0 [9.5, 90.5] n=2", "100.0 [20.7, 100.0] n=1"],
-                      ["AIB", "100.0 [20.7, 100.0] n=1", "- n=0"],
-                      ["All", "66.7 [20.8, 93.9] n=3", "100.0 [20.7, 100.0] n=1"]]
-    assert table4 == [["family", "A", "B"], ["PEX", "50.0 [9.5, 90.5] n=2", "- n=0"],
-                      ["AIB", "0.0 [0.0, 79.3] n=1", "0.0 [0.0, 79.3] n=1"],
-                      ["All", "33.3 [6.1, 79.2] n=3", "0.0 [0.0, 79.3] n=1"]]
+                                                            ("Table III", "Table IV"), ("Table IV", "Epsilon (view")))
+    assert table2 == [["sut", "total", "hung", "crashed", "with_fn", "with_fp", "bad", "t_rob", "with_fn_certain",
+                       "with_fp_certain", "bad_certain", "t_rob_certain"],
+                      ["A", "4", "1", "0", "1", "1", "3", "25.0%", "1", "1", "3", "25.0%"],
+                      ["B", "2", "0", "1", "0", "0", "1", "50.0%", "0", "0", "1", "50.0%"]]
+    # each rate with its 95% Wilson interval (textbook values: 1/2 -> 9.5-90.5, 1/1 -> 20.7-100) and n,
+    # then counting only certain FN or FP (all are certain here)
+    assert table3 == [["family", "A", "B"], ["PEX", "50.0 [9.5, 90.5] n=2 c=50.0", "100.0 [20.7, 100.0] n=1 c=100.0"],
+                      ["AIB", "100.0 [20.7, 100.0] n=1 c=100.0", "- n=0 c=-"],
+                      ["All", "66.7 [20.8, 93.9] n=3 c=66.7", "100.0 [20.7, 100.0] n=1 c=100.0"]]
+    assert table4 == [["family", "A", "B"], ["PEX", "50.0 [9.5, 90.5] n=2 c=50.0", "- n=0 c=-"],
+                      ["AIB", "0.0 [0.0, 79.3] n=1 c=0.0", "0.0 [0.0, 79.3] n=1 c=0.0"],
+                      ["All", "33.3 [6.1, 79.2] n=3 c=33.3", "0.0 [0.0, 79.3] n=1 c=0.0"]]
     # the two properties, fewest C-false requests first, on their worst variant
     assert "view coverage): AIB(ndd.GotoPosition) 0 (B), PEX(rflex) 1 (B)." in out
 
@@ -175,3 +192,25 @@ def test_a_typo_in_a_template_names_the_property_the_template_and_the_rendered_l
     assert (f"[template sql/oracles/ee.sql, line {line} of the rendered query: "
             "\"y_klass is not distinct from 'R' as conflict_rejected\"]") in str(failed.value)
     assert con.execute("select * from verdicts order by all").fetchall() == before
+
+
+def test_a_real_time_trace_is_judged_with_the_epsilon_its_pings_measured():
+    """The same Init ok 5 ms before the request: unsure at the analysis's 10 ms, sure in a real-time
+    run whose slowest ping round trip was 2 ms (wall) at time scale 1."""
+    traces = []
+    for _ in range(2):
+        trace = Trace(sut="genom", seed=0)
+        trace.events = [_row(1, 0.0, "request", 1, "rflex.Init"), _row(2, 1.0, "final", 1, "rflex.Init", "ok"),
+                        _row(3, 1.005, "request", 2, "rflex.TrackSpeedStart"),
+                        _row(4, 2.0, "final", 2, "rflex.TrackSpeedStart", "ok")]
+        traces.append((trace, None))
+    con = judged_traces("test", traces, [PEX], EPSILON)
+    con.execute("""insert into trace_runs (trace_id, host, started_at, time_scale, pings, rtt_p50_s, rtt_p95_s,
+                   rtt_max_s) values (2, 'local', now(), 1, 12, 0.001, 0.0015, 0.0019)""")
+    materialise(con, [PEX], EPSILON)
+    assert con.execute("select trace_id, epsilon_s, source from trace_epsilon order by 1").fetchall() == [
+        (1, EPSILON, "analysis"), (2, 0.0019, "pings")]
+    assert con.execute("select trace_id, verdict, suspicious from verdicts order by 1").fetchall() == [
+        (1, "TN", True), (2, "TN", False)]
+    assert ("Epsilon (view trace_epsilon): 0.01 s for 1 trace (the analysis's --epsilon); 0.0019 s for 1 trace "
+            "(measured by the pings of each real-time run)." in summary(con, EPSILON))

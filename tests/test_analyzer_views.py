@@ -15,8 +15,9 @@ def con():
 def test_trace_robustness_is_table_ii(con):
     rows = con.execute("select * from trace_robustness order by sut").fetchall()
     assert [d[0] for d in con.description] == ["sut", "total", "hung", "crashed", "with_fn", "with_fp",
-                                               "bad", "t_rob"]
-    assert rows == [("A", 4, 1, 0, 1, 1, 3, 0.25), ("B", 2, 0, 1, 0, 0, 1, 0.5)]
+                                               "bad", "t_rob", "with_fn_certain", "with_fp_certain",
+                                               "bad_certain", "t_rob_certain"]
+    assert rows == [("A", 4, 1, 0, 1, 1, 3, 0.25, 1, 1, 3, 0.25), ("B", 2, 0, 1, 0, 0, 1, 0.5, 0, 0, 1, 0.5)]
 
 
 def test_trace_badness_is_the_one_rule_of_a_bad_trace(con):
@@ -113,3 +114,16 @@ def test_coverage_lists_every_property_even_without_relevant_requests(properties
 def test_bad_behaviours_are_distinct_per_variant_property_and_verdict(con):
     rows = con.execute("select sut, property_id, verdict, traces from bad_behaviours order by all").fetchall()
     assert rows == [("A", "PEX(rflex)", "FN", 1), ("A", "PEX(rflex)", "FP", 1), ("A", None, "hung", 1)]
+
+
+def test_tables_ii_to_iv_count_certain_fn_and_fp_beside_all_of_them():
+    """tests/traces/flag.trace: three FNs, of which only the until-stopped one is certain (the other two
+    may be a TN and an na); one hung trace. Counting only certain FNs: TP rate 4/5, one trace with FN."""
+    flag = judged_store(load(HERE / "flag.trace"), EPSILON)
+    assert flag.execute("select tp, fn, fn_certain, tp_rate, tp_rate_certain from tp_rates where family = 'AIB'"
+                        ).fetchone() == (4, 3, 1, pytest.approx(4 / 7), pytest.approx(4 / 5))
+    assert flag.execute("select fp, fp_certain, fp_rate, fp_rate_certain from fp_rates where family = 'AIB'"
+                        ).fetchone() == (0, 0, 0.0, 0.0)
+    assert flag.execute("""select total, hung, with_fn, bad, t_rob, with_fn_certain, bad_certain, t_rob_certain
+                           from trace_robustness""").fetchone() == (
+        12, 1, 3, 4, pytest.approx(8 / 12), 1, 2, pytest.approx(10 / 12))

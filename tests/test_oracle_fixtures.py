@@ -61,3 +61,35 @@ def test_fixtures_cover_every_cell_of_every_verdict_table():
     assert {t: CELLS[t] - seen[t] for t in CELLS} == {t: set() for t in CELLS}
     assert suspicious == set(CELLS), "every type needs a near-coincident (suspicious) verdict"
     assert {("MX_R", "y"), ("MX_I", "y")} <= roles, "mutual properties judge y requests too"
+
+
+# What each verdict could be instead, by reordering the events closer than epsilon (one case per
+# rule of docs/analyzer.md and per kind of alternative); a certain verdict has none.
+ALTERNATIVES = {
+    ("flag", "flag_self_ending_activity", "AIB(ndd.GotoPosition)", 1): ["TN"],
+    ("flag", "flag_two_candidate_causes", "AIB(ndd.GotoPosition)", 1): ["FP"],
+    ("flag", "flag_na_to_fn", "AIB(ndd.GotoPosition)", 1): ["FN"],
+    ("flag", "flag_fn_to_na", "AIB(ndd.GotoPosition)", 1): ["na"],
+    ("flag", "flag_tp_to_na", "AIB(ndd.GotoPosition)", 1): ["na"],
+    ("flag", "flag_control_is_no_cause", "AIB(ndd.GotoPosition)", 1): [],
+    ("causes", "rejected_request_is_no_cause", "AIB(ndd.GotoPosition)", 1): ["op"],
+    ("causes", "cause_sent_just_before", "EXC(aspect.Reset,ndd.GotoPosition)", 2): ["FP", "TP"],
+    ("causes", "cause_sent_just_before", "EXC(antenna.Communication,ndd.GotoPosition)", 2): ["FP"],
+    ("causes", "cause_sent_just_before", "EXC(antenna.Communication,ndd.GotoPosition)", 3): ["FN"],
+}
+
+
+@pytest.mark.parametrize("key", ALTERNATIVES, ids=[f"{f}:{label}:{p}:{r}" for f, label, p, r in ALTERNATIVES])
+def test_a_possible_verdict_lists_what_the_other_orderings_give(key):
+    file, label, property_id, rqst_id = key
+    con = store(next(i for i, f in enumerate(FIXTURES) if f.path.stem == file))
+    certain, alternatives = con.execute(
+        """select certain, alternatives from verdicts join traces using (trace_id)
+           where label = ? and property_id = ? and rqst_id = ?""", [label, property_id, rqst_id]).fetchone()
+    assert (certain, alternatives) == (not ALTERNATIVES[key], ALTERNATIVES[key])
+
+
+def test_certain_is_exactly_not_suspicious():
+    for index in range(len(FIXTURES)):
+        assert store(index).execute("""select count(*) from verdicts where certain = suspicious
+                                       or certain <> (len(alternatives) = 0)""").fetchone()[0] == 0

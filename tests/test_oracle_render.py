@@ -10,7 +10,7 @@ from harness.store.database import connect, insert_trace
 from harness.trace import Trace
 
 CONTRACT = ["trace_id", "property_id", "family", "rqst_id", "module", "service", "c_holds", "verdict",
-            "margin_s", "suspicious"]
+            "margin_s", "suspicious", "certain", "alternatives"]
 ES = Property(id="ES(ndd.GotoPosition)", family="ES", type="ES", x=("ndd.GotoPosition",),
               y=("antenna.Point",), r_p="disallowed")
 

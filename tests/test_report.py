@@ -191,7 +191,7 @@ def test_table2_equals_the_trace_robustness_view(site):
     names, found = _query(db, "select * from trace_robustness")
     rows = _page(out / "index.html").texts("trace_robustness")
     assert rows[0] == names
-    assert sorted(rows[1:]) == sorted([shown(r[c], c == "t_rob") for c in names] for r in found)
+    assert sorted(rows[1:]) == sorted([shown(r[c], c.startswith("t_rob")) for c in names] for r in found)
     assert [r[0] for r in rows[1:]] == ["genom", "bip-a", "reference"]  # the order they were run
 
 
@@ -203,13 +203,14 @@ def test_tables_3_and_4_equal_the_rate_views(site, table, view, rate):
     suts = rows[0][1:]
     cells = {(row[0], sut): text for row in rows[1:] for sut, text in zip(suts, row[1:])}
 
-    def with_interval(r):  # the rate, its 95% interval, n
+    def with_interval(r):  # the rate, its 95% interval, n, then the rate counting only certain FN or FP
+        certain = f" c={shown(r[rate + '_certain'], rate=True)}"
         if not r["n"]:
-            return "- n=0"
+            return "- n=0" + certain
         return (f"{shown(r[rate], rate=True)} [{shown(r[rate + '_low'], rate=True)}, "
-                f"{shown(r[rate + '_high'], rate=True)}] n={r['n']}")
+                f"{shown(r[rate + '_high'], rate=True)}] n={r['n']}{certain}")
     assert cells == {(r["family"], r["sut"]): with_interval(r) for r in found}
-    assert table == "table4" or "- n=0" in cells.values()  # a family without a case says so
+    assert table == "table4" or "- n=0 c=-" in cells.values()  # a family without a case says so
     assert [row[0] for row in rows[1:]] == ["PEX", "AIB", "PRE", "EXC", "All"]
 
 
@@ -301,6 +302,7 @@ def test_table3_cells_reach_trace_pages_in_two_clicks(site):
             cell = next(r for r in rates if (r["sut"], r["family"]) == (sut, row[0][0]))
             interval = (f"{shown(cell['tp_rate'], rate=True)} [{shown(cell['tp_rate_low'], rate=True)}, "
                         f"{shown(cell['tp_rate_high'], rate=True)}] n={cell['n']}" if cell["n"] else "- n=0")
+            interval += f" c={shown(cell['tp_rate_certain'], rate=True)}"
             assert f"TP {cell['tp']}, FN {cell['fn']}: TP rate (%, 95% interval, n)\n{interval}." in \
                 (out / href).read_text()
 

@@ -23,7 +23,7 @@ from harness.analysis.oracles import VERDICT_COLUMNS, render_property
 from harness.store.sql import render_view
 from harness.analysis.provenance import default_properties, last_epsilon, record
 from harness.store.database import connect, transaction
-from harness.textable import format_table, percent, rate_interval
+from harness.textable import format_table, percent, rate_interval, with_certain
 
 # (events source, verdicts table): the observed timeline and the ground truth.
 SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
@@ -31,7 +31,7 @@ SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
 VIEWS = ("wilson", "property_positions", "family_positions", "judged_traces", "trace_scope", "requests",
          "activities", "property_verdicts", "family_verdicts", "trace_badness", "trace_robustness",
          "tp_rates", "fp_rates", "inversions", "interface_latency", "coverage", "bad_behaviours",
-         "table_values", "verdict_transitions", "table_changes", "analysis")
+         "table_values", "verdict_transitions", "table_changes", "analysis", "trace_epsilon")
 # What orders the views' rows, by column: variants as the campaign ran them, properties and
 # families in the order of the properties file, All last (the store's positions tables and views).
 _LINE = re.compile(r"LINE (\d+):")
@@ -68,7 +68,7 @@ class Oracle:
 def render_oracles(properties: list[Property], epsilon: float, interface: Interface | None = None) -> list[Oracle]:
     if not properties:
         raise PropertyError("no properties to judge; give a properties file with [[property]] entries")
-    return [Oracle(p, target, render_property(p, events, epsilon, interface))
+    return [Oracle(p, target, render_property(p, events, epsilon, interface, peers=properties))
             for events, target in SOURCES for p in properties]
 
 
@@ -141,18 +141,19 @@ def family_order(con) -> list[str]:
 
 def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
     """Paper layout: one row per family (properties-file order, then All), one column per variant;
-    each cell the rate, its 95% Wilson interval and n."""
-    cells = {(sut, family): rate_interval(*values) for sut, family, *values in con.execute(
-        f"select sut, family, {column}, {column}_low, {column}_high, n from {view}").fetchall()}
+    each cell the rate, its 95% Wilson interval and n, then c= the rate counting only certain FN or FP."""
+    cells = {(sut, family): with_certain(rate_interval(*values), certain) for sut, family, certain, *values in
+             con.execute(f"select sut, family, {column}_certain, {column}, {column}_low, {column}_high, n "
+                         f"from {view}").fetchall()}
     return format_table(["family"] + suts,
                         [[f] + [cells.get((s, f), "-") for s in suts] for f in family_order(con)])
 
 
 def flag_accuracy(con) -> tuple[int, int, int, int]:
-    """Over the traces with a ground truth: (verdicts, inverted verdicts, inverted and flagged,
-    flagged). Recall = inverted and flagged / inverted; precision = inverted and flagged / flagged."""
+    """Over the requests judged on both timelines: (verdicts, inverted verdicts, inverted and
+    flagged, flagged). Recall = inverted and flagged / inverted; precision = inverted and flagged / flagged."""
     judged, flagged = con.execute("""select count(*), count(*) filter (where suspicious) from verdicts
-                                     semi join (select distinct trace_id from internal_events) using (trace_id)
+                                     semi join verdicts_internal using (trace_id, property_id, module, service, rqst_id)
                                   """).fetchone()
     inverted, caught = con.execute("select count(*), count(*) filter (where suspicious) from inversions").fetchone()
     return judged, inverted, caught, flagged
@@ -162,24 +163,30 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
     cursor = con.execute(ordered(con, "trace_robustness"))
     columns, robustness = [d[0] for d in cursor.description], cursor.fetchall()
     suts = [r[0] for r in robustness]
-    table2 = format_table(columns, [r[:-1] + (percent(r[-1]) + "%",) for r in robustness])
+    rates = [i for i, c in enumerate(columns) if c.startswith("t_rob")]
+    table2 = format_table(columns, [tuple(percent(v) + "%" if i in rates else v for i, v in enumerate(r))
+                                    for r in robustness])
     parts = ["Table II - per trace results\n" + table2,
-             "Table III - true positive rates TP/(TP+FN), % [95% Wilson interval] n=TP+FN\n"
+             "Table III - true positive rates TP/(TP+FN), % [95% Wilson interval] n=TP+FN "
+             "c=counting only certain FN\n"
              + _rates_by_family(con, "tp_rates", "tp_rate", suts),
-             "Table IV - false positive rates FP/(FP+TN), % [95% Wilson interval] n=FP+TN\n"
+             "Table IV - false positive rates FP/(FP+TN), % [95% Wilson interval] n=FP+TN "
+             "c=counting only certain FP\n"
              + _rates_by_family(con, "fp_rates", "fp_rate", suts)]
     left_out = con.execute("select left_out, count(*) from trace_scope where not counted group by all "
                            "order by all").fetchall()
     if left_out:
         parts.append("Not counted in Tables II-IV (view trace_scope): "
                      + "; ".join(f"{n} trace{'s' * (n != 1)}: {why}" for why, n in left_out) + ".")
+    parts.append(epsilons(con))
     judged, inverted, caught, flagged = flag_accuracy(con)
     if judged:
         parts.append(f"Ground truth: {inverted} of {judged} observed verdicts differ from the verdicts on "
                      f"the internal timeline (view inversions). The suspicious flag (epsilon {epsilon:g} s) "
                      f"caught {caught} of them (recall {percent(caught / inverted if inverted else None)}%) "
                      f"and is raised on {flagged} verdicts in all "
-                     f"(precision {percent(caught / flagged if flagged else None)}%).")
+                     f"(precision {percent(caught / flagged if flagged else None)}%). The SUT's internal events "
+                     f"settle all {flagged} uncertain verdicts: {caught} change, {flagged - caught} hold.")
     cursor = con.execute("select * exclude (campaign_id) from interface_latency order by campaign_id, sut")
     latency = cursor.fetchall()
     if latency:
@@ -187,6 +194,19 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
                      "suggested epsilon in mission s)\n" + format_table([d[0] for d in cursor.description], latency))
     parts.append(least_covered(con))
     return "\n\n".join(parts)
+
+
+def epsilons(con) -> str:
+    """Which epsilon the traces were judged with (view trace_epsilon): the analysis's, or per
+    real-time trace the one its pings measured."""
+    found = con.execute("""select source, count(*), min(epsilon_s), max(epsilon_s) from trace_epsilon
+                           group by source order by source""").fetchall()
+    said = []
+    for source, n, low, high in found:
+        value = f"{low:g} s" if low == high else f"{low:g} to {high:g} s"
+        said.append(f"{value} for {n} trace{'s' * (n != 1)} "
+                    + ("(the analysis's --epsilon)" if source == "analysis" else "(measured by the pings of each real-time run)"))
+    return "Epsilon (view trace_epsilon): " + "; ".join(said) + "."
 
 
 def least_covered(con: duckdb.DuckDBPyConnection, shown: int = 5) -> str:

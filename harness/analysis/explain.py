@@ -63,6 +63,8 @@ class Explainer:
     def __init__(self, con, interface: Interface, properties: dict[str, Property]):
         self.con, self.interface, self.properties = con, interface, properties
         self.epsilon = con.execute("select epsilon from analysis").fetchone()[0]
+        self.runs = con.execute("select count(*) from information_schema.tables "
+                                "where table_name = 'trace_runs'").fetchone()[0] > 0  # a store read as it is may lack it
 
     def explain(self, keys: list[Key]) -> dict[Key, str]:
         keys = [k for k in keys if k[1] in self.properties]
@@ -81,7 +83,8 @@ class Explainer:
         for property_id in dict.fromkeys(p for _, p, _ in keys):
             wanted = [(t, r) for t, p, r in keys if p == property_id]
             cursor = self.con.execute(render_property(self.properties[property_id], "events", self.epsilon,
-                                                      self.interface, explain=wanted))
+                                                      self.interface, explain=wanted,
+                                                      peers=list(self.properties.values()), runs=self.runs))
             names = [d[0] for d in cursor.description]
             for row in cursor.fetchall():
                 pair = dict(zip(names, row))

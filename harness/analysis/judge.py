@@ -20,7 +20,7 @@ class Judge:
         self.con.execute(render_view("properties", properties=properties))
         self.sql = "\n".join([render_view("verdicts", target="verdicts") + ";"]
                              + [f"insert into verdicts ({VERDICT_COLUMNS})\n"
-                                f"{render_property(p, 'events', epsilon, interface)};"
+                                f"{render_property(p, 'events', epsilon, interface, peers=properties)};"
                                 for p in properties]
                              + [render_view("shared_codes", target="verdicts") + ";"])
 

@@ -18,7 +18,8 @@ from harness.store.sql import ENV
 from harness.target.interface import Interface, Property
 
 # The columns of the verdicts table in the order every oracle query returns them (sql/views/verdicts.sql).
-VERDICT_COLUMNS = "trace_id, property_id, family, rqst_id, module, service, c_holds, verdict, margin_s, suspicious"
+VERDICT_COLUMNS = ("trace_id, property_id, family, rqst_id, module, service, c_holds, verdict, margin_s, suspicious, "
+                   "certain, alternatives")
 PARAMETERS = ("x", "y", "q", "r_p", "z_p")
 _TABLE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _SERVICE = re.compile(r"[^.\s']+\.[^.\s']+")
@@ -40,22 +41,41 @@ def _parameters(prop: Property) -> dict:
     return given
 
 
+def interrupters(properties: list[Property]) -> list[tuple[str, str, str]]:
+    """(x service, interruption code, y service) for every request that a property says may end an
+    x activity with that code: the y of EE, EX and MX_I properties (both ways for MX_I). The
+    cause of an interruption is looked for among them (sql/oracles/ee.sql)."""
+    found = set()
+    for p in properties:
+        if p.type not in ("EE", "EX", "MX_I") or not p.z_p:
+            continue
+        ways = [(p.x, p.y), (p.y, p.x)] if p.type == "MX_I" else [(p.x, p.y)]
+        found |= {(x, p.z_p, y) for xs, ys in ways for x in xs for y in ys}
+    return sorted(found)
+
+
 def render_property(prop: Property, events: str = "events", epsilon: float = DEFAULT_EPSILON_S,
-                    interface: Interface | None = None, explain: list[tuple[int, int]] = ()) -> str:
+                    interface: Interface | None = None, explain: list[tuple[int, int]] = (),
+                    peers: list[Property] = (), runs: bool = True) -> str:
     """The oracle query of one property over the events table `events`: the verdicts columns.
-    The interface, when given, says which requests may end an activity (see sql/oracles/ee.sql).
-    `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions."""
+    The interface, when given, says which requests may end an activity, and `peers` (the properties
+    judged with it) on which other modules an interruption may come from (see sql/oracles/ee.sql).
+    `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions.
+    `runs`: whether the store has trace_runs, whose pings give a real-time trace its epsilon."""
     if not _TABLE_NAME.fullmatch(events):
         raise PropertyError(f"events source {events!r} is not a table name; use events or internal_events")
     if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
         raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
     parameters = _parameters(prop)
     services = sorted({s for v in parameters.values() if isinstance(v, list) for s in v})
+    own = {s.split(".")[0] for s in services}
+    enders = [e for e in interrupters([prop, *peers]) if e[0] in prop.x or e[0] in prop.y]
     template = f"oracles/{str(prop.type).lower()}.sql"
     try:
         return ENV.get_template("oracles/_oracle.sql").render(
             template=template, id=prop.id, family=prop.family, events=events, epsilon=round(float(epsilon), 6),
-            services=services, parameters=parameters,
+            parameters=parameters, enders=enders, runs=runs,
+            modules=sorted(own | {service.split(".")[0] for *_, service in enders}),
             until_stopped=interface.until_stopped if interface else [],
             control=interface.of_kind("control") if interface else [],
             explain=dict(traces=sorted({int(t) for t, _ in explain}),

@@ -155,9 +155,9 @@ def _write_all(con, out: Path) -> dict[str, int]:
 def _write_rest(con, out: Path, page_ids: set[int]) -> dict[str, int]:
     """Everything but the trace pages: index, lists, CSV files."""
     suts, families = sut_order(con), family_order(con)
-    table2 = queries.view(con, "trace_robustness", percent=frozenset({"t_rob"}))
-    tp = queries.view(con, "tp_rates", percent=frozenset({"tp_rate"}))
-    fp = queries.view(con, "fp_rates", percent=frozenset({"fp_rate"}))
+    table2 = queries.view(con, "trace_robustness", percent=frozenset({"t_rob", "t_rob_certain"}))
+    tp = queries.view(con, "tp_rates", percent=frozenset({"tp_rate", "tp_rate_certain"}))
+    fp = queries.view(con, "fp_rates", percent=frozenset({"fp_rate", "fp_rate_certain"}))
     bad = queries.bad_traces(con)
     family_traces = queries.family_traces(con)
 

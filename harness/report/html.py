@@ -9,7 +9,7 @@ from pathlib import Path
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
 from harness.report.tables import yes_no
-from harness.textable import percent, rate_interval
+from harness.textable import percent, rate_interval, with_certain
 
 TEMPLATES = Path(__file__).parent / "templates"
 SHOWN_ROWS = 200  # longer tables are cut on the page; their CSV has every row
@@ -52,11 +52,12 @@ def bad_href(sut: str) -> str:
 
 
 def rate_text(r: dict, rate: str, n: int) -> str:
-    """A rate of a tp_rates/fp_rates row with its interval and n (a store analysed before the
-    views had intervals: the rate alone)."""
+    """A rate of a tp_rates/fp_rates row with its interval and n, then the rate counting only
+    certain FN or FP (a store analysed before the views had intervals: the rate alone)."""
     if f"{rate}_low" not in r:
         return percent(r[rate])
-    return rate_interval(r[rate], r[f"{rate}_low"], r[f"{rate}_high"], n)
+    text = rate_interval(r[rate], r[f"{rate}_low"], r[f"{rate}_high"], n)
+    return with_certain(text, r[f"{rate}_certain"]) if f"{rate}_certain" in r else text
 
 
 _env.filters.update(percent=percent, yes_no=yes_no, duration=duration, mutation=mutation)

@@ -24,13 +24,13 @@
 ({{ a }}t < {{ b }}t or ({{ a }}t = {{ b }}t and {{ a }}seq < {{ b }}seq))
 {%- endmacro %}
 
-{% macro requests(events, services=none, traces=none) -%}
--- request and final-reply events (intermediate replies decide nothing) of the modules of
--- `services` (an activity's end may come from any request to its module)
+{% macro requests(events, modules=none, traces=none) -%}
+-- request and final-reply events (intermediate replies decide nothing) of `modules`: those of
+-- the property's services, and those that may interrupt its activities (see ee.sql)
 logged as (
     select trace_id, rqst_id, module, service, kind, t, seq, reply
     from {{ events }}
-    where kind in ('request', 'final'){% if services %} and module in ({{ services | modules | map('lit') | join(', ') }}){% endif %}{% if traces %} and trace_id in ({{ traces | join(', ') }}){% endif %}
+    where kind in ('request', 'final'){% if modules %} and module in ({{ modules | map('lit') | join(', ') }}){% endif %}{% if traces %} and trace_id in ({{ traces | join(', ') }}){% endif %}
 
 ),
 -- one row per request (a request id is unique within its trace): when it was sent, and when

@@ -1,10 +1,10 @@
 {#- Judging a property's pairs (see _base.sql): its condition C per request, its verdict by
     the verdict table, and whether reordering events closer than `epsilon` could change that
-    verdict (`suspicious`, docs/analyzer.md). `epsilon` is read from the context: import this
-    file `with context`. -#}
+    verdict (`suspicious`, docs/analyzer.md). Epsilon is the trace's (CTE `epsilons`, see
+    _epsilon.sql), else `epsilon` from the context: import this file `with context`. -#}
 
-{% macro near(seconds) -%}
-coalesce(round({{ seconds }}, 6) < {{ epsilon }}, false)
+{% macro near(seconds, trace_epsilon='e.epsilon') -%}
+coalesce(round({{ seconds }}, 6) < coalesce({{ trace_epsilon }}, {{ epsilon }}), false)
 {%- endmacro %}
 
 {% macro condition(name, defined='true', caused='false') -%}
@@ -12,7 +12,8 @@ coalesce(round({{ seconds }}, 6) < {{ epsilon }}, false)
 -- (the largest conflicting shift) or any one non-conflict would have to start (the smallest).
 -- A pair is `near` when its shift is below epsilon, both rounded to microseconds (a 10 ms gap
 -- is never on either side of 10 ms by float rounding); the order of the others is sure.
--- `caused`: a pair that says C cannot hold (a candidate cause of x(i)'s end, see ee.sql).
+-- `caused`: a pair that says C is false with a conflict that was not rejected (x(i)'s end had a
+-- cause, see ee.sql).
 {{ name }}_agg as (
     select trace_id, rqst_id,
            bool_or(conflicts) as any_conflict,
@@ -23,9 +24,10 @@ coalesce(round({{ seconds }}, 6) < {{ epsilon }}, false)
            -- every conflict rejected (na), C false with a conflict that was not rejected
            not coalesce(bool_or(conflicts and not near or {{ caused }}), false) as may_hold,
            coalesce(bool_and(conflict_rejected) filter (where conflicts and not near), true)
-               and coalesce(bool_or((conflicts or near) and conflict_rejected), false) as may_be_na,
+               and coalesce(bool_or((conflicts or near) and conflict_rejected), false)
+               and not coalesce(bool_or({{ caused }}), false) as may_be_na,
            coalesce(bool_or((conflicts or near) and not conflict_rejected), false) as may_fail
-    from (select *, {{ near('shift') }} as near from {{ name }}_pairs)
+    from (select p.*, {{ near('p.shift') }} as near from {{ name }}_pairs p left join epsilons e using (trace_id))
     group by trace_id, rqst_id
 ),
 {{ name }}_cond as (
@@ -50,7 +52,9 @@ case when reply is null then 'omega'
 {% macro judged(name, code, accepted) -%}
 -- the verdict table: `code` is the property's own rejection or interruption code, `accepted`
 -- the reply classes that mean the activity ran; c_holds NULL = C undefined for this request.
--- Suspicious: a condition that reordering the near pairs could give changes the verdict.
+-- alternatives: the other verdicts that the conditions reordering the near pairs could give
+-- would make, sorted; none: the verdict is certain. A rejection with the property's own code is
+-- the layer's account that C was false when it took x(i): C true is no alternative for it.
 {{ name }}_verdict as (
     select *, {{ verdict('c_holds', 'conflicts_rejected', code, accepted) }} as verdict
     from {{ name }}_cond
@@ -58,10 +62,13 @@ case when reply is null then 'omega'
 {{ name }}_judged as (
     select trace_id, rqst_id, module, service, reply, c_holds, verdict,
            case when c_holds is not null then nullif(margin_s, 'infinity') end as margin_s,
-           c_holds is not null and (
-               may_hold and {{ verdict('true', 'false', code, accepted) }} <> verdict
-               or may_be_na and {{ verdict('false', 'true', code, accepted) }} <> verdict
-               or may_fail and {{ verdict('false', 'false', code, accepted) }} <> verdict) as suspicious
+           case when c_holds is null then []::varchar[]
+                else list_sort(list_distinct(list_filter([
+                    case when may_hold and not (reply = {{ code | lit }} and class = 'R')
+                         then {{ verdict('true', 'false', code, accepted) }} end,
+                    case when may_be_na then {{ verdict('false', 'true', code, accepted) }} end,
+                    case when may_fail then {{ verdict('false', 'false', code, accepted) }} end],
+                    lambda other: other <> verdict))) end as alternatives
     from {{ name }}_verdict
 )
 {%- endmacro %}

@@ -3,13 +3,16 @@
     `template`, and its verdict rows with the contract columns; with `explain`, the pairs that
     decided the condition of some requests instead (explain.requests: (trace_id, rqst_id) pairs). Rendered by harness/oracles.py. -#}
 {% import 'oracles/_base.sql' as base %}
+{% import 'oracles/_epsilon.sql' as eps %}
 {% import template as oracle with context %}
-with {{ base.requests(events, services, explain.traces if explain else none) }},
+with {{ base.requests(events, modules, explain.traces if explain else none) }},
+{{ eps.per_trace(runs) }},
 {{ oracle.ctes('p', **parameters) }}
 {% if explain %}
 select * from p_pairs where (trace_id, rqst_id) in ({{ explain.requests | join(', ') }})
 {% else %}
 select trace_id, {{ id | lit }} as property_id, {{ family | lit }} as family, rqst_id, module, service,
-       c_holds, verdict, margin_s, suspicious
+       c_holds, verdict, margin_s, len(alternatives) > 0 as suspicious,
+       len(alternatives) = 0 as certain, alternatives
 from p_judged
 {% endif %}

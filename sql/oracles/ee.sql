@@ -9,25 +9,47 @@
 {{ base.relevant(name, 'x', x) }},
 {{ base.relevant(name, 'y', y) }},
 -- An interruption, or the end of an activity that runs until stopped, has a cause: a request
--- to the module of x or of y, sent while x(i) ran (or within epsilon after its end) and still
--- being processed then (not ended more than epsilon before it). A control request replies at
--- once and stops nothing. When every candidate cause is a y(j), one of them stays before the
--- end whatever the observed order: C cannot hold (`caused`).
+-- sent while x(i) ran (or within epsilon before its request or after its end) and still being
+-- processed then (not ended more than epsilon before it). An interruption comes from a request
+-- that some property says may end x with that code (`enders`), or from any request to x's own
+-- module when a property says that module may (an undocumented behaviour such as GenoM's Init,
+-- which interrupts with AIB's code); another end from the module of x or of y. A control request
+-- replies at once and a rejected one never ran: neither stops anything. When every candidate
+-- cause is a y(j), one of them stays before the end whatever the observed order: C is false
+-- with a conflict that was not rejected (`caused`).
+{{ name }}_enders as (
+    select * from (values {% for x_service, code, y_service in enders %}({{ x_service | lit }}, {{ code | lit }}, {{ y_service | lit }}){{ ', ' if not loop.last }}{% else %}(null, null, null){% endfor %}) as e(x_service, reply, y_service)
+),
 {{ name }}_callers as (
     select * from requests
-    where module in ({{ (x + y) | modules | map('lit') | join(', ') }}){% if control %} and not {{ base.among(control) }}{% endif %}
+    where class is distinct from 'R'{% if control %} and not {{ base.among(control) }}{% endif %}
 
+),
+-- per x(i) whose end needs a cause, the modules it may come from, and the service (NULL: any)
+{{ name }}_sources as (
+    select x.trace_id, x.rqst_id, x.t, x.seq, x.final_t, x.final_seq, split_part(e.y_service, '.', 1) as module,
+           case when split_part(e.y_service, '.', 1) <> x.module then split_part(e.y_service, '.', 2) end as service
+    from {{ name }}_x x
+    join {{ name }}_enders e on e.x_service = x.module || '.' || x.service and e.reply = x.reply
+    where x.class = 'Z'
+{% if until_stopped %}
+    union
+    select x.trace_id, x.rqst_id, x.t, x.seq, x.final_t, x.final_seq, m.module, null
+    from {{ name }}_x x
+    cross join (values {% for m in (x + y) | modules %}({{ m | lit }}){{ ', ' if not loop.last }}{% endfor %}) as m(module)
+    where x.class is distinct from 'Z' and {{ base.among(until_stopped, 'x.') }}
+{% endif %}
 ),
 {{ name }}_caused as (
     select x.trace_id, x.rqst_id, bool_and({{ base.among(y, 'c.') }}) as caused
-    from {{ name }}_x x
-    join {{ name }}_callers c on c.trace_id = x.trace_id and c.rqst_id <> x.rqst_id
-         and {{ base.before('x.', 'c.') }}
+    from {{ name }}_sources x
+    left join epsilons e on e.trace_id = x.trace_id
+    join {{ name }}_callers c on c.trace_id = x.trace_id and c.module = x.module and c.rqst_id <> x.rqst_id
+         and (x.service is null or c.service = x.service)
+         and ({{ base.before('x.', 'c.') }} or {{ judge.near('x.t - c.t') }})
          and (coalesce({{ base.before('c.', 'x.final_') }}, true) or {{ judge.near('c.t - x.final_t') }})
          and (c.final_t is null or not {{ base.before('c.final_', 'x.final_') }}
               or {{ judge.near('x.final_t - c.final_t') }})
-    where x.class = 'Z'{% if until_stopped %} or {{ base.among(until_stopped, 'x.') }}{% endif %}
-
     group by x.trace_id, x.rqst_id
 ),
 -- each x(i) with every other y(j) of its trace, placed relative to x(i)'s activity

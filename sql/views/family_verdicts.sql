@@ -1,7 +1,7 @@
 {#- Per variant and family, plus family 'All': the property counts summed. -#}
 create or replace view family_verdicts as
 select sut, case when grouping(family) = 1 then 'All' else family end as family,
-{% for column in ['verdicts'] + verdict_names | map('lower') | list + ['suspicious'] %}
+{% for column in ['verdicts'] + verdict_names | map('lower') | list + ['suspicious', 'fn_certain', 'fp_certain'] %}
        sum({{ column }})::bigint as {{ column }}{{ ',' if not loop.last }}
 {% endfor %}
 from property_verdicts

@@ -1,7 +1,7 @@
+{% import 'oracles/_epsilon.sql' as epsilon %}
 -- The interface latency of real-time runs, per campaign and SUT, from the liveness pings'
--- round trips (wall seconds, trace_runs), and the epsilon it suggests in mission seconds: two
--- events closer than the slowest round trip may be observed in either order (each line can be
--- late by a one-way trip; the round trip bounds both). Rounded up to 0.1 ms; none without pings.
+-- round trips (wall seconds, trace_runs), and the epsilon of its slowest run (sql/oracles/_epsilon.sql;
+-- each trace is judged with its own, view trace_epsilon); none without pings.
 create or replace view interface_latency as
 with runs as (
     select t.campaign_id, t.sut, r.*
@@ -15,6 +15,5 @@ per_sut as (
     from runs
     group by campaign_id, sut
 )
-select *, case when rtt_max_s is not null
-                then greatest(ceil(rtt_max_s * time_scale * 1e4) / 1e4, 1e-4) end as suggested_epsilon_s
+select *, case when rtt_max_s is not null then {{ epsilon.measured('rtt_max_s', 'time_scale') }} end as suggested_epsilon_s
 from per_sut

@@ -11,5 +11,7 @@ create or replace table {{ target }} (
     c_holds      boolean,            -- the P-condition; NULL where it is undefined
     verdict      varchar not null check (verdict in ({{ verdict_names | map('lit') | join(', ') }})),
     margin_s     double,             -- NULL when no event near enough could change C
-    suspicious   boolean not null
+    suspicious   boolean not null,   -- = not certain: reordering events closer than epsilon could change it
+    certain      boolean not null,   -- the verdict holds in every ordering of the events closer than epsilon
+    alternatives varchar[] not null  -- the other verdicts those orderings give, sorted; [] when certain
 );

@@ -1,0 +1,143 @@
+"""`make paper`: the paper's Tables II-IV beside ours, written to docs/paper.md.
+
+The paper's figures are transcribed in paper.toml beside this file, with the reason for each cell
+of ours that differs. Ours come from a store of the default campaign (Tables II-IV as the views
+compute them): each figure counting every FN and FP, and counting only the certain ones (those
+that no reordering of events closer than epsilon could change).
+
+    python -m harness.report.paper --db reports/paper.duckdb --out docs/paper.md
+"""
+from __future__ import annotations
+
+import argparse
+import tomllib
+from pathlib import Path
+
+from harness.errors import StoreError, UntimelyError
+from harness.store.database import connect
+from harness.textable import percent
+
+PAPER = Path(__file__).with_name("paper.toml")
+# A rate of ours differs from the paper's when they are at least this far apart: the paper gives
+# one decimal of a percentage.
+SAME = 0.0005
+
+
+def _ours(con) -> dict:
+    def by(view, key):
+        cursor = con.execute(f"select * from {view}")
+        names = [d[0] for d in cursor.description]
+        return {key(r): r for r in (dict(zip(names, row)) for row in cursor.fetchall())}
+    return {"II": by("trace_robustness", lambda r: r["sut"]),
+            "III": by("tp_rates", lambda r: (r["sut"], r["family"])),
+            "IV": by("fp_rates", lambda r: (r["sut"], r["family"]))}
+
+
+def _pct(rate) -> str:
+    return "-" if rate is None else f"{percent(rate)}%"
+
+
+def _table_ii(paper: dict, ours: dict) -> list[str]:
+    lines = ["| variant | | traces | hung | with FN | with FP | bad | T_ROB |", "|---|---|---|---|---|---|---|---|"]
+    for v in paper["variants"]:
+        p, o = paper["table_ii"][v], ours["II"][v]
+        name = paper["names"][v]
+        lines.append(f"| {name} | paper | {p['total']} | {p['hung']} | {p['with_fn']} | {p['with_fp']} | "
+                     f"{p['bad']} | {_pct(p['t_rob'])} |")
+        lines.append(f"| | ours, all | {o['total']} | {o['hung']} | {o['with_fn']} | {o['with_fp']} | "
+                     f"{o['bad']} | {_pct(o['t_rob'])} |")
+        lines.append(f"| | ours, certain | {o['total']} | {o['hung']} | {o['with_fn_certain']} | "
+                     f"{o['with_fp_certain']} | {o['bad_certain']} | {_pct(o['t_rob_certain'])} |")
+    return lines
+
+
+def _rates(paper: dict, ours: dict, table: str, rate: str) -> list[str]:
+    variants = paper["variants"]
+    lines = ["| family | " + " | ".join(f"{paper['names'][v]} paper | ours all | ours certain" for v in variants) + " |",
+             "|---|" + "---|" * 3 * len(variants)]
+    for f in paper["families"]:
+        cells = []
+        for v in variants:
+            o = ours[table].get((v, f), {})
+            cells += [_pct(paper[f"table_{table.lower()}"][v][f]), _pct(o.get(rate)), _pct(o.get(f"{rate}_certain"))]
+        lines.append(f"| {f} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def differences(paper: dict, ours: dict) -> list[tuple[str, str]]:
+    """(cell, what differs) for every cell of ours that differs from the paper's: Table II per variant
+    (the number of runs always differs), Tables III and IV per family and variant."""
+    found = []
+    for v in paper["variants"]:
+        p, o = paper["table_ii"][v], ours["II"][v]
+        found.append((f"II.{v}", f"Table II, {paper['names'][v]}: paper {p['hung']} hung, {p['with_fn']} with FN, "
+                      f"{p['with_fp']} with FP of {p['total']} (T_ROB {_pct(p['t_rob'])}); ours {o['hung']} hung, "
+                      f"{o['with_fn']} with FN ({o['with_fn_certain']} certain), {o['with_fp']} with FP "
+                      f"({o['with_fp_certain']} certain) of {o['total']} (T_ROB {_pct(o['t_rob'])}, "
+                      f"{_pct(o['t_rob_certain'])} counting only certain FN and FP)."))
+    for table, rate, title in (("III", "tp_rate", "true positive rate"), ("IV", "fp_rate", "false positive rate")):
+        for f in paper["families"]:
+            for v in paper["variants"]:
+                theirs, o = paper[f"table_{table.lower()}"][v][f], ours[table].get((v, f), {})
+                if o.get(rate) is None or abs(o[rate] - theirs) >= SAME:
+                    found.append((f"{table}.{f}.{v}",
+                                  f"Table {table}, {f} on {paper['names'][v]}: {title} {_pct(theirs)} in the paper, "
+                                  f"{_pct(o.get(rate))} here ({_pct(o.get(f'{rate}_certain'))} counting only certain "
+                                  f"{'FN' if table == 'III' else 'FP'}; n = {o.get('n', 0)})."))
+    return found
+
+
+def write(db: str, out: Path) -> list[str]:
+    """Write the comparison; returns the cells that differ without a reason in paper.toml."""
+    paper = tomllib.loads(PAPER.read_text(encoding="utf-8"))
+    con = connect(db, read_only=True)
+    try:
+        ours = _ours(con)
+        runs = con.execute("select count(*) filter (where kind = 'mutant'), count(*) filter (where kind = 'mutant' "
+                           "and valid) from scripts").fetchone()
+        epsilon = con.execute("select epsilon from analysis").fetchone()[0]
+    except Exception as e:  # noqa: BLE001 - a store without a judged default campaign
+        raise StoreError(f"{db!r} holds no judged campaign ({e}); make paper runs one") from None
+    finally:
+        con.close()
+    missing = [v for v in paper["variants"] if v not in ours["II"]]
+    if missing:
+        raise UntimelyError(f"{db!r} has no traces of {', '.join(missing)}; the paper's tables need "
+                            f"{', '.join(paper['variants'])} (the default campaign)")
+    why = paper.get("why", {})
+    found = differences(paper, ours)
+    text = ["# The paper's Tables II-IV beside ours", "",
+            "Generated by `make paper` (harness/report/paper.py) from a fresh default campaign: "
+            f"{runs[0]} mutants of the golden Dala mission, {runs[1]} valid, run with the golden script on "
+            f"the simulated GenoM, BIP-A and BIP-B layers and judged with epsilon {epsilon:g} s. The paper "
+            f"ran {paper['valid_mutants']} valid mutants of {paper['mutants']} on the real layers. Each of our "
+            "figures is given twice: counting every FN and FP (as the paper did), and counting only the "
+            "certain ones, those that hold in every ordering of the events closer than epsilon "
+            "(docs/analyzer.md). The paper corrected its BIP-B column by hand for false observations; the "
+            "certain figures do that correction for every column.", "",
+            "## Table II: per-trace results", "", *_table_ii(paper, ours), "",
+            "## Table III: true positive rates", "", *_rates(paper, ours, "III", "tp_rate"), "",
+            "## Table IV: false positive rates", "", *_rates(paper, ours, "IV", "fp_rate"), "",
+            "## Why they differ", ""]
+    for cell, what in found:
+        text += [f"**{what}** {why.get(cell, 'No reason recorded yet: add one to harness/report/paper.toml.')}", ""]
+    out.write_text("\n".join(text), encoding="utf-8")
+    return [cell for cell, _ in found if cell not in why]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--db", default="reports/paper.duckdb")
+    parser.add_argument("--out", type=Path, default=Path("docs/paper.md"))
+    args = parser.parse_args(argv)
+    try:
+        unexplained = write(args.db, args.out)
+    except UntimelyError as e:
+        print(f"error: {e}")
+        return 2
+    print(f"wrote {args.out}" + (f"; no reason recorded for {', '.join(unexplained)}" if unexplained else ""))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
