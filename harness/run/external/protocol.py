@@ -51,6 +51,8 @@ def decode(line: str, messages: dict[str, dict[str, type]] = SUT_MESSAGES) -> di
         message = json.loads(line, parse_constant=lambda c: _refuse(f"{c} is not a JSON number"))
     except ValueError as e:
         raise ProtocolViolation(f"not a JSON line ({e})") from None
+    except RecursionError:
+        raise ProtocolViolation("JSON nested too deeply to read") from None
     if not isinstance(message, dict):
         raise ProtocolViolation("not a JSON object")
     op = message.get("op")
