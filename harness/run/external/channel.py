@@ -1,7 +1,8 @@
 """The line channel to an external SUT: an adapter process on stdio, or a TCP connection.
 
-A reader thread hands every line the SUT writes to `deliver(line)`, and `None` when its output
-ends (`why_ended()` then says how). Nothing the SUT does grows the bench without bound: a line
+A reader thread hands the lines the SUT writes to `deliver(lines)`, as many as one read brought
+(a flood costs one hand-over per read, not per line), and `None` when its output ends
+(`why_ended()` then says how). Nothing the SUT does grows the bench without bound: a line
 longer than MAX_LINE_BYTES ends the output, and only the last STDERR_KEEP_BYTES of its standard
 error are kept (for the error of a crashed trace). A write that the SUT does not take within its
 timeout raises Unresponsive: an adapter that stops reading cannot block the bench.
@@ -83,7 +84,7 @@ class Connection:
         self._stderr_reader = threading.Thread(target=self._keep_stderr, name=f"{self.sut.name} stderr", daemon=True)
         self._stderr_reader.start()
 
-    def start(self, deliver: Callable[[str | None], None]) -> None:
+    def start(self, deliver: Callable[[list[str] | None], None]) -> None:
         """Start handing the SUT's lines to `deliver`."""
         self.reader = threading.Thread(target=self._read, args=(deliver,), name=f"{self.sut.name} output", daemon=True)
         self.reader.start()
@@ -110,12 +111,13 @@ class Connection:
         rest = b""
         try:
             for chunk in self._chunks(self.out_fd):
-                *lines, rest = (rest + chunk).split(b"\n")
-                for raw in lines:
-                    line = raw.decode("utf-8", errors="replace") + "\n"
-                    self.last_read = (time.monotonic(), line)
-                    self.transcript.add("<", line)
-                    deliver(line)
+                *complete, rest = (rest + chunk).split(b"\n")
+                if complete:
+                    lines = [raw.decode("utf-8", errors="replace") + "\n" for raw in complete]
+                    self.last_read = (time.monotonic(), lines[-1])
+                    for line in lines:
+                        self.transcript.add("<", line)
+                    deliver(lines)
                 if len(rest) > MAX_LINE_BYTES:
                     self.ended = (f"the SUT sent a line of more than {MAX_LINE_BYTES:,} bytes without a newline "
                                   f"(it starts {quoted(rest[:QUOTE_CHARS].decode('utf-8', 'replace'))}); "

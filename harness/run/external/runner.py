@@ -31,9 +31,9 @@ from harness.run.external.definitions import ExternalSut
 from harness.trace import Trace
 
 PROBE_PERIOD_WALL_S = 1.0
-# Lines read but not yet handled by the kernel: beyond, the reader waits (and the SUT with it),
-# so a flood of messages cannot grow the bench's memory.
-MAX_QUEUED_LINES = 10_000
+# Reads (of up to 64 KB) not yet handled by the kernel: beyond, the reader waits (and the SUT
+# with it), so a flood of messages cannot grow the bench's memory.
+MAX_QUEUED_READS = 64
 
 
 class ProtocolLayer:
@@ -54,16 +54,21 @@ class ProtocolLayer:
         self.greeted = threading.Event()
         self.problem: str | None = None  # a violation before the hello answer
         self.closing = False
-        self.room = threading.BoundedSemaphore(MAX_QUEUED_LINES)
+        self.room = threading.BoundedSemaphore(MAX_QUEUED_READS)
 
     # Reader thread: the hello is handled here; every later line goes to the kernel's thread.
-    def deliver(self, line: str | None) -> None:
-        if self.greeted.is_set():
-            while not self.room.acquire(timeout=0.25):
-                if self.closing:
-                    return
-            self.env.post(lambda: self.handle(line))
-            return
+    def deliver(self, lines: list[str] | None) -> None:
+        if not self.greeted.is_set():
+            self._greet(lines[0] if lines else None)
+            lines = lines[1:] if lines else None
+            if lines == []:
+                return
+        while not self.room.acquire(timeout=0.25):
+            if self.closing:
+                return
+        self.env.post(lambda: self.handle(lines))
+
+    def _greet(self, line: str | None) -> None:
         if line is None:
             self.problem = f"the SUT ended before answering hello ({self.connection.why_ended()})"
         else:
@@ -90,16 +95,17 @@ class ProtocolLayer:
         self.pings[ping_id] = (answer, time.monotonic())
         self.connection.write(encode("ping", id=ping_id))
 
-    def handle(self, line: str | None) -> None:
-        if line is None:
+    def handle(self, lines: list[str] | None) -> None:
+        if lines is None:
             if not self.closing:
                 raise LayerMisbehaved(f"the SUT closed its output before bye ({self.connection.why_ended()})")
             return
         self.room.release()
-        try:
-            self._dispatch(decode(line))
-        except (ProtocolViolation, LayerMisbehaved) as e:
-            raise LayerMisbehaved(f"{e}; the SUT's line: {quoted(line)}") from None
+        for line in lines:
+            try:
+                self._dispatch(decode(line))
+            except (ProtocolViolation, LayerMisbehaved) as e:
+                raise LayerMisbehaved(f"{e}; the SUT's line: {quoted(line)}") from None
 
     def unanswered(self) -> str:
         """Why a trace is hung: its oldest ping without a pong, and what the SUT last wrote."""
