@@ -86,7 +86,12 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--property", help="shrink the FN (else FP) on this property id (default: the hang, "
                                       "else the trace's first FN or FP)")
     c.add_argument("--verdict", choices=("FN", "FP"), help="with --property: keep this verdict (default: FN, else FP)")
-    c.add_argument("--mission", help="mission folder (default: the trace's campaign's)")
+    c.add_argument("--mission", help="mission folder (default: the trace's campaign's); its suts.toml "
+                                     "may define the trace's external SUT")
+    c.add_argument("--sut", help="the trace's SUT, named again: an external SUT's command is never "
+                                 f"read from the store{EXTERNAL_HELP}")
+    c.add_argument("--run-stored-command", action="store_true",
+                   help="run the external SUT's command recorded in the store (only for a store you trust)")
     c.add_argument("--out", help="folder of the .mission file (default: shrunk/ beside the store)")
     db(c)
 

@@ -298,7 +298,7 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
         print(analyzer.summary(con, epsilon))
     if args.shrink:
         print("\nshrunk reproducers, one per distinct bad behaviour (view bad_behaviours):")
-        for line in shrink.representatives(con, properties, shrink.default_out(args.db), setup.runner,
-                                           1 if setup.external else jobs):  # an external SUT: one run at a time
+        for line in shrink.representatives(con, properties, shrink.default_out(args.db), setup.external,
+                                           setup.runner, 1 if setup.external else jobs):  # external: one at a time
             print(line, flush=True)
     return 0
