@@ -61,7 +61,7 @@ def test_stderr_is_kept_bounded_with_its_last_words(interface):
 def test_a_flood_of_world_events_does_not_starve_the_pongs(interface):
     trace = run(hostile("flood"), interface)
     assert trace.outcome == "completed", trace.error
-    assert len(trace.world_events) == 1_000_000
+    assert sum(kind == "noise" for _, kind, _ in trace.world_events) == 1_000_000
 
 
 def test_an_adapter_that_stops_reading_ends_hung_saying_so(interface):
@@ -115,7 +115,8 @@ def hello_then_nothing(connection):
 
 
 @pytest.mark.parametrize("behave, outcome, says", [
-    (reset, "crashed", r"^the SUT ended before answering hello \(the connection failed \(Connection reset by peer\)\)"),
+    (reset, "crashed", r"^the SUT ended before answering hello \(the (connection failed \(Connection reset by peer\)|"
+                       r"SUT reset the connection as it accepted it)\)"),
     (nested_hello, "crashed", r"^JSON nested too deeply to read"),
     (hello_then_nothing, "hung", r"^ping 1 got no pong within the probe timeout .*; the last line read from the SUT, "
                                  r"\d+\.\d s before, was '\{\"op\": \"hello\""),

@@ -29,13 +29,22 @@ class Stopped(KeyboardInterrupt):
         self.signum = signum
 
 
+STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+
+
 def _raise_stopped(signum, _frame):
+    for repeated in STOP_SIGNALS:  # a repeat must not cut the cleanup short (a worker gets
+        signal.signal(repeated, _stopping)  # its parent-death signal once per parent thread)
     raise Stopped(signum)
+
+
+def _stopping(_signum, _frame):
+    """Already stopping: nothing more to do (a handler, not SIG_IGN, which adapters would inherit)."""
 
 
 def stop_on_signals() -> None:
     """SIGTERM and SIGHUP stop the bench as Ctrl-C does: cleanup runs, the store keeps what is committed."""
-    for signum in (signal.SIGTERM, signal.SIGHUP):
+    for signum in STOP_SIGNALS:
         signal.signal(signum, _raise_stopped)
 
 
@@ -89,9 +98,11 @@ def uptime() -> float:
         return 0.0
 
 
-def _children_since(since: float) -> list[int]:
-    """This process's children started `since` seconds after boot or later, from /proc."""
-    found, me, tick = [], os.getpid(), os.sysconf("SC_CLK_TCK")
+def _detached_children(since: float) -> list[int]:
+    """This process's children in another session than its own, started `since` seconds after
+    boot or later, from /proc: adapters and what they detached, never a helper of this process
+    (a worker, the multiprocessing resource tracker), which shares its session."""
+    found, me, session, tick = [], os.getpid(), os.getsid(0), os.sysconf("SC_CLK_TCK")
     try:
         entries = [e for e in os.listdir("/proc") if e.isdigit()]
     except OSError:
@@ -103,18 +114,16 @@ def _children_since(since: float) -> list[int]:
         except OSError:
             continue
         fields = stat[stat.rfind(")") + 2:].split()  # from the state on: the name may hold spaces
-        if int(fields[1]) == me and int(fields[19]) / tick >= since - 1 / tick:
+        if int(fields[1]) == me and int(fields[3]) != session and int(fields[19]) / tick >= since - 1 / tick:
             found.append(int(entry))
     return found
 
 
 def end_orphans(since: float, known: set[int] = frozenset()) -> int:
-    """End and reap the children of this process started since `since` (uptime()) that it did
-    not start itself: daemons of its adapters re-parented to it as a subreaper. Returns how many.
-    Orphans get SIGKILL at once: they were detached from the adapter's group on purpose."""
-    import multiprocessing
-    known = set(known) | {p.pid for p in multiprocessing.active_children()}
-    orphans = [pid for pid in _children_since(since) if pid not in known]
+    """End and reap the children of this process started since `since` (uptime()) in another
+    session, but those `known`: adapters and daemons re-parented to it as a subreaper. Returns
+    how many. They get SIGKILL at once: they were detached from the adapter's group on purpose."""
+    orphans = [pid for pid in _detached_children(since) if pid not in known]
     for pid in orphans:
         try:
             if os.getpgid(pid) == pid:

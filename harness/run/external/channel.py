@@ -57,19 +57,30 @@ class Connection:
         self.last_read: tuple[float, str] | None = None  # (monotonic time, line)
         self.closed = threading.Event()
         self.started = processes.uptime()
+        self.reader = self._stderr_reader = None
         if sut.command:
             self._start(slot)
-            self.out_fd, self.in_fd = self.process.stdout.fileno(), self.process.stdin.fileno()
+            try:  # stopped (a signal) right after the start: the adapter must not be left behind
+                self._stderr_reader = threading.Thread(target=self._keep_stderr, name=f"{sut.name} stderr",
+                                                       daemon=True)
+                self._stderr_reader.start()
+                self.out_fd, self.in_fd = self.process.stdout.fileno(), self.process.stdin.fileno()
+                os.set_blocking(self.in_fd, False)  # a write waits in select, with a deadline
+            except BaseException:
+                self.close()
+                raise
         else:
             host, port = sut.address.rsplit(":", 1)
             try:
                 self.socket = socket.create_connection((host, int(port)), timeout=sut.startup_s)
+            except ConnectionResetError:  # accepted, then reset: the SUT's doing, a crashed trace
+                self.ended, self.out_fd = "the SUT reset the connection as it accepted it", None
+                return
             except OSError as e:
                 raise UntimelyError(f"--sut {sut.name}: cannot reach tcp://{sut.address} ({e}); "
                                     "start the adapter first, or check the address") from None
             self.out_fd = self.in_fd = self.socket.fileno()
-        os.set_blocking(self.in_fd, False)  # a write waits in select, with a deadline
-        self.reader: threading.Thread | None = None
+            os.set_blocking(self.in_fd, False)
 
     def _start(self, slot: int) -> None:
         env = {**os.environ, **self.sut.env, "UNTIMELY_SLOT": str(slot)}
@@ -81,8 +92,6 @@ class Connection:
             raise UntimelyError(f"--sut {self.sut.name}: cannot start {self.sut.command!r}: {e}; "
                                 "check the command (a path relative to the current folder?)") from None
         _live.add(self.process.pid)
-        self._stderr_reader = threading.Thread(target=self._keep_stderr, name=f"{self.sut.name} stderr", daemon=True)
-        self._stderr_reader.start()
 
     def start(self, deliver: Callable[[list[str] | None], None]) -> None:
         """Start handing the SUT's lines to `deliver`."""
@@ -91,7 +100,7 @@ class Connection:
 
     def _chunks(self, fd: int):
         """What arrives on `fd` until its end, or until nothing more comes once the channel is closed."""
-        while True:
+        while fd is not None:
             if not select.select([fd], [], [], POLL_S)[0]:
                 if self.closed.is_set():
                     return
@@ -146,7 +155,7 @@ class Connection:
         timeout_s = self.sut.probe_timeout_s if timeout_s is None else timeout_s
         data = memoryview(line.encode("utf-8"))
         deadline = time.monotonic() + timeout_s
-        while data and not self.closed.is_set():
+        while data and not self.closed.is_set() and self.out_fd is not None:
             left = deadline - time.monotonic()
             if left <= 0:
                 raise Unresponsive(f"the SUT took no input for {timeout_s:g} s: {len(data):,} bytes of the line "
@@ -182,12 +191,13 @@ class Connection:
         group is ended (SIGTERM, then SIGKILL), then any daemon it detached."""
         self.closed.set()
         if self.process is None:
-            try:
-                self.socket.shutdown(socket.SHUT_RDWR)
-            except OSError:
-                pass
-            self._join(self.reader)
-            self.socket.close()
+            if self.socket:
+                try:
+                    self.socket.shutdown(socket.SHUT_RDWR)
+                except OSError:
+                    pass
+                self._join(self.reader)
+                self.socket.close()
             return
         self.process.stdin.close()
         try:

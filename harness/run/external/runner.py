@@ -173,10 +173,10 @@ def run_external(script: Script, sut: ExternalSut, seed: int, interface: Interfa
     executive = Executive(env, layer, interface, random.Random(seed), max_delay=0.0,
                           probe_period=PROBE_PERIOD_WALL_S * sut.time_scale,
                           probe_timeout=sut.probe_timeout_s * sut.time_scale)
-    layer.connection = Connection(sut, slot)
-    layer.connection.start(layer.deliver)
     outcome, error = "crashed", None
-    try:
+    layer.connection = Connection(sut, slot)
+    try:  # from here on, however the run ends (a signal included), the SUT is closed
+        layer.connection.start(layer.deliver)
         try:
             layer.connection.write(encode("hello", proto=PROTO, run=run, seed=seed, time_scale=sut.time_scale,
                                           interface=interface.describe()), sut.startup_s)
