@@ -130,3 +130,17 @@ def test_a_hostile_tcp_adapter_ends_its_trace_with_the_reason(interface, behave,
     assert trace.outcome == outcome, trace.error
     assert re.search(says, trace.error), trace.error
     assert trace.wall_s < 8  # not the start-up bound: the reason is known at once
+
+
+def test_a_campaign_whose_runs_all_crash_says_why_grouped_and_so_does_the_report(tmp_path, capsys):
+    from harness.cli import main as cli
+    db = tmp_path / "c.duckdb"
+    boom = "boom=cmd:{python} tests/adapters/faulty.py --fault crash --after 0"
+    assert cli(["campaign", "--sut", boom, "--mutants", "2", "--jobs", "1", "--time-scale", "10",
+                "--db", str(db)]) == 0
+    out = capsys.readouterr().out
+    assert re.search(r"boom +3 runs: 0 completed, 0 hung, 3 crashed", out), out
+    assert "crashed   3 run(s) on boom: the SUT closed its output before bye (exit status 3)" in out
+    assert cli(["report", "--db", str(db), "--out", str(tmp_path / "report")]) == 0
+    page = (tmp_path / "report" / "index.html").read_text()
+    assert "why runs crashed" in page and "the SUT closed its output before bye (exit status 3)" in page

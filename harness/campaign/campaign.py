@@ -227,6 +227,8 @@ def summary(con, campaign_id: int, session: Session) -> str:
             render_query("campaign_runs"), {"campaign": campaign_id}).fetchall():
         lines.append(f"{sut:<9} {runs} runs: {completed} completed, {hung} hung, {crashed} crashed; "
                      f"{sim:,.0f} simulated s")
+    lines += [f"crashed   {runs} run(s) on {sut}: {reason}" for campaign, sut, reason, runs in
+              con.execute(render_query("crash_reasons")).fetchall() if campaign == campaign_id]
     wall = time.monotonic() - session.start
     if session.runs:
         lines.append(f"this run  {session.runs} runs in {wall:.1f} s wall ({session.runs / wall:.1f} runs/s), "
