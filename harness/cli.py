@@ -11,6 +11,7 @@ from pathlib import Path
 from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR, __version__
 from harness.adapters.ros.recorder import ROSBAG_ENV
 from harness.errors import UntimelyError
+from harness.run import processes
 from harness.store.database import discard_if_empty
 
 EXTERNAL_HELP = ("; or an external SUT over untimely/1: NAME=cmd:COMMAND (started per run, stdio), "
@@ -108,7 +109,12 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--property", help="shrink the FN (else FP) on this property id (default: the hang, "
                                       "else the trace's first FN or FP)")
     c.add_argument("--verdict", choices=("FN", "FP"), help="with --property: keep this verdict (default: FN, else FP)")
-    c.add_argument("--mission", help="mission folder (default: the trace's campaign's)")
+    c.add_argument("--mission", help="mission folder (default: the trace's campaign's); its suts.toml "
+                                     "may define the trace's external SUT")
+    c.add_argument("--sut", help="the trace's SUT, named again: an external SUT's command is never "
+                                 f"read from the store{EXTERNAL_HELP}")
+    c.add_argument("--run-stored-command", action="store_true",
+                   help="run the external SUT's command recorded in the store (only for a store you trust)")
     c.add_argument("--out", help="folder of the .mission file (default: shrunk/ beside the store)")
     db(c)
 
@@ -164,6 +170,8 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    processes.stop_on_signals()  # SIGTERM and SIGHUP clean up as Ctrl-C does
+    processes.become_subreaper()  # daemons detached by adapters come back to be ended
     new_store = None if getattr(args, "db", None) in (None, ":memory:") or Path(args.db).exists() else args.db
     status = _run(args)
     if status and new_store:  # e.g. --sut nonexistent: leave no empty store behind
@@ -187,9 +195,10 @@ def _run(args) -> int:
     except UntimelyError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("stopped (Ctrl-C); the store keeps every finished transaction", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as e:
+        how, signum = (e.args[0], e.signum) if isinstance(e, processes.Stopped) else ("Ctrl-C", 2)
+        print(f"stopped ({how}); the store keeps every finished transaction", file=sys.stderr)
+        return 128 + signum
     except BrokenPipeError:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1

@@ -138,7 +138,8 @@ def test_suts_file_entries_are_checked_naming_file_and_key(tmp_path):
         resolve("ros", tmp_path)
     (tmp_path / "suts.toml").write_text('[ros]\ncommand = "launch"\nslots = 8\ntime_scale = 2\n')
     names, external = resolve("ros", tmp_path)
-    assert external["ros"] == ExternalSut("ros", command="launch", slots=8, time_scale=2.0)
+    # a command of a suts.toml starts in its folder, so it may name the adapter relative to it
+    assert external["ros"] == ExternalSut("ros", command="launch", slots=8, time_scale=2.0, cwd=str(tmp_path.resolve()))
 
 
 def test_run_on_the_command_line_stores_where_and_how_fast_it_ran(tmp_path, capsys):

@@ -20,6 +20,8 @@ def check(text, interface):
     ("send rflex.Init as all\n", "'as' must end the line"),
     ("send ndd.GotoPosition x=1 y\n", "argument 'y' is not of the form name=value"),
     ("# only a comment\n", "the script has no steps"),
+    ("send rflex.Init\nsleep 1e308\n", "m.mission:2: sleep duration '1e308' is longer than a day (86400 s)"),
+    ("send rflex.Init\nwait all timeout=1e308\n", "m.mission:2: timeout '1e308' is longer than a day (86400 s)"),
 ])
 def test_parse_errors_name_line_and_value(text, message):
     with pytest.raises(ScriptError) as e:

@@ -227,6 +227,8 @@ def summary(con, campaign_id: int, session: Session) -> str:
             render_query("campaign_runs"), {"campaign": campaign_id}).fetchall():
         lines.append(f"{sut:<9} {runs} runs: {completed} completed, {hung} hung, {crashed} crashed; "
                      f"{sim:,.0f} simulated s")
+    lines += [f"crashed   {runs} run(s) on {sut}: {reason}" for campaign, sut, reason, runs in
+              con.execute(render_query("crash_reasons")).fetchall() if campaign == campaign_id]
     wall = time.monotonic() - session.start
     if session.runs:
         lines.append(f"this run  {session.runs} runs in {wall:.1f} s wall ({session.runs / wall:.1f} runs/s), "
@@ -299,7 +301,7 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
         print(analyzer.summary(con, epsilon))
     if args.shrink:
         print("\nshrunk reproducers, one per distinct bad behaviour (view bad_behaviours):")
-        for line in shrink.representatives(con, properties, shrink.default_out(args.db), setup.runner,
-                                           1 if setup.external else jobs):  # an external SUT: one run at a time
+        for line in shrink.representatives(con, properties, shrink.default_out(args.db), setup.external,
+                                           setup.runner, 1 if setup.external else jobs):  # external: one at a time
             print(line, flush=True)
     return 0

@@ -9,6 +9,10 @@ shrink is stored as a campaign of kind "shrink" holding the shrunk script (paren
 script; mutations: what was shrunk, from what, in how many runs); its trace is not stored, so
 the campaign's tables stay as they were. The .mission file is written to --out, by default the
 folder `shrunk` beside the store; the report writes the same files from the store.
+
+A store may come from elsewhere: the command of an external SUT recorded in it is never run
+unless the user names that SUT again (--sut, or --mission whose suts.toml defines it) or
+confirms it (--run-stored-command).
 """
 from __future__ import annotations
 
@@ -31,7 +35,7 @@ from harness.analysis.judge import Judge
 from harness.mutator.ddmin import ddmin
 from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
-from harness.run.external.definitions import ExternalSut
+from harness.run.external.definitions import SUTS_FILE, ExternalSut, load_suts_file, resolve
 from harness.trace import Trace
 from harness.run.workers import Setup, Task
 
@@ -93,6 +97,28 @@ def original(con, trace_id: int, mission: str | None = None) -> Original:
     folder = Path(campaign_mission) if config.get("kind") == "campaign" else Path(campaign_mission).parent
     return Original(trace_id, script_id, sut, seed, outcome, body, Path(mission) if mission else folder,
                     config.get("max_delay", 0.003), config.get("external", {}))
+
+
+def with_trusted_sut(orig: Original, sut_option: str | None, mission_given: bool, confirmed: bool) -> Original:
+    """The trace with the definition of its SUT that the user gave: --sut, else the suts.toml of
+    the --mission folder; the one recorded in the store only if it runs no command or the user
+    confirmed it."""
+    if sut_option:
+        names, external = resolve(sut_option, orig.mission)
+        if orig.sut not in names:
+            raise UntimelyError(f"--sut {sut_option!r} does not name trace {orig.trace_id}'s SUT {orig.sut!r}; "
+                                f"give --sut {orig.sut} (with =cmd:COMMAND or =tcp://HOST:PORT if it is external)")
+        return replace(orig, external={n: s.config() for n, s in external.items() if n == orig.sut})
+    defined = load_suts_file(orig.mission / SUTS_FILE) if mission_given else {}
+    if orig.sut in defined:
+        return replace(orig, external={orig.sut: defined[orig.sut].config()})
+    command = orig.external.get(orig.sut, {}).get("command")
+    if command and not confirmed:
+        raise UntimelyError(f"trace {orig.trace_id} ran on {orig.sut!r}, whose command the store records as "
+                            f"{command!r}; shrink does not run a command read from a store: name the SUT "
+                            f"again with --sut {orig.sut}=cmd:COMMAND, or --mission FOLDER whose suts.toml "
+                            f"defines {orig.sut!r}, or pass --run-stored-command if you trust this store")
+    return orig
 
 
 def _codes(prop: Property) -> set[str]:
@@ -235,13 +261,16 @@ def stored(con, orig: Original, behaviour: Behaviour, result: tuple[Script, int,
             f"{len(script.steps)} steps in {runs} runs, {seconds:.1f} s -> {path}")
 
 
-def representatives(con, properties: list[Property], out: Path, runner=run_script, jobs: int = 1) -> Iterator[str]:
+def representatives(con, properties: list[Property], out: Path, external: dict[str, ExternalSut],
+                    runner=run_script, jobs: int = 1) -> Iterator[str]:
     """`campaign --shrink`: shrink the representative trace of every distinct bad behaviour
     (view bad_behaviours) not shrunk yet, `jobs` at a time in worker processes; this process
-    stores them in the view's order, one line per behaviour."""
+    stores them in the view's order, one line per behaviour. External SUTs run as the campaign's
+    arguments define them (`external`), not as the store records them."""
     done = {(r["sut"], r["verdict"], r["property"]) for (text,) in con.execute(
         "select mutations from scripts where kind = 'shrunk'").fetchall() for r in json.loads(text)}
-    todo = [(Behaviour(sut, verdict, property_id), original(con, trace_id))
+    mine = {name: sut.config() for name, sut in external.items()}
+    todo = [(Behaviour(sut, verdict, property_id), replace(original(con, trace_id), external=mine))
             for sut, property_id, verdict, trace_id in con.execute(
                 "select sut, property_id, verdict, representative from bad_behaviours "
                 "join variant_positions using (sut) "
@@ -264,7 +293,8 @@ def default_out(db: str) -> Path:
 
 def main(args) -> int:
     con = store.connect(args.db, create=False)
-    orig = original(con, args.trace_id, args.mission)
+    orig = with_trusted_sut(original(con, args.trace_id, args.mission), args.sut, bool(args.mission),
+                            args.run_stored_command)
     properties = load_properties(orig.mission / "properties.toml", orig.interface)
     if args.verdict and not args.property:
         raise UntimelyError(f"--verdict {args.verdict} needs --property: the property whose verdict to keep")

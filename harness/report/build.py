@@ -166,6 +166,7 @@ def _write_rest(con, out: Path, page_ids: set[int]) -> dict[str, int]:
     tables = {
         "trace_outcomes": queries.trace_counts(con),
         "invalid_mutants": queries.invalid_mutants(con),
+        "crash_reasons": queries.crash_reasons(con),
         "table2": table2.link_column("sut", html.bad_href),
         "table3": pages.pivot(tp, "tp_rate", "table3", suts, families),
         "table4": pages.pivot(fp, "fp_rate", "table4", suts, families),

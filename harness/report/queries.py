@@ -37,8 +37,10 @@ def check_analysed(con, db: str) -> None:
     missing = [name for name in ("traces", *ANALYSED) if name not in have]
     if "traces" in missing:
         raise StoreError(f"{db!r} is not an Untimely store (no traces table); pass the campaign's --db")
-    if missing or not con.execute("select count(*) from verdicts").fetchone()[0]:
-        lacking = ", ".join(missing) or "any verdict row"
+    # an analysis with no verdict (every run crashed before a final reply) is still reported
+    if missing or not con.execute("select (select count(*) from verdicts) + "
+                                  "(select count(*) from analyses)").fetchone()[0]:
+        lacking = ", ".join(missing) or "any analysis"
         raise StoreError(f"{db!r} has no verdicts yet (lacks {lacking}); "
                          f"run python -m harness analyze --db {db} first")
     if "trace_scope" not in have:  # analysed by an earlier bench, whose views count every trace
@@ -69,6 +71,10 @@ def campaigns(con) -> list[dict]:
 
 def trace_counts(con) -> Table:
     return query_table(con, "trace_outcomes", render_query("trace_outcomes"))
+
+
+def crash_reasons(con) -> Table:
+    return query_table(con, "crash_reasons", render_query("crash_reasons"))
 
 
 def invalid_mutants(con) -> Table:

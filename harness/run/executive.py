@@ -144,7 +144,9 @@ class Executive:
             yield self.env.timeout(self.probe_period)
             answered = self.env.event()
             self.layer.ping(lambda: answered.triggered or answered.succeed())
-            yield self.env.any_of(answered, self.env.timeout(self.probe_timeout))
+            # counted from when the ping really went out: a kernel late behind a flood of
+            # messages must not blame the layer for its own delay
+            yield self.env.any_of(answered, self.env.timeout(self.probe_timeout + self.env.lag()))
             if not answered.triggered:
                 self.notes.append((self.env.now, "probe_unanswered", json.dumps({})))
                 if not self.done.triggered:

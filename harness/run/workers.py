@@ -13,7 +13,9 @@ when the worker is ready (it has imported the project), not when the task is han
 spawned worker takes a second or more to start on a loaded machine.
 
 Workers are spawned (not forked): the parent holds an open DuckDB connection and threads.
-They ignore SIGINT, so Ctrl-C reaches the parent alone, which stops them.
+They ignore SIGINT, so Ctrl-C reaches the parent alone, which stops them: SIGTERM, on which a
+busy worker ends its adapter (harness.run.processes), then SIGKILL after a grace. A worker whose
+parent dies gets SIGTERM too, and leaves quietly.
 """
 from __future__ import annotations
 
@@ -28,13 +30,14 @@ from pathlib import Path
 from typing import Callable
 
 from harness.errors import UntimelyError
+from harness.run import processes
 from harness.run.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import parse
 from harness.run.external.definitions import ExternalSut
 from harness.trace import Trace
 
-STOP_GRACE_S = 2.0
+STOP_GRACE_S = 8.0  # a busy worker's adapter may take GRACE_S, then TERM_GRACE_S, to end
 READY = "ready"  # a worker's first message: it has set up and can run
 
 
@@ -88,16 +91,16 @@ def crashed(task: Task, error: str, wall_s: float = 0.0) -> Trace:
 
 def _serve(conn, setup: Setup, slot: int) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    interface = load_interface(setup.interface_file)
-    conn.send(READY)
-    while True:
-        try:
-            task = conn.recv()
-        except EOFError:  # the parent is gone
-            return
-        if task is None:
-            return
-        conn.send(setup.run(task, interface, slot))
+    processes.stop_on_signals()
+    processes.die_with_parent()
+    processes.become_subreaper()  # the daemons of its adapters come back to it, to be ended
+    try:
+        interface = load_interface(setup.interface_file)
+        conn.send(READY)
+        while (task := conn.recv()) is not None:
+            conn.send(setup.run(task, interface, slot))
+    except (EOFError, OSError, KeyboardInterrupt):  # the parent is gone, or stops this worker
+        return
 
 
 class _Worker:
@@ -141,7 +144,14 @@ class _Worker:
                                 "its error output above says why")
         return f"the worker process died ({how}) during this run"
 
+    def terminate(self) -> None:
+        """SIGTERM: a busy worker ends its run's adapter, then exits."""
+        self.process.terminate()
+
     def kill(self) -> None:
+        """SIGTERM, then SIGKILL if it has not exited after STOP_GRACE_S."""
+        self.terminate()
+        self.process.join(STOP_GRACE_S)
         self.process.kill()
         self.process.join()
 
@@ -154,12 +164,14 @@ class Pool:
         self.setup, self.jobs = setup, jobs
         self.context = multiprocessing.get_context("spawn")
         self.workers: list[_Worker] = []
+        self.started = processes.uptime()
 
     def __enter__(self) -> "Pool":
         return self
 
     def __exit__(self, *_exception) -> None:
         _stop(self.workers)
+        processes.end_orphans(self.started)  # adapters of workers that had to be killed
 
     def run_all(self, tasks: list[Task], on_trace: Callable[[Task, Trace], None]) -> None:
         """Run every task; `on_trace(task, trace)` is called in this process, in completion order.
@@ -207,10 +219,10 @@ def run_all(tasks: list[Task], setup: Setup, jobs: int, on_trace: Callable[[Task
 
 
 def _stop(workers: list[_Worker]) -> None:
-    """Idle workers leave on their own; busy ones (Ctrl-C, an error) are killed at once."""
+    """Idle workers leave on their own; busy ones (Ctrl-C, an error) are told to stop (SIGTERM)."""
     for worker in workers:
         if worker.task:
-            worker.kill()
+            worker.terminate()
         else:
             try:
                 worker.conn.send(None)
@@ -220,4 +232,5 @@ def _stop(workers: list[_Worker]) -> None:
     for worker in workers:
         worker.process.join(max(0.0, deadline - time.monotonic()))
         if worker.process.is_alive():
-            worker.kill()
+            worker.process.kill()
+            worker.process.join()

@@ -167,6 +167,10 @@ class Environment:
     def peek(self) -> float:
         return self._heap[0][0] if self._heap else float("inf")
 
+    def lag(self) -> float:
+        """How far the clock of the world is ahead of `now` (virtual time: never)."""
+        return 0.0
+
     def step(self) -> None:
         self.now, _, _, event = heappop(self._heap)
         callbacks, event.callbacks = event.callbacks, None

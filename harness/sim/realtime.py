@@ -37,6 +37,10 @@ class RealtimeEnvironment(Environment):
         """The wall clock in mission seconds since start."""
         return (time.monotonic() - self._start) * self.time_scale
 
+    def lag(self) -> float:
+        """Mission seconds the kernel is behind the wall clock (busy with a flood of messages)."""
+        return max(0.0, self.clock() - self.now)
+
     def post(self, callback: Callable[[], None]) -> None:
         """Thread-safe: run `callback` on the kernel's thread as soon as it is free."""
         self._posted.put(callback)

@@ -73,6 +73,9 @@ class Script:
         return f"<Script {self.source}: {len(self.steps)} steps>"
 
 
+MAX_SECONDS = 86_400.0  # of a sleep or a wait's timeout
+
+
 def _number(value: float) -> str:
     return f"{value:g}"
 
@@ -84,6 +87,9 @@ def _seconds(source, line, text, what) -> float:
         value = None
     if value is None or not value > 0 or value != value or value == float("inf"):
         raise ScriptError(source, line, f"{what} {text!r} is not a positive number of seconds")
+    if value > MAX_SECONDS:  # a real-time run would wait for it: a typo must not hang the bench
+        raise ScriptError(source, line, f"{what} {text!r} is longer than a day ({MAX_SECONDS:g} s); "
+                                        "give a duration in seconds up to that")
     return value
 
 

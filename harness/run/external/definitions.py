@@ -5,7 +5,8 @@
 - `NAME=cmd:COMMAND`: an adapter the bench starts for every run and talks to on stdio,
 - `NAME=tcp://HOST:PORT`: an adapter already listening, reached anew for every run,
 - a name defined in the mission folder's `suts.toml`, where a SUT also gets its environment,
-  slots (how many may run at once) and time scale.
+  slots (how many may run at once) and time scale; its command starts in that folder, so it
+  may name the adapter relative to it.
 In a command, `{python}` is the bench's own interpreter, `{root}` the folder holding the
 harness package (the repository in a checkout) and, in suts.toml, `{mission}` the mission folder.
 """
@@ -14,7 +15,7 @@ from __future__ import annotations
 import re
 import shlex
 import sys
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 from harness import ROOT
@@ -35,13 +36,15 @@ class ExternalSut:
     time_scale: float = 1.0
     startup_s: float = 30.0  # wall seconds for the adapter to answer hello
     probe_timeout_s: float = 3.0  # wall seconds for a pong
+    cwd: str | None = None  # where the command starts: the target folder of a suts.toml entry
 
     def argv(self) -> list[str]:
         return [part.replace("{python}", sys.executable).replace("{root}", str(ROOT))
                 for part in shlex.split(self.command)]
 
     def config(self) -> dict:
-        return asdict(self)
+        """Its fields as stored in campaigns.config (`cwd` only when set: older stores lack it)."""
+        return {k: v for k, v in asdict(self).items() if k != "cwd" or v is not None}
 
 
 KEYS = {"command": str, "address": str, "env": dict, "slots": int, "time_scale": float,
@@ -60,8 +63,13 @@ def _checked(name: str, spec: dict, where) -> ExternalSut:
         raise where("command", "give exactly one of command (stdio) or address (tcp HOST:PORT)")
     if "address" in spec and not re.fullmatch(r"[^:\s]+:\d+", spec["address"]):
         raise where("address", f"address = {spec['address']!r}: give HOST:PORT, e.g. 127.0.0.1:7400")
-    if "command" in spec and not shlex.split(spec["command"]):
-        raise where("command", "command is empty: give the adapter's command line")
+    if "command" in spec:
+        try:
+            words = shlex.split(spec["command"])
+        except ValueError as e:  # an unclosed quote
+            raise where("command", f"command = {spec['command']!r}: {e}; close the quote") from None
+        if not words:
+            raise where("command", "command is empty: give the adapter's command line")
     for key in ("slots", "time_scale", "startup_s", "probe_timeout_s"):
         if key in spec and not spec[key] > 0:
             raise where(key, f"{key} = {spec[key]!r}: give a number > 0")
@@ -81,7 +89,8 @@ def load_suts_file(path: Path) -> dict[str, ExternalSut]:
             raise InputFileError(path, f"[{name}]", "a SUT is a table named by letters, digits, '_', '.' or '-'")
         if isinstance(spec.get("command"), str):
             spec = {**spec, "command": spec["command"].replace("{mission}", shlex.quote(str(path.parent.resolve())))}
-        suts[name] = _checked(name, spec, where)
+        sut = _checked(name, spec, where)
+        suts[name] = replace(sut, cwd=str(path.parent.resolve())) if sut.command else sut
     return suts
 
 

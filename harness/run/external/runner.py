@@ -21,7 +21,7 @@ import threading
 import time
 from datetime import datetime, timezone
 
-from harness.run.external.channel import Connection
+from harness.run.external.channel import Connection, Unresponsive, quoted
 from harness.run.executive import Executive, LayerMisbehaved, trace_of
 from harness.target.interface import Interface
 from harness.target.script import Script
@@ -31,6 +31,9 @@ from harness.run.external.definitions import ExternalSut
 from harness.trace import Trace
 
 PROBE_PERIOD_WALL_S = 1.0
+# Reads (of up to 64 KB) not yet handled by the kernel: beyond, the reader waits (and the SUT
+# with it), so a flood of messages cannot grow the bench's memory.
+MAX_QUEUED_READS = 64
 
 
 class ProtocolLayer:
@@ -51,22 +54,33 @@ class ProtocolLayer:
         self.greeted = threading.Event()
         self.problem: str | None = None  # a violation before the hello answer
         self.closing = False
+        self.room = threading.BoundedSemaphore(MAX_QUEUED_READS)
 
     # Reader thread: the hello is handled here; every later line goes to the kernel's thread.
-    def deliver(self, line: str | None) -> None:
-        if self.greeted.is_set():
-            self.env.post(lambda: self.handle(line))
-            return
+    def deliver(self, lines: list[str] | None) -> None:
+        if not self.greeted.is_set():
+            self._greet(lines[0] if lines else None)
+            lines = lines[1:] if lines else None
+            if lines == []:
+                return
+        while not self.room.acquire(timeout=0.25):
+            if self.closing:
+                return
+        self.env.post(lambda: self.handle(lines))
+
+    def _greet(self, line: str | None) -> None:
         if line is None:
-            self.problem = f"the SUT ended before answering hello ({self.connection.exit_status()})"
+            self.problem = f"the SUT ended before answering hello ({self.connection.why_ended()})"
         else:
             try:
                 message = decode(line)
+                if message["op"] == "error":
+                    raise ProtocolViolation(f"the SUT sent an error instead of hello: {message['message']}")
                 if message["op"] != "hello" or message["proto"] != PROTO:
                     raise ProtocolViolation(f"expected a hello with proto {PROTO!r} first")
                 self.hello, self.hello_at = message, time.monotonic()
             except ProtocolViolation as e:
-                self.problem = f"{e}; the SUT's line: {line.rstrip()!r}"
+                self.problem = f"{e}; the SUT's line: {quoted(line)}"
         self.greeted.set()
 
     def receive(self, rqst_id: int, service: str, args: dict[str, str], reply) -> None:
@@ -81,15 +95,25 @@ class ProtocolLayer:
         self.pings[ping_id] = (answer, time.monotonic())
         self.connection.write(encode("ping", id=ping_id))
 
-    def handle(self, line: str | None) -> None:
-        if line is None:
+    def handle(self, lines: list[str] | None) -> None:
+        if lines is None:
             if not self.closing:
-                raise LayerMisbehaved(f"the SUT closed its output before bye ({self.connection.exit_status()})")
+                raise LayerMisbehaved(f"the SUT closed its output before bye ({self.connection.why_ended()})")
             return
-        try:
-            self._dispatch(decode(line))
-        except (ProtocolViolation, LayerMisbehaved) as e:
-            raise LayerMisbehaved(f"{e}; the SUT's line: {line.rstrip()!r}") from None
+        self.room.release()
+        for line in lines:
+            try:
+                self._dispatch(decode(line))
+            except (ProtocolViolation, LayerMisbehaved) as e:
+                raise LayerMisbehaved(f"{e}; the SUT's line: {quoted(line)}") from None
+
+    def unanswered(self) -> str:
+        """Why a trace is hung: its oldest ping without a pong, and what the SUT last wrote."""
+        if not self.pings:
+            return "the SUT stopped answering" + self.connection.last_read_text()
+        ping_id, (_, sent) = min(self.pings.items())
+        return (f"ping {ping_id} got no pong within the probe timeout ({time.monotonic() - sent:.1f} s "
+                f"unanswered when the run ended){self.connection.last_read_text()}")
 
     def _request(self, message: dict) -> tuple:
         if message["id"] not in self.requests:
@@ -149,13 +173,18 @@ def run_external(script: Script, sut: ExternalSut, seed: int, interface: Interfa
     executive = Executive(env, layer, interface, random.Random(seed), max_delay=0.0,
                           probe_period=PROBE_PERIOD_WALL_S * sut.time_scale,
                           probe_timeout=sut.probe_timeout_s * sut.time_scale)
-    layer.connection = Connection(sut, slot, layer.deliver)
     outcome, error = "crashed", None
-    try:
-        layer.connection.write(encode("hello", proto=PROTO, run=run, seed=seed, time_scale=sut.time_scale,
-                                      interface=interface.describe()))
+    layer.connection = Connection(sut, slot)
+    try:  # from here on, however the run ends (a signal included), the SUT is closed
+        layer.connection.start(layer.deliver)
+        try:
+            layer.connection.write(encode("hello", proto=PROTO, run=run, seed=seed, time_scale=sut.time_scale,
+                                          interface=interface.describe()), sut.startup_s)
+        except Unresponsive as e:
+            raise LayerMisbehaved(f"no hello answer: {e}") from None
         if not layer.greeted.wait(sut.startup_s):
-            raise LayerMisbehaved(f"no hello answer within {sut.startup_s:g} s of starting")
+            raise LayerMisbehaved(f"no hello answer within {sut.startup_s:g} s of starting"
+                                  f"{layer.connection.last_read_text()}")
         if layer.problem:
             raise LayerMisbehaved(layer.problem)
         env.restart_clock(layer.hello_at)
@@ -163,10 +192,16 @@ def run_external(script: Script, sut: ExternalSut, seed: int, interface: Interfa
         env.process(executive.probe(), "liveness probe")
         env.run(until=executive.done)
         outcome = executive.done.value
+        error = layer.unanswered() if outcome == "hung" else None
         layer.closing = True
-        layer.connection.write(encode("bye"))
+        try:
+            layer.connection.write(encode("bye"))
+        except Unresponsive:
+            pass  # the run is over; closing the channel ends the SUT
     except LayerMisbehaved as e:
         error = str(e)
+    except Unresponsive as e:  # a SUT that stops reading stops answering: hung, like a missing pong
+        outcome, error = "hung", str(e)
     finally:
         layer.closing = True
         layer.connection.close()

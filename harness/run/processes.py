@@ -1,0 +1,138 @@
+"""No process left behind: what the bench starts, it ends, however it is itself ended.
+
+An adapter runs in a process group of its own; ending it is SIGTERM to the group, a grace, then
+SIGKILL to the group (an adapter that ignores SIGTERM, its children with it). A daemon that
+double-forks and calls setsid leaves that group: on Linux the bench is a child subreaper
+(prctl PR_SET_CHILD_SUBREAPER), so such orphans become its children, and `end_orphans` ends
+them. SIGTERM and SIGHUP become `Stopped` (a KeyboardInterrupt), so the same cleanup as for
+Ctrl-C runs. What cannot be caught: SIGKILL of the bench itself (its workers and adapters are
+then told by PR_SET_PDEATHSIG where they asked for it), and a daemon that escapes to another
+subreaper or into another cgroup (systemd-run, a container runtime).
+"""
+from __future__ import annotations
+
+import ctypes
+import os
+import signal
+import time
+
+PR_SET_PDEATHSIG = 1
+PR_SET_CHILD_SUBREAPER = 36
+TERM_GRACE_S = 2.0  # between SIGTERM and SIGKILL
+
+
+class Stopped(KeyboardInterrupt):
+    """The bench was told to stop by a signal other than SIGINT."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+
+
+def _raise_stopped(signum, _frame):
+    for repeated in STOP_SIGNALS:  # a repeat must not cut the cleanup short (a worker gets
+        signal.signal(repeated, _stopping)  # its parent-death signal once per parent thread)
+    raise Stopped(signum)
+
+
+def _stopping(_signum, _frame):
+    """Already stopping: nothing more to do (a handler, not SIG_IGN, which adapters would inherit)."""
+
+
+def stop_on_signals() -> None:
+    """SIGTERM and SIGHUP stop the bench as Ctrl-C does: cleanup runs, the store keeps what is committed."""
+    for signum in STOP_SIGNALS:
+        signal.signal(signum, _raise_stopped)
+
+
+def _prctl(option: int, value: int) -> bool:
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        return libc.prctl(option, value, 0, 0, 0) == 0
+    except (OSError, AttributeError):  # not Linux
+        return False
+
+
+def become_subreaper() -> bool:
+    """Orphans of the processes this one starts become its children (Linux); False elsewhere."""
+    return _prctl(PR_SET_CHILD_SUBREAPER, 1)
+
+
+def die_with_parent(signum: int = signal.SIGTERM) -> bool:
+    """This process gets `signum` when its parent dies (Linux); False elsewhere."""
+    return _prctl(PR_SET_PDEATHSIG, signum)
+
+
+def end_group(pgid: int, leader=None, grace_s: float = TERM_GRACE_S) -> None:
+    """SIGTERM to a process group, then SIGKILL once `grace_s` has passed or the leader (a
+    Popen) has exited; the leader is reaped."""
+    if not _signal_group(pgid, signal.SIGTERM):
+        if leader is not None:
+            leader.wait()
+        return
+    deadline = time.monotonic() + grace_s
+    while time.monotonic() < deadline and (leader is None or leader.poll() is None):
+        time.sleep(0.02)
+    _signal_group(pgid, signal.SIGKILL)  # whatever of the group is left, children included
+    if leader is not None:
+        leader.wait()
+
+
+def _signal_group(pgid: int, signum: int) -> bool:
+    try:
+        os.killpg(pgid, signum)
+        return True
+    except (ProcessLookupError, PermissionError):
+        return False
+
+
+def uptime() -> float:
+    """Seconds since boot, the clock of /proc/PID/stat's start times (0 where there is none)."""
+    try:
+        with open("/proc/uptime") as f:
+            return float(f.read().split()[0])
+    except OSError:
+        return 0.0
+
+
+def _detached_children(since: float) -> list[int]:
+    """This process's children in another session than its own, started `since` seconds after
+    boot or later, from /proc: adapters and what they detached, never a helper of this process
+    (a worker, the multiprocessing resource tracker), which shares its session."""
+    found, me, session, tick = [], os.getpid(), os.getsid(0), os.sysconf("SC_CLK_TCK")
+    try:
+        entries = [e for e in os.listdir("/proc") if e.isdigit()]
+    except OSError:
+        return found
+    for entry in entries:
+        try:
+            with open(f"/proc/{entry}/stat", "rb") as f:
+                stat = f.read().decode(errors="replace")
+        except OSError:
+            continue
+        fields = stat[stat.rfind(")") + 2:].split()  # from the state on: the name may hold spaces
+        if int(fields[1]) == me and int(fields[3]) != session and int(fields[19]) / tick >= since - 1 / tick:
+            found.append(int(entry))
+    return found
+
+
+def end_orphans(since: float, known: set[int] = frozenset()) -> int:
+    """End and reap the children of this process started since `since` (uptime()) in another
+    session, but those `known`: adapters and daemons re-parented to it as a subreaper. Returns
+    how many. They get SIGKILL at once: they were detached from the adapter's group on purpose."""
+    orphans = [pid for pid in _detached_children(since) if pid not in known]
+    for pid in orphans:
+        try:
+            if os.getpgid(pid) == pid:
+                _signal_group(pid, signal.SIGKILL)
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        try:
+            os.waitpid(pid, 0)
+        except ChildProcessError:
+            pass
+    return len(orphans)
