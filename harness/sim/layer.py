@@ -46,13 +46,8 @@ def parse_args(service: Service, raw: dict[str, str]) -> dict | None:
 
 def build_modules(env: Environment, description, interface: Interface, world_file: Path) -> tuple[dict, list]:
     """The modules by name and the world's event list (virtual damage; empty without a world)."""
-    if description.behaviour:
-        try:
-            behaviour = importlib.import_module(description.behaviour)
-        except ImportError as e:
-            raise UntimelyError(f"{description.path}: behaviour = {description.behaviour!r} cannot be "
-                                f"imported ({e}); name an importable Python module") from None
-        return behaviour.build(env, world_file)
+    if description.behaviour:  # known to import and to provide build() (layer_description.py)
+        return importlib.import_module(description.behaviour).build(env, world_file)
     return {m: Module(env, m) for m in interface.modules}, []
 
 
