@@ -29,13 +29,16 @@ def cut(value, limit: int = SHOWN_CHARS) -> str:
     return text if len(text) <= limit else f"{text[:limit]}... ({len(text):,} characters)"
 
 
-def validated(model: type[BaseModel], data, path, text: str | None = None):
-    """`data` (read from `path`, whose TOML `text` gives lines) as a `model`, or an InputFileError."""
+def validated(model: type[BaseModel], data, path, text: str | None = None, at: tuple = ()):
+    """`data` (read from `path`, whose TOML `text` gives lines; the table at keys `at` of it) as a
+    `model`, or an InputFileError."""
     try:
         return model.model_validate(data)
     except ValidationError as e:
         error = e.errors(include_url=False)[0]
         keys, field, table = _resolve(model, error["loc"])
+        error["loc"] = at + error["loc"]
+        keys = at + keys
         raise InputFileError(path, where(text, keys), _problem(error, keys, field, table)) from None
 
 
@@ -58,6 +61,8 @@ def _problem(error: dict, keys: tuple, field, table) -> str:
     if kind == "value_error":  # a model's own check: its message names the value
         return f"{dotted(keys)}: {error['ctx']['error']}" if keys else str(error["ctx"]["error"])
     hint = field.description if field is not None and field.description else _reworded(error)
+    if error["loc"][-1] == "[key]":  # a table's key, not its value, is refused
+        return f"{dotted(keys[:-1])}: key {cut(error['input'])} is not allowed; {hint}"
     if kind == "missing":
         return f"{name} is missing; {hint}"
     return f"{name} = {cut(error['input'])}; {hint}"

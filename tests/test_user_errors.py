@@ -163,7 +163,7 @@ def test_analyze_says_which_interface_the_properties_need(tmp_path, capsys):
     properties = tmp_path / "mine.toml"
     properties.write_text((DEFAULT_MISSION_DIR / "properties.toml").read_text())
     err = _fails(capsys, "analyze", "--db", db, "--properties", properties)
-    assert f"{tmp_path / 'interface.toml'}:: file not found; the properties {properties} name services" in err
+    assert f"{tmp_path / 'interface.toml'}: file not found; the properties {properties} name services" in err
     assert "pass --interface FILE" in err
     assert main(["analyze", "--db", str(db), "--properties", str(properties), "--interface", INTERFACE]) == 0
     assert "against 21 properties" in capsys.readouterr().out

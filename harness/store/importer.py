@@ -109,7 +109,7 @@ def _text(value) -> str | None:
 
 def _read_jsonl(path: Path) -> tuple[pa.Table, str]:
     rows, lines = [], []
-    for n, line in enumerate(read_text(path).splitlines(), 1):
+    for n, line in enumerate(read_text(path).split("\n"), 1):  # a JSON string may hold U+2028
         if not line.strip():
             continue
         try:

@@ -64,9 +64,6 @@ class Mission:
     def properties(self) -> list[Property]:
         return load_properties(self.properties_file, self.interface)
 
-    def variants(self) -> list[str]:
-        return list(self.layer.variants) if self.simulated else []
-
     def default_suts(self) -> str:
         """A campaign's --sut when none is given: the layer's default variants."""
         if not self.simulated:

@@ -127,7 +127,7 @@ def _parse_line(source: str, n: int, text: str, comment: str) -> Step:
 def parse(text: str, source: str = "<script>") -> Script:
     """Parse a script's text; raises ScriptError naming the line of a malformed step."""
     steps = []
-    for n, raw in enumerate(text.splitlines(), 1):
+    for n, raw in enumerate(text.split("\n"), 1):  # only \n ends a line: not U+2028 or a form feed in a comment
         body, _, comment = raw.partition("#")
         if body.strip():
             steps.append(_parse_line(source, n, body.strip(), comment.strip()))
@@ -177,10 +177,6 @@ def validate(script: Script, interface: Interface) -> None:
 
 def load_script(path: str | Path, interface: Interface) -> Script:
     path = Path(path)
-    try:
-        text = read_text(path)
-    except OSError as e:
-        raise ScriptError(path, 0, f"cannot read the script: {e.strerror}") from None
-    script = parse(text, str(path))
+    script = parse(read_text(path, "file not found; pass an existing mission script"), str(path))
     validate(script, interface)
     return script
