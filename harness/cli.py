@@ -5,12 +5,39 @@ import argparse
 import gc
 import importlib
 import os
+import re
 import sys
 from pathlib import Path
 
 from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR
 from harness.errors import UntimelyError
 from harness.store.database import discard_if_empty
+
+MAX_JOBS = max(64, 2 * (os.cpu_count() or 1))  # more worker processes only compete for the machine
+
+
+def _checked(convert, accept, what: str):
+    """An argparse type: `convert` the text, refused with `what` to give unless `accept(value)`."""
+    def parse(text: str):
+        try:
+            value = convert(text)
+        except (ValueError, OverflowError):
+            value = None
+        if value is None or not accept(value):  # a NaN is accepted by no comparison
+            shown = text if len(text) <= 40 else text[:40] + "..."
+            raise argparse.ArgumentTypeError(f"{shown!r}: give {what}")
+        return value
+    return parse
+
+
+SEED = _checked(int, lambda v: -2**63 <= v < 2**63, "a whole number from -2^63 to 2^63 - 1 (the store keeps 64 bits)")
+SECONDS = _checked(float, lambda v: 0 <= v < float("inf"), "a number of seconds >= 0")
+SCALE = _checked(float, lambda v: 0 < v < float("inf"), "a finite factor > 0 (1 = real time)")
+JOBS = _checked(int, lambda v: 0 <= v <= MAX_JOBS, f"a number of worker processes from 1 to {MAX_JOBS}, or 0 for "
+                                                   "all cores")
+COUNT = _checked(int, lambda v: v >= 1, "a whole number >= 1")
+CLUSTER = _checked(str, lambda v: re.fullmatch(r"local:[1-9]\d{0,2}|tcp://[^\s:/]+:\d{1,5}", v) is not None,
+                   "tcp://HOST:PORT (a Dask scheduler) or local:N with N from 1 to 999 local workers")
 
 EXTERNAL_HELP = ("; or an external SUT over untimely/1: NAME=cmd:COMMAND (started per run, stdio), "
                  "NAME=tcp://HOST:PORT, or a NAME from the mission folder's suts.toml")
@@ -40,7 +67,7 @@ def _parser() -> argparse.ArgumentParser:
         return c
 
     def time_scale(c):
-        c.add_argument("--time-scale", type=float, help="external SUTs: mission seconds per wall second "
+        c.add_argument("--time-scale", type=SCALE, help="external SUTs: mission seconds per wall second "
                        "(1 = real time; default: the SUT's own, else 1)")
 
     def db(c, help="the DuckDB store"):
@@ -49,10 +76,10 @@ def _parser() -> argparse.ArgumentParser:
     c = command("run", "run one script on one variant, store and summarise its trace", "harness.campaign.adhoc:main")
     c.add_argument("mission", help="a mission script, e.g. missions/dala/golden.mission")
     c.add_argument("--sut", required=True, help=f"implementation variant: {variants_help}{EXTERNAL_HELP}")
-    c.add_argument("--seed", type=int, default=0, help="seed of the observation delays (default: 0)")
+    c.add_argument("--seed", type=SEED, default=0, help="seed of the observation delays (default: 0)")
     c.add_argument("--interface", help="interface description (default: interface.toml beside the script)")
     c.add_argument("--world", help="world description (default: world.toml beside the script)")
-    c.add_argument("--max-delay", type=float, default=0.003,
+    c.add_argument("--max-delay", type=SECONDS, default=0.003,
                    help="largest interface observation delay in seconds (default: %(default)s)")
     time_scale(c)
     db(c)
@@ -62,19 +89,20 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--mutants", type=int, default=300, help="number of mutants (default: %(default)s)")
     c.add_argument("--sut", help="comma-separated SUTs (default: the layer.toml's default_suts): "
                    f"variants {variants_help}{EXTERNAL_HELP}")
-    c.add_argument("--seed", type=int, default=2012, help="campaign seed (default: %(default)s)")
-    c.add_argument("--jobs", type=int, default=0, help="worker processes, 0 = all cores (default: %(default)s)")
+    c.add_argument("--seed", type=SEED, default=2012, help="campaign seed (default: %(default)s)")
+    c.add_argument("--jobs", type=JOBS, default=0, help=f"worker processes, 0 = all cores, at most {MAX_JOBS} "
+                                                        "(default: %(default)s)")
     c.add_argument("--strategy", choices=("random", "targeted"), default="random",
                    help="random: the paper's operators; targeted: mutants aimed at falsifying the "
                         "least-covered properties' conditions (default: %(default)s)")
-    c.add_argument("--ops-per-mutant", type=int, default=None,
+    c.add_argument("--ops-per-mutant", type=COUNT, default=None,
                    help="mutation operations per mutant (default: 1 random, 3 targeted)")
     c.add_argument("--shrink", action="store_true",
                    help="then shrink one representative trace of each distinct bad behaviour")
     c.add_argument("--time-mutations", action="store_true", help="also drop waits and change sleeps")
-    c.add_argument("--cluster", metavar="ADDRESS", help="run on a Dask cluster: a scheduler address "
+    c.add_argument("--cluster", metavar="ADDRESS", type=CLUSTER, help="run on a Dask cluster: a scheduler address "
                    "(tcp://HOST:8786) or local:N for N local workers; needs the cluster extra (docs/cluster.md)")
-    c.add_argument("--max-delay", type=float, default=0.003,
+    c.add_argument("--max-delay", type=SECONDS, default=0.003,
                    help="largest interface observation delay in seconds (default: %(default)s)")
     time_scale(c)
     db(c)
@@ -94,7 +122,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--properties", help="properties file (default: properties.toml of the campaign's mission)")
     c.add_argument("--interface", help="interface description the properties name "
                                        "(default: interface.toml beside the properties file)")
-    c.add_argument("--epsilon", type=float,
+    c.add_argument("--epsilon", type=SECONDS,
                    help=f"seconds within which near events may be reordered (default: the last analysis's, "
                         f"else {DEFAULT_EPSILON_S})")
     db(c)
@@ -135,12 +163,25 @@ def _parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    for name, value in vars(args).items():
+        if isinstance(value, str) and _not_utf8(value):
+            print(f"error: --{name.replace('_', '-')} {value!r}: not UTF-8 (the store and its files keep UTF-8 "
+                  "names); rename the file or folder", file=sys.stderr)
+            return 2
     new_store = None if getattr(args, "db", None) in (None, ":memory:") or Path(args.db).exists() else args.db
     status = _run(args)
     if status and new_store:  # e.g. --sut nonexistent: leave no empty store behind
         gc.collect()  # the failed command's connection, held by its traceback until now
         discard_if_empty(new_store)
     return status
+
+
+def _not_utf8(text: str) -> bool:
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:  # bytes of another encoding, which Python keeps as lone surrogates
+        return True
+    return False
 
 
 def _run(args) -> int:

@@ -185,7 +185,7 @@ def test_the_same_file_twice_is_refused_and_nothing_is_written(tmp_path, interfa
     before = counts(con)
     copy = tmp_path / "renamed.csv"
     copy.write_bytes(path.read_bytes())
-    with pytest.raises(InputFileError, match=r"renamed.csv:: these events were already imported on .* as campaign 1 "
+    with pytest.raises(InputFileError, match=r"renamed.csv: these events were already imported on .* as campaign 1 "
                                              r"\(trace ids 1-2\); nothing was imported"):
         import_file(con, copy, interface)
     assert counts(con) == before

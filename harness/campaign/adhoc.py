@@ -66,7 +66,8 @@ def main(args) -> int:
     if len(names) != 1:
         raise UntimelyError(f"--sut {args.sut!r}: run takes one SUT; a campaign takes several")
     sut = names[0]
-    config = {"kind": "run", "sut": sut, "max_delay": args.max_delay}
+    # the target folder: analyze, explain and shrink read its properties and files
+    config = {"kind": "run", "sut": sut, "max_delay": args.max_delay, "target": str(interface_path.resolve().parent)}
     # Opened before the run: a store another process writes is refused before a long real-time
     # run, and an external SUT is told the trace id it is making (its hello's `run`).
     con = store.connect(args.db)

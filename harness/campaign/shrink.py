@@ -28,6 +28,7 @@ from harness.errors import ScriptError, StoreError, UntimelyError
 from harness.run.executive import run_script
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.analysis.judge import Judge
+from harness.analysis.provenance import campaign_target
 from harness.mutator.ddmin import ddmin
 from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
@@ -90,7 +91,7 @@ def original(con, trace_id: int, mission: str | None = None) -> Original:
         raise UntimelyError(f"trace {trace_id} was imported: it has no script to shrink; shrink a trace "
                             "that a campaign or `run` made")
     config = json.loads(config)
-    folder = Path(campaign_mission) if config.get("kind") == "campaign" else Path(campaign_mission).parent
+    folder = campaign_target(campaign_mission, config)
     return Original(trace_id, script_id, sut, seed, outcome, body, Path(mission) if mission else folder,
                     config.get("max_delay", 0.003), config.get("external", {}))
 

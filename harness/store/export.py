@@ -20,6 +20,7 @@ import pyarrow as pa
 
 from harness.store.reads import ordered
 from harness.errors import StoreError
+from harness.files import make_folder
 from harness.store.database import connect, quoted, schema_version, transaction
 
 FORMATS = {"parquet": "(format parquet)", "csv": "(format csv, header)"}
@@ -68,7 +69,7 @@ def _as_text_json(con, name: str) -> str:
 def export(con, store: str | Path, out: Path, fmt: str) -> dict:
     """Write every table and view of `con` under `out` in `fmt`, then the manifest; returns it."""
     _clear_previous(out)
-    out.mkdir(parents=True, exist_ok=True)
+    make_folder(out, "the export")
     entries = []
     try:
         with transaction(con):

@@ -133,7 +133,8 @@ class LayerTable(Strict):
     invalid_args: str = Field(description="give the reply code it answers invalid arguments with")
     no_slot: str = Field(description="give the reply code it answers when no activity slot is free")
     stop: str | None = Field(None, description="give the name of the service that stops its module")
-    default_suts: Names | None = Field(None, description="give a list of variant names")
+    default_suts: Names | None = Field(None, min_length=1, description="give a non-empty list of variant names "
+                                       "(a campaign's --sut when none is given), or leave it out for all variants")
 
 
 class TimingTable(Strict):
