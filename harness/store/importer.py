@@ -22,6 +22,7 @@ import pyarrow.parquet as pq
 from harness.errors import InputFileError
 from harness.store.export import with_exported_traces
 from harness.files import read_text
+from harness.schema import cut
 from harness.target.interface import Interface, load_interface
 from harness.store.database import add_campaign, add_reply_codes, connect, next_id, place, transaction
 from harness.trace import OUTCOMES
@@ -104,7 +105,19 @@ from placed where outcomes > 1 or suts > 1 group by trace_id
 def _text(value) -> str | None:
     if value is None or isinstance(value, str):
         return value
-    return json.dumps(value) if isinstance(value, (dict, list)) else str(value)
+    return json.dumps(value, allow_nan=False) if isinstance(value, (dict, list)) else str(value)
+
+
+def _column(path: Path, name: str, values: list, unit: str, lines: list[int]) -> pa.Array:
+    """A column's values as text; a value JSON cannot hold (a timestamp, bytes) is refused naming its line."""
+    texts = []
+    for n, value in zip(lines, values):
+        try:
+            texts.append(_text(value))
+        except (TypeError, ValueError) as e:
+            raise InputFileError(path, f"{unit} {n}", f"{name} holds {cut(value)}, which is no JSON value ({e}); "
+                                 "give arguments as numbers, strings, lists or objects") from None
+    return pa.array(texts, pa.string())
 
 
 def _read_jsonl(path: Path) -> tuple[pa.Table, str]:
@@ -116,17 +129,23 @@ def _read_jsonl(path: Path) -> tuple[pa.Table, str]:
             row = json.loads(line)
         except json.JSONDecodeError as e:
             raise InputFileError(path, f"line {n}", f"not valid JSON ({e.msg}); write one event object per line") from None
+        except RecursionError:
+            raise InputFileError(path, f"line {n}", "JSON nested too deeply to be an event; write one flat event "
+                                 "object per line") from None
         if not isinstance(row, dict):
             raise InputFileError(path, f"line {n}", f"{line.strip()[:60]!r} is not a JSON object of the events columns")
         rows.append(row)
         lines.append(n)
     names = list(dict.fromkeys(k for row in rows for k in row))
-    columns = {k: pa.array([_text(row.get(k)) for row in rows], pa.string()) for k in names}
+    columns = {k: _column(path, k, [row.get(k) for row in rows], "line", lines) for k in names}
     return pa.table({"line": pa.array(lines, pa.int64()), **columns}), "line"
 
 
 def _read_csv(path: Path) -> tuple[pa.Table, str]:
     header = next(csv.reader(io.StringIO(read_text(path), newline="")), [])
+    twice = sorted({name for name in header if header.count(name) > 1})
+    if twice:
+        raise InputFileError(path, 1, f"the header names the column {cut(twice[0])} twice; keep one")
     try:
         table = pacsv.read_csv(path, convert_options=pacsv.ConvertOptions(
             column_types={name: pa.string() for name in header}, strings_can_be_null=True))
@@ -141,9 +160,9 @@ def _read_parquet(path: Path) -> tuple[pa.Table, str]:
         table = pq.read_table(path)
     except (pa.ArrowInvalid, OSError) as e:
         raise InputFileError(path, "", f"not a readable Parquet file: {e}") from None
-    columns = {name: pa.array([_text(v) for v in table.column(name).to_pylist()], pa.string())
-               for name in table.column_names}
-    return pa.table({"line": pa.array(range(1, table.num_rows + 1), pa.int64()), **columns}), "row"
+    rows = list(range(1, table.num_rows + 1))
+    columns = {name: _column(path, name, table.column(name).to_pylist(), "row", rows) for name in table.column_names}
+    return pa.table({"line": pa.array(rows, pa.int64()), **columns}), "row"
 
 
 READERS = {".csv": _read_csv, ".jsonl": _read_jsonl, ".ndjson": _read_jsonl, ".parquet": _read_parquet}
