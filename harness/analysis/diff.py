@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import duckdb
 
-from harness.store.reads import ordered
+from harness.store.reads import analyses_made, ordered
 from harness.errors import StoreError
 from harness.store.database import connect
 from harness.textable import format_table, percent
@@ -22,10 +22,10 @@ def _value(measure: str, value):
 
 def changes(con) -> str:
     """The verdict transitions and the changed cells of Tables II-IV, as text."""
+    if analyses_made(con) < 2:
+        return "Changes: this is the first analysis of the store; there is nothing to compare it with."
     analyses = con.execute("select analysis_id, analysed_at, epsilon from analyses "
                            "order by analysis_id desc limit 2").fetchall()
-    if not con.execute("select count(*) from verdicts_previous").fetchone()[0]:
-        return "Changes: this is the first analysis of the store; there is nothing to compare it with."
     now = analyses[0]
     before = (f"analysis {analyses[1][0]} of {analyses[1][1]:%Y-%m-%d %H:%M:%S}, epsilon {analyses[1][2]:g} s"
               if len(analyses) > 1 else "the analysis before it")

@@ -25,6 +25,7 @@ import duckdb
 
 from harness import DEFAULT_EPSILON_S, store
 from harness.errors import ScriptError, StoreError, UntimelyError
+from harness.files import make_folder
 from harness.run.executive import run_script
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.analysis.judge import Judge
@@ -209,9 +210,12 @@ def header(orig: Original, behaviour: Behaviour, script_id: int, path: Path, run
 
 
 def write_mission(out: Path, orig: Original, behaviour: Behaviour, script_id: int, body: str, runs: int) -> Path:
-    out.mkdir(parents=True, exist_ok=True)
-    path = mission_file(out, script_id)
-    path.write_text(header(orig, behaviour, script_id, path, runs, len(parse(orig.body).steps)) + body)
+    path = mission_file(make_folder(out, "the shrunk scripts"), script_id)
+    try:
+        path.write_text(header(orig, behaviour, script_id, path, runs, len(parse(orig.body).steps)) + body)
+    except OSError as e:
+        raise UntimelyError(f"cannot write {str(path)!r}: {e.strerror}; the shrunk script is stored as script "
+                            f"{script_id}: pass a writable --out and shrink again to write it") from None
     return path
 
 
@@ -264,6 +268,7 @@ def default_out(db: str) -> Path:
 
 
 def main(args) -> int:
+    out = make_folder(Path(args.out) if args.out else default_out(args.db), "the shrunk scripts")  # before the work
     con = store.connect(args.db, create=False)
     orig = original(con, args.trace_id, args.mission)
     properties = load_properties(orig.mission / "properties.toml", orig.interface)
@@ -273,5 +278,5 @@ def main(args) -> int:
     result = shrunk(orig, behaviour, properties)
     if isinstance(result, str):
         raise UntimelyError(result)
-    print(stored(con, orig, behaviour, result, Path(args.out) if args.out else default_out(args.db)))
+    print(stored(con, orig, behaviour, result, out))
     return 0

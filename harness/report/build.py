@@ -27,6 +27,7 @@ from harness.analysis.explain import explanations
 from harness.files import make_folder
 from harness.report import html, pages, queries, trace_pages
 from harness.store.database import connect
+from harness.store.reads import analyses_made
 
 PARALLEL_FROM = 400  # trace pages per worker process; fewer are not worth starting one for
 # DuckDB's memory for the report's queries: beyond it, their hash tables spill to a temporary
@@ -185,6 +186,7 @@ def _write_rest(con, out: Path, page_ids: set[int]) -> dict[str, int]:
     lists = pages.write_lists(out, family_traces, bad, suts, families, (tp, fp), page_ids)
     pages.write_index(out, dict(
         campaigns=queries.campaigns(con), analysis=queries.analysis(con), tables=tables, bad=bad, suts=suts,
+        first_analysis=analyses_made(con) < 2,
         charts=pages.index_charts(suts, families, tp, fp, table2, queries.verdict_mix(con)),
         csv=[t.name for t in csv_tables], pages=len(page_ids)))
     return {"traces": len(page_ids), "lists": lists, "csv": len(csv_tables)}
