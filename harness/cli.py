@@ -176,6 +176,14 @@ def main(argv: list[str] | None = None) -> int:
     return status
 
 
+DUCKDB_INTERRUPTED = "Query interrupted"  # what DuckDB raises when Ctrl-C stops one of its queries
+
+
+def _stopped() -> int:
+    print("stopped (Ctrl-C); the store keeps every finished transaction", file=sys.stderr)
+    return 130
+
+
 def _not_utf8(text: str) -> bool:
     try:
         text.encode("utf-8")
@@ -192,8 +200,11 @@ def _run(args) -> int:
         print(f"error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        print("stopped (Ctrl-C); the store keeps every finished transaction", file=sys.stderr)
-        return 130
+        return _stopped()
+    except RuntimeError as e:
+        if str(e) != DUCKDB_INTERRUPTED:
+            raise
+        return _stopped()
     except BrokenPipeError:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1

@@ -54,8 +54,9 @@ def main(args) -> int:
             return 0
         written = _within_memory(con, lambda: write_report(con, out))
     except OSError as e:
-        raise UntimelyError(f"cannot write the report in {str(out)!r}: {e.strerror} ({e.filename}); "
-                            "free space or pass another --out") from None
+        where = f" ({e.filename})" if e.filename else ""
+        raise UntimelyError(f"cannot write the report in {str(out)!r}: {e.strerror}{where}; the store is only "
+                            "read and unchanged: free space or pass another --out") from None
     finally:
         con.close()
         spill.cleanup()
