@@ -25,6 +25,13 @@ def read_bytes(path: str | Path, missing: str = "file not found; pass an existin
         raise InputFileError(path, "", f"cannot read it: {e.strerror}; pass a readable file") from None
 
 
+def existing_file(path: str | Path, missing: str = "file not found; pass an existing file") -> Path:
+    """`path`, once known to be a file: else the message of read_bytes (missing, a folder, a loop)."""
+    if not Path(path).is_file():
+        read_bytes(path, missing)
+    return Path(path)
+
+
 def read_text(path: str | Path, missing: str = "file not found; pass an existing file") -> str:
     """A text file's contents; one that is not UTF-8 is refused with the line of its first bad byte."""
     return decode(path, read_bytes(path, missing))

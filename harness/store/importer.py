@@ -21,7 +21,7 @@ import pyarrow.parquet as pq
 
 from harness.errors import InputFileError
 from harness.store.export import with_exported_traces
-from harness.files import read_text
+from harness.files import read_bytes, read_text
 from harness.schema import cut
 from harness.target.interface import Interface, load_interface
 from harness.store.database import add_campaign, add_reply_codes, connect, next_id, place, transaction
@@ -170,8 +170,8 @@ READERS = {".csv": _read_csv, ".jsonl": _read_jsonl, ".ndjson": _read_jsonl, ".p
 
 def read(path: Path) -> tuple[pa.Table, str]:
     """The file's rows as text columns (all of REQUIRED and OPTIONAL) plus `line`, and what a line is called."""
-    if not path.is_file():
-        raise InputFileError(path, "", "file not found; pass an existing .csv, .jsonl or .parquet file")
+    if not path.is_file():  # missing, a folder or a symbolic link that loops: say which
+        read_bytes(path, "file not found; pass an existing .csv, .jsonl or .parquet file")
     reader = READERS.get(path.suffix.lower())
     if reader is None:
         raise InputFileError(path, "", f"unknown format {path.suffix!r}; use .csv, .jsonl (JSON lines) or .parquet")
