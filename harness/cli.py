@@ -162,7 +162,10 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = _parser().parse_args(argv)
+    try:
+        args = _parser().parse_args(argv)
+    except SystemExit as e:  # argparse has printed the usage and what is wrong with a flag (or the help)
+        return e.code
     for name, value in vars(args).items():
         if isinstance(value, str) and _not_utf8(value):
             print(f"error: --{name.replace('_', '-')} {value!r}: not UTF-8 (the store and its files keep UTF-8 "

@@ -44,3 +44,18 @@ def test_a_store_without_any_target_asks_for_the_properties(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err == (f"error: the store records no target folder with a properties file ({toy / 'properties.toml'}); "
                    "pass --properties FILE\n")
+
+
+def test_least_covered_counts_what_the_tables_count_and_knows_a_targeted_campaign(tmp_path, capsys):
+    """Issue 19, item 6: an ad-hoc run of another variant beside a campaign was listed as least
+    covered, and a targeted campaign was told to use --strategy targeted."""
+    toy = _toy(tmp_path / "toy")
+    db = tmp_path / "toy.duckdb"
+    assert cli(["campaign", "--mission", str(toy), "--sut", "good", "--mutants", "3", "--strategy", "targeted",
+                "--max-delay", "0", "--jobs", "1", "--db", str(db)]) == 0
+    assert cli(["run", str(toy / "golden.mission"), "--sut", "leaky", "--db", str(db)]) == 0
+    capsys.readouterr()
+    assert cli(["analyze", "--db", str(db)]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("Least covered"))
+    assert "(good)" in line and "(leaky)" not in line
+    assert line.endswith("More cases: more --mutants, or another --seed, of the targeted campaign")

@@ -11,7 +11,7 @@ import duckdb
 from harness.store.reads import analyses_made, ordered
 from harness.errors import StoreError
 from harness.store.database import connect
-from harness.textable import format_table, percent
+from harness.textable import counted, format_table, percent
 
 RATES = ("t_rob", "tp_rate", "fp_rate")  # the measures shown as percentages; the others are counts
 
@@ -35,7 +35,7 @@ def changes(con) -> str:
     if not transitions:
         return head + ": none, every verdict is the same."
     moved = sum(r[-1] for r in transitions)
-    parts = [f"{head}: {moved} verdicts changed.",
+    parts = [f"{head}: {counted(moved, 'verdict')} changed.",
              "Verdict transitions (NULL: no such row in that analysis)\n"
              + format_table([d[0] for d in cursor.description], transitions)]
     cursor = con.execute(ordered(con, "table_changes"))
