@@ -57,8 +57,11 @@ def _parser() -> argparse.ArgumentParser:
     variants_help = _variants_help()
     p = argparse.ArgumentParser(
         prog="python -m harness",
-        description="Untimely: mutate a mission script, run it against a simulated functional "
-                    "layer, store every request and reply in DuckDB, judge traces with SQL oracles.")
+        description="Untimely: mutate a mission script, run it against a robot's functional layer - the "
+                    "bench's simulated layer, an external system under test over the untimely/1 protocol "
+                    "(any process or TCP server: --sut NAME=cmd:COMMAND or NAME=tcp://HOST:PORT), or ROS 1 "
+                    "actionlib servers through the bundled adapter (docs/ros.md) - store every request and "
+                    "reply in DuckDB, judge the traces with SQL oracles.")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     def command(name, help, target):
