@@ -1,7 +1,10 @@
 """Issue 19, item 2: `run` records its target folder; analyze, explain and shrink read it from the
 store, so a target outside the repository is never judged against Dala's properties."""
+from pathlib import Path
+
 import duckdb
 
+from harness import DEFAULT_MISSION_DIR
 from harness.cli import main as cli
 from test_toy_target import GOLDEN, INTERFACE, LAYER, PROPERTIES
 
@@ -59,3 +62,15 @@ def test_least_covered_counts_what_the_tables_count_and_knows_a_targeted_campaig
     line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("Least covered"))
     assert "(good)" in line and "(leaky)" not in line
     assert line.endswith("More cases: more --mutants, or another --seed, of the targeted campaign")
+
+
+def test_an_external_sut_that_crashes_on_every_run_of_the_default_target_is_told_of_mission(tmp_path, capsys):
+    """Issue 19, item 2: forgetting --mission with an external SUT used Dala silently."""
+    adapter = Path(__file__).resolve().parent / "adapters" / "other_target.py"
+    db = tmp_path / "q.duckdb"
+    assert cli(["campaign", "--sut", f"quad=cmd:{{python}} {adapter}", "--mutants", "1", "--time-scale", "50",
+                "--jobs", "2", "--db", str(db)]) == 0
+    err = capsys.readouterr().err
+    assert f"every run of quad crashed on the default target {DEFAULT_MISSION_DIR} (first: " in err
+    assert "no module rflex on this quadcopter" in err
+    assert "if quad is made for another target, pass --mission FOLDER" in err
