@@ -142,7 +142,7 @@ def _write_all(con, out: Path) -> dict[str, int]:
     (they import neither DuckDB nor Arrow; this one's reading and the rest of the report take
     about as much CPU as the pages, and on a machine busy with other work a process more gets
     a larger share of it); meanwhile this one writes the rest."""
-    page_ids = sorted(queries.paged_traces(con))
+    page_ids = sorted(queries.paged_traces(con, html.SHOWN_ROWS))
     make_folder(out / "traces", "the trace pages")
     workers = min(len(os.sched_getaffinity(0)), len(page_ids) // PARALLEL_FROM)
     parallel = workers > 0
