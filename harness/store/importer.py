@@ -25,6 +25,7 @@ from harness.files import read_bytes, read_text
 from harness.schema import cut
 from harness.target.interface import Interface, load_interface
 from harness.store.database import add_campaign, add_reply_codes, connect, next_id, place, transaction
+from harness.textable import counted
 from harness.trace import OUTCOMES
 
 REQUIRED = ("trace_id", "seq", "t", "kind", "rqst_id", "module", "service")
@@ -277,6 +278,6 @@ def main(args) -> int:
     campaign_id, first, count = import_file(con, path, interface)
     events = con.execute("select count(*) from events where trace_id between ? and ?",
                          [first, first + count - 1]).fetchone()[0]
-    print(f"Imported {count} traces ({events} events) from {path} as campaign {campaign_id}, "
+    print(f"Imported {counted(count, 'trace')} ({counted(events, 'event')}) from {path} as campaign {campaign_id}, "
           f"trace ids {first}-{first + count - 1}. Run python -m harness analyze --db {args.db} to judge them.")
     return 0

@@ -155,6 +155,9 @@ TARGET = [
          prepare=_edit("properties.toml", 'r_p = "wait_init"', 'r_p = ["wait_init"]', stored=True)),
     Case("properties: min = nan in the interface", run, "min = nan; give a finite number",
          prepare=_edit("interface.toml", "min = 30.0", "min = nan")),
+    Case("suts.toml: env as a list", lambda p: campaign(p, "--sut", "mine"),
+         "suts.toml:3: mine.env = ['A=1']; give a table of NAME = \"text\"",
+         prepare=lambda p: (p.target / "suts.toml").write_text('[mine]\ncommand = "x"\nenv = ["A=1"]\n')),
     Case("suts.toml: an unclosed quote", lambda p: campaign(p, "--sut", "mine"),
          "suts.toml:1: mine: command = \"python 'adapter.py\": No closing quotation; close the quote",
          prepare=lambda p: (p.target / "suts.toml").write_text('[mine]\ncommand = "python \'adapter.py"\n')),
@@ -181,6 +184,11 @@ IMPORTS = [
         "twice.csv", "trace_id,seq,t,kind,rqst_id,module,service,seq\na,1,0,request,1,rflex,Init,1\n")),
          "twice.csv:1: the header names the column 'seq' twice; keep one"),
     Case("import: a folder", _import(lambda p: p.target), "dala: is a folder, not a file"),
+    Case("import: a CSV with a byte-order mark, as a spreadsheet saves it", _import(lambda p: p.file(
+        "bom.csv", "\ufefftrace_id,seq,t,kind,rqst_id,module,service,reply\na,1,0,request,1,rflex,Init,\n"
+                   "a,2,0.5,final,1,rflex,Init,ok\n")), "Imported 1 trace (2 events) from", code=0),
+    Case("import: JSON lines with a byte-order mark", _import(lambda p: p.file(
+        "bom.jsonl", "\ufeff" + json.dumps(EVENT) + "\n")), "Imported 1 trace (1 event) from", code=0),
 ]
 
 
