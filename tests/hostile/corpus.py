@@ -80,8 +80,11 @@ def run_hostile(p: Place) -> list[str]:
     return run(p, "hostile.mission")
 
 
-def _loop(p: Place) -> None:
-    (p.target / "hostile.mission").symlink_to(p.target / "hostile.mission")
+def _loop_for(name: str) -> Callable[[Place], None]:
+    def replace(p: Place) -> None:
+        (p.target / name).unlink(missing_ok=True)
+        (p.target / name).symlink_to(p.target / name)
+    return replace
 
 
 def _folder_for(name: str) -> Callable[[Place], None]:
@@ -117,7 +120,8 @@ def _one_request(p: Place) -> None:
 
 SCRIPTS = [
     Case("script: a folder", lambda p: run(p, "."), "dala: is a folder, not a file; pass the file itself"),
-    Case("script: a symlink loop", run_hostile, "hostile.mission: is a symbolic link that loops", prepare=_loop),
+    Case("script: a symlink loop", run_hostile, "hostile.mission: is a symbolic link that loops",
+         prepare=_loop_for("hostile.mission")),
     Case("script: not UTF-8", run_hostile, "hostile.mission:2: not UTF-8 (byte 0xe9)",
          prepare=script(b"send rflex.Init\n# caf\xe9\n")),
     Case("script: no step", run_hostile, "hostile.mission:1: the script has no steps", prepare=script("# none\n")),
@@ -138,6 +142,10 @@ TARGET = [
     Case("interface: a folder", campaign, "interface.toml: is a folder, not a file",
          prepare=_folder_for("interface.toml")),
     Case("layer: a folder", run, "layer.toml: is a folder, not a file", prepare=_folder_for("layer.toml")),
+    *(Case(f"{name}: a folder, in a campaign", campaign, f"{name}: is a folder, not a file", prepare=_folder_for(name))
+      for name in ("world.toml", "golden.mission", "layer.toml", "properties.toml")),
+    Case("golden.mission: a symlink loop, in a campaign", campaign, "golden.mission: is a symbolic link that loops",
+         prepare=_loop_for("golden.mission")),
     Case("interface: a module that is a number", campaign, "interface.toml:21: modules.drone = 5; give a table",
          prepare=_edit("interface.toml", "[modules.rflex]", "[modules]\ndrone = 5\n[modules.rflex]")),
     Case("interface: a byte-order mark", run, "outcome    completed", code=0, prepare=_with_bom("interface.toml")),
