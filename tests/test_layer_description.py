@@ -1,10 +1,12 @@
 """layer.toml: what a simulated layer enforces, read once and checked against the interface;
 a bad entry is refused naming the file, the entry and the bad value."""
 import shutil
+from types import SimpleNamespace
 
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
+from harness.campaign.campaign import campaign_config
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.target.mission import load_mission
@@ -46,10 +48,6 @@ def folder(tmp_path):
      r"layer.toml:17: timing.Stop: run_s = -0.05; give a number of seconds >= 0"),
     ('Stop = { start_s = 0.01, run_s = 0.05 }', 'Stop = { start_s = -1, run_s = 0.05 }',
      r"layer.toml:17: timing.Stop.start_s = -1; give a number of seconds >= 0"),
-    ('behaviour = "harness.sim.dala.modules"', 'behaviour = "os"',
-     r"layer.toml:7: behaviour = 'os' has no build\(env, world_file\) function; name a module that builds"),
-    ('behaviour = "harness.sim.dala.modules"', 'behaviour = "no.such.module"',
-     r"layer.toml:7: behaviour = 'no.such.module' cannot be imported \(No module named 'no'\); name an importable"),
     ('slots = 3 ', 'slots = 3.5 ', r"layer.toml:8: layer.slots = 3.5; give a whole number of activities >= 1"),
     ('slots = 3 ', 'slots = true ', r"layer.toml:8: layer.slots = True; give a whole number"),
     ('pairs = [', 'pairs = 7\nold_pairs = [', r"layer.toml:\d+: protections.EXC.pairs = 7; give a list of"),
@@ -63,6 +61,22 @@ def test_a_bad_entry_is_refused_naming_it(folder, old, new, message):
     path.write_text(text.replace(old, new, 1))
     with pytest.raises(UntimelyError, match=message):
         load_layer(folder)
+
+
+@pytest.mark.parametrize("name, message", [
+    ("os", r"layer.toml:7: behaviour = 'os' has no build\(env, world_file\) function; name a module that builds"),
+    ("no.such.module", r"layer.toml:7: behaviour = 'no.such.module' cannot be imported \(No module named 'no'\); "
+                       r"name an importable"),
+])
+def test_a_behaviour_module_that_builds_nothing_is_refused_before_any_run(folder, tmp_path, name, message):
+    path = folder / "layer.toml"
+    path.write_text(path.read_text().replace('"harness.sim.dala.modules"', f'"{name}"'))
+    with pytest.raises(UntimelyError, match=message):
+        load_layer(folder).behaviour_module()
+    with pytest.raises(UntimelyError, match=message):  # a campaign checks it before it runs anything
+        campaign_config(SimpleNamespace(mission=str(folder), mutants=1, strategy="random", ops_per_mutant=None,
+                                        time_mutations=False, jobs=1, max_delay=0.0, sut=None, time_scale=None,
+                                        seed=1))
 
 
 def test_codes_and_services_must_be_the_interfaces(folder):

@@ -94,6 +94,13 @@ class LayerDescription:
     protections: dict[str, Protection]
     defects: dict[str, Defect]
     variants: dict[str, Variant]
+    behaviour_at: str = ""  # the line of `behaviour` in the file, for its messages
+
+    def behaviour_module(self):
+        """The behaviour module, once it is known to import and to provide build(); None without one.
+        Imported when a layer is built or a campaign checked, not when the file is read (the CLI reads
+        it for its help, and the behaviour's own imports, e.g. pymunk, take a while)."""
+        return _behaviour(self.path, self.behaviour_at, self.behaviour) if self.behaviour else None
 
     def variant(self, name: str) -> Variant:
         if name not in self.variants:
@@ -219,19 +226,17 @@ def _picked(path, text, keys: tuple, names, known: dict) -> tuple:
     return tuple(known[n] for n in names)
 
 
-def _behaviour(path, text, name: str | None) -> str | None:
-    """The behaviour module's name, once it is known to import and to provide build()."""
-    if name is None:
-        return None
+@functools.cache
+def _behaviour(path: Path, at: str, name: str):
     try:
         module = importlib.import_module(name)
     except Exception as e:  # any failure to import is the file's error, named with its cause
-        raise InputFileError(path, where(text, ("layer", "behaviour")), f"behaviour = {cut(name)} cannot be "
-                             f"imported ({e}); name an importable Python module") from None
+        raise InputFileError(path, at, f"behaviour = {cut(name)} cannot be imported ({e}); name an importable "
+                             "Python module") from None
     if not callable(getattr(module, "build", None)):
-        raise InputFileError(path, where(text, ("layer", "behaviour")), f"behaviour = {cut(name)} has no "
-                             "build(env, world_file) function; name a module that builds the layer's modules")
-    return name
+        raise InputFileError(path, at, f"behaviour = {cut(name)} has no build(env, world_file) function; name a "
+                             "module that builds the layer's modules")
+    return module
 
 
 @functools.cache
@@ -248,9 +253,9 @@ def _load(path: Path, _stamp: tuple) -> LayerDescription:
     layer = spec.layer
     default = _picked(path, text, ("layer", "default_suts"), layer.default_suts or list(variants), variants)
     timing = {n: Timing(t.start_s, None if t.run_s == "forever" else t.run_s) for n, t in spec.timing.items()}
-    return LayerDescription(path, _behaviour(path, text, layer.behaviour), layer.slots, layer.invalid_args,
-                            layer.no_slot, layer.stop, tuple(v.name for v in default), timing, protections,
-                            defects, variants)
+    return LayerDescription(path, layer.behaviour, layer.slots, layer.invalid_args, layer.no_slot, layer.stop,
+                            tuple(v.name for v in default), timing, protections, defects, variants,
+                            where(text, ("layer", "behaviour")))
 
 
 def load_layer(folder: Path) -> LayerDescription:
