@@ -57,7 +57,7 @@ def _problem(error: dict, keys: tuple, field, table) -> str:
     name, kind = dotted(keys) or "the file", error["type"]
     if kind == "extra_forbidden":
         title = table.model_config.get("title") or "this table"
-        return f"unknown key {cut(keys[-1])}; {title} takes {', '.join(_names(table))}"
+        return f"unknown key {cut(keys[-1])}; {title} takes {', '.join(accepted(table))}"
     if kind == "value_error":  # a model's own check: its message names the value
         return f"{dotted(keys)}: {error['ctx']['error']}" if keys else str(error["ctx"]["error"])
     hint = field.description if field is not None and field.description else _reworded(error)
@@ -68,8 +68,9 @@ def _problem(error: dict, keys: tuple, field, table) -> str:
     return f"{name} = {cut(error['input'])}; {hint}"
 
 
-def _names(table: type[BaseModel]) -> list[str]:
-    return [f.alias or n for n, f in table.model_fields.items()]
+def accepted(table: type[BaseModel]) -> tuple[str, ...]:
+    """The keys a table of this model accepts, as the file spells them."""
+    return tuple(f.alias or n for n, f in table.model_fields.items())
 
 
 REWORDED = {"dict_type": "give a table", "model_type": "give a table", "list_type": "give a list [...]", "bool_type": "give true or false",

@@ -91,3 +91,13 @@ def test_malformed_properties_name_file_entry_and_value(tmp_path, text, message)
     with pytest.raises(InputFileError) as e:
         load_properties(path, iface)
     assert str(path) in str(e.value) and message in str(e.value)
+
+
+def test_the_keys_a_table_accepts_are_those_its_refusal_lists(tmp_path):
+    """INTERFACE_KEYS (which docs/reference is checked against) comes from the schema models."""
+    from harness.target.interface import INTERFACE_KEYS
+    path = write(tmp_path, "iface.toml", GOOD.replace('kind = "exec", args', 'kind = "exec", agrs'))
+    with pytest.raises(InputFileError) as e:
+        load_interface(path)
+    assert str(e.value).endswith(f"a service takes {', '.join(INTERFACE_KEYS['a service'])}")
+    assert INTERFACE_KEYS["a service"] == ("kind", "args", "until_stopped", "doc")

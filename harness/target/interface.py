@@ -9,7 +9,7 @@ from pydantic import ConfigDict, Field, model_validator
 
 from harness.errors import InputFileError
 from harness.files import read_toml
-from harness.schema import Strict, cut, validated, where
+from harness.schema import Strict, accepted, cut, validated, where
 
 SERVICE_KINDS = ("init", "control", "exec")
 REPLY_CLASSES = ("T", "Z", "R")
@@ -155,6 +155,11 @@ class InterfaceFile(Strict):
             given = f", not ok = {self.replies['ok']!r}" if "ok" in self.replies else ""
             raise ValueError(f"the reply catalogue must contain ok = \"T\"{given}")
         return self
+
+
+# The keys each table of an interface description accepts (docs/reference names every one).
+INTERFACE_KEYS = {m.model_config["title"]: accepted(m)
+                  for m in (InterfaceFile, ModuleFile, ServiceFile, FloatArgumentFile, StrArgumentFile)}
 
 
 def _argument(name: str, spec) -> Argument:

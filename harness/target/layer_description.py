@@ -31,7 +31,7 @@ from pydantic import ConfigDict, Field, model_validator
 
 from harness.errors import InputFileError, UntimelyError
 from harness.files import read_toml
-from harness.schema import Strict, cut, dotted, validated, where
+from harness.schema import Strict, accepted, cut, dotted, validated, where
 from harness.target.interface import Interface
 
 LAYER_FILE = "layer.toml"
@@ -192,6 +192,9 @@ class LayerFile(Strict):
     defects: dict[str, DefectTable] = {}
     variants: dict[str, VariantTable] = Field(min_length=1, description="add [variants.NAME] tables "
                                                                        "(protections, defects, doc)")
+
+
+LAYER_KEYS = set(accepted(LayerTable))  # the keys of [layer] (docs/reference names every one)
 
 
 def _protection(name: str, spec: ProtectionTable) -> Protection:

@@ -21,7 +21,7 @@ from pydantic import ConfigDict, Field, model_validator
 from harness import ROOT
 from harness.errors import InputFileError, UntimelyError
 from harness.files import read_toml
-from harness.schema import Strict, cut, validated, where
+from harness.schema import Strict, accepted, cut, validated, where
 
 NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")
 SUTS_FILE = "suts.toml"
@@ -68,6 +68,9 @@ class SutTable(Strict):
             if not words:
                 raise ValueError("command is empty: give the adapter's command line")
         return self
+
+
+KEYS = accepted(SutTable)  # the keys of a SUT's table (docs/reference names every one)
 
 
 def _checked(name: str, spec, path, text: str | None = None) -> ExternalSut:
