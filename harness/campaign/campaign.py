@@ -71,7 +71,7 @@ def campaign_config(args) -> dict:
         raise UntimelyError(f"--max-delay {args.max_delay}: give a delay in seconds >= 0")
     mission = load_mission(args.mission)
     suts, external = resolve(args.sut or mission.default_suts(), mission.folder, args.time_scale)
-    if set(suts) - set(external):  # simulated variants: their behaviour module fails here, not in every run
+    if mission.simulated and set(suts) - set(external):  # variants: a bad behaviour fails here, not in every run
         mission.layer.behaviour_module()
     return {"kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
             "external": {name: sut.config() for name, sut in external.items()},
