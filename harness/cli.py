@@ -5,6 +5,7 @@ import argparse
 import gc
 import importlib
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -13,6 +14,32 @@ from harness.adapters.ros.recorder import ROSBAG_ENV
 from harness.errors import UntimelyError
 from harness.run import processes
 from harness.store.database import discard_if_empty
+
+MAX_JOBS = max(64, 2 * (os.cpu_count() or 1))  # more worker processes only compete for the machine
+
+
+def _checked(convert, accept, what: str):
+    """An argparse type: `convert` the text, refused with `what` to give unless `accept(value)`."""
+    def parse(text: str):
+        try:
+            value = convert(text)
+        except (ValueError, OverflowError):
+            value = None
+        if value is None or not accept(value):  # a NaN is accepted by no comparison
+            shown = text if len(text) <= 40 else text[:40] + "..."
+            raise argparse.ArgumentTypeError(f"{shown!r}: give {what}")
+        return value
+    return parse
+
+
+SEED = _checked(int, lambda v: -2**63 <= v < 2**63, "a whole number from -2^63 to 2^63 - 1 (the store keeps 64 bits)")
+SECONDS = _checked(float, lambda v: 0 <= v < float("inf"), "a number of seconds >= 0")
+SCALE = _checked(float, lambda v: 0 < v < float("inf"), "a finite factor > 0 (1 = real time)")
+JOBS = _checked(int, lambda v: 0 <= v <= MAX_JOBS, f"a number of worker processes from 1 to {MAX_JOBS}, or 0 for "
+                                                   "all cores")
+COUNT = _checked(int, lambda v: v >= 1, "a whole number >= 1")
+CLUSTER = _checked(str, lambda v: re.fullmatch(r"local:[1-9]\d{0,2}|tcp://[^\s:/]+:\d{1,5}", v) is not None,
+                   "tcp://HOST:PORT (a Dask scheduler) or local:N with N from 1 to 999 local workers")
 
 EXTERNAL_HELP = ("; or an external SUT over untimely/1: NAME=cmd:COMMAND (started per run, stdio), "
                  "NAME=tcp://HOST:PORT, or a NAME from the mission folder's suts.toml")
@@ -32,8 +59,11 @@ def _parser() -> argparse.ArgumentParser:
     variants_help = _variants_help()
     p = argparse.ArgumentParser(
         prog="untimely",
-        description="Untimely: mutate a mission script, run it against a simulated functional "
-                    "layer, store every request and reply in DuckDB, judge traces with SQL oracles.")
+        description="Untimely: mutate a mission script, run it against a robot's functional layer - the "
+                    "bench's simulated layer, an external system under test over the untimely/1 protocol "
+                    "(any process or TCP server: --sut NAME=cmd:COMMAND or NAME=tcp://HOST:PORT), or ROS 1 "
+                    "actionlib servers through the bundled adapter (docs/ros.md) - store every request and "
+                    "reply in DuckDB, judge the traces with SQL oracles.")
     p.add_argument("--version", action="version", version=f"untimely {__version__}")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
@@ -43,7 +73,7 @@ def _parser() -> argparse.ArgumentParser:
         return c
 
     def time_scale(c):
-        c.add_argument("--time-scale", type=float, help="external SUTs: mission seconds per wall second "
+        c.add_argument("--time-scale", type=SCALE, help="external SUTs: mission seconds per wall second "
                        "(1 = real time; default: the SUT's own, else 1)")
 
     def rosbag(c):
@@ -56,10 +86,10 @@ def _parser() -> argparse.ArgumentParser:
     c = command("run", "run one script on one variant, store and summarise its trace", "harness.campaign.adhoc:main")
     c.add_argument("mission", help="a mission script, e.g. missions/dala/golden.mission")
     c.add_argument("--sut", required=True, help=f"implementation variant: {variants_help}{EXTERNAL_HELP}")
-    c.add_argument("--seed", type=int, default=0, help="seed of the observation delays (default: 0)")
+    c.add_argument("--seed", type=SEED, default=0, help="seed of the observation delays (default: 0)")
     c.add_argument("--interface", help="interface description (default: interface.toml beside the script)")
     c.add_argument("--world", help="world description (default: world.toml beside the script)")
-    c.add_argument("--max-delay", type=float, default=0.003,
+    c.add_argument("--max-delay", type=SECONDS, default=0.003,
                    help="largest interface observation delay in seconds (default: %(default)s)")
     time_scale(c)
     rosbag(c)
@@ -70,19 +100,20 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--mutants", type=int, default=300, help="number of mutants (default: %(default)s)")
     c.add_argument("--sut", help="comma-separated SUTs (default: the layer.toml's default_suts): "
                    f"variants {variants_help}{EXTERNAL_HELP}")
-    c.add_argument("--seed", type=int, default=2012, help="campaign seed (default: %(default)s)")
-    c.add_argument("--jobs", type=int, default=0, help="worker processes, 0 = all cores (default: %(default)s)")
+    c.add_argument("--seed", type=SEED, default=2012, help="campaign seed (default: %(default)s)")
+    c.add_argument("--jobs", type=JOBS, default=0, help=f"worker processes, 0 = all cores, at most {MAX_JOBS} "
+                                                        "(default: %(default)s)")
     c.add_argument("--strategy", choices=("random", "targeted"), default="random",
                    help="random: the paper's operators; targeted: mutants aimed at falsifying the "
                         "least-covered properties' conditions (default: %(default)s)")
-    c.add_argument("--ops-per-mutant", type=int, default=None,
+    c.add_argument("--ops-per-mutant", type=COUNT, default=None,
                    help="mutation operations per mutant (default: 1 random, 3 targeted)")
     c.add_argument("--shrink", action="store_true",
                    help="then shrink one representative trace of each distinct bad behaviour")
     c.add_argument("--time-mutations", action="store_true", help="also drop waits and change sleeps")
-    c.add_argument("--cluster", metavar="ADDRESS", help="run on a Dask cluster: a scheduler address "
+    c.add_argument("--cluster", metavar="ADDRESS", type=CLUSTER, help="run on a Dask cluster: a scheduler address "
                    "(tcp://HOST:8786) or local:N for N local workers; needs the cluster extra (docs/cluster.md)")
-    c.add_argument("--max-delay", type=float, default=0.003,
+    c.add_argument("--max-delay", type=SECONDS, default=0.003,
                    help="largest interface observation delay in seconds (default: %(default)s)")
     c.add_argument("--shard", metavar="I/N", help="run only the I-th of N disjoint parts of the campaign "
                    "(1 <= I <= N) into this store; `merge` combines the N stores (docs/ci.md)")
@@ -123,7 +154,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--properties", help="properties file (default: properties.toml of the campaign's mission)")
     c.add_argument("--interface", help="interface description the properties name "
                                        "(default: interface.toml beside the properties file)")
-    c.add_argument("--epsilon", type=float,
+    c.add_argument("--epsilon", type=SECONDS,
                    help=f"seconds within which near events may be reordered (default: the last analysis's, "
                         f"else {DEFAULT_EPSILON_S})")
     c.add_argument("--junit", metavar="FILE", help="also write the verdicts as JUnit XML for a CI server: a test "
@@ -169,7 +200,15 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = _parser().parse_args(argv)
+    try:
+        args = _parser().parse_args(argv)
+    except SystemExit as e:  # argparse has printed the usage and what is wrong with a flag (or the help)
+        return e.code
+    for name, value in vars(args).items():
+        if isinstance(value, str) and _not_utf8(value):
+            print(f"error: --{name.replace('_', '-')} {value!r}: not UTF-8 (the store and its files keep UTF-8 "
+                  "names); rename the file or folder", file=sys.stderr)
+            return 2
     processes.stop_on_signals()  # SIGTERM and SIGHUP clean up as Ctrl-C does
     processes.become_subreaper()  # daemons detached by adapters come back to be ended
     new_store = None if getattr(args, "db", None) in (None, ":memory:") or Path(args.db).exists() else args.db
@@ -185,6 +224,22 @@ def entry() -> None:
     sys.exit(main())
 
 
+DUCKDB_INTERRUPTED = "Query interrupt"  # how DuckDB's RuntimeError begins when Ctrl-C stops one of its queries
+
+
+def _stopped(how: str = "Ctrl-C", signum: int = 2) -> int:
+    print(f"stopped ({how}); the store keeps every finished transaction", file=sys.stderr)
+    return 128 + signum
+
+
+def _not_utf8(text: str) -> bool:
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:  # bytes of another encoding, which Python keeps as lone surrogates
+        return True
+    return False
+
+
 def _run(args) -> int:
     module, function = args.target.split(":")
     if getattr(args, "rosbag", None):  # the ROS launcher reads it from the environment it inherits
@@ -196,9 +251,11 @@ def _run(args) -> int:
         print(f"error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as e:
-        how, signum = (e.args[0], e.signum) if isinstance(e, processes.Stopped) else ("Ctrl-C", 2)
-        print(f"stopped ({how}); the store keeps every finished transaction", file=sys.stderr)
-        return 128 + signum
+        return _stopped(e.args[0], e.signum) if isinstance(e, processes.Stopped) else _stopped()
+    except RuntimeError as e:
+        if not str(e).startswith(DUCKDB_INTERRUPTED):
+            raise
+        return _stopped()
     except BrokenPipeError:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1

@@ -10,7 +10,7 @@ class InputFileError(UntimelyError):
 
     def __init__(self, path, where, problem):
         self.path, self.where, self.problem = str(path), where, problem
-        super().__init__(f"{self.path}:{where}: {problem}")
+        super().__init__(f"{self.path}:{where}: {problem}" if where != "" else f"{self.path}: {problem}")
 
 
 class ScriptError(InputFileError):

@@ -10,6 +10,11 @@ def percent(rate: float | None) -> str:
     return "-" if rate is None else f"{100 * rate:.1f}"
 
 
+def counted(n: int, noun: str) -> str:
+    """`n` and the noun, plural unless n is 1: "1 verdict", "3 verdicts"."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
+
+
 def rate_interval(rate: float | None, low: float | None, high: float | None, n: int | None) -> str:
     """A rate with its 95% interval and count, e.g. "87.5 [61.7, 96.5] n=16"; "- n=0" without cases."""
     if not n:

@@ -63,7 +63,7 @@ def test_inversions_count_differing_verdicts_and_what_the_flag_caught():
         (1, "PEX(rflex)", 2, "TN", "FN", True, False, True),
         (2, "PEX(rflex)", 2, "TN", "FN", True, False, False)]
     assert "Ground truth: 2 of 2 observed verdicts differ" in summary(con, EPSILON)
-    assert ("caught 1 of them (recall 50.0%) and is raised on 1 verdicts in all (precision 100.0%)"
+    assert ("caught 1 of them (recall 50.0%) and is raised on 1 verdict in all (precision 100.0%)"
             in summary(con, EPSILON))
 
 
@@ -170,7 +170,7 @@ def test_analyze_refuses_a_missing_store_and_a_bad_epsilon(tmp_path, capsys):
     db = tmp_path / "store.duckdb"
     judged_store(load(HERE / "tables.trace"), EPSILON, db).close()
     assert main(["analyze", "--db", str(db), "--epsilon", "-1"]) == 2
-    assert "epsilon = -1.0" in capsys.readouterr().err
+    assert "argument --epsilon: '-1': give a number of seconds >= 0" in capsys.readouterr().err
 
 
 def test_a_typo_in_a_template_names_the_property_the_template_and_the_rendered_line(tmp_path, monkeypatch):

@@ -222,7 +222,7 @@ def test_bad_arguments_are_refused_before_anything_runs(mission, tmp_path):
     with pytest.raises(UntimelyError, match=r"--ops-per-mutant 0: give at least 1"):
         campaign.main(arguments(mission, db, ops_per_mutant=0), runner=fake_runner)
     (mission / "golden.mission").unlink()
-    with pytest.raises(UntimelyError, match=r"golden.mission:: file not found; a mission folder holds"):
+    with pytest.raises(UntimelyError, match=r"golden.mission: file not found; a mission folder holds"):
         campaign.main(arguments(mission, db), runner=fake_runner)
     assert not db.exists()
 

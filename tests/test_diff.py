@@ -46,6 +46,16 @@ def _story_store(path=":memory:"):
     return judged_traces("story", [(genom, None), (bip_init, None), (bip_stop, None)], [AIB], EPSILON, path)
 
 
+def test_a_second_analysis_after_one_without_verdicts_is_no_first_analysis():
+    """Issue 19: a first analysis that judged nothing (the wrong properties) made the second say 'first'."""
+    con = _story_store()
+    materialise(con, [PROPERTIES["PEX(antenna)"]], EPSILON, INTERFACE)  # no antenna request: no verdict
+    materialise(con, [AIB], EPSILON, INTERFACE)
+    text = changes(con)
+    assert "first analysis" not in text and text.startswith("Changes made by analysis 3")
+    assert "3 verdicts changed" in text
+
+
 def test_adding_init_to_the_dominators_moves_genoms_fp_and_bips_tn():
     con = _story_store()
     assert "first analysis" in changes(con)

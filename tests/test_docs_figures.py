@@ -26,3 +26,16 @@ def test_the_simulated_seconds_quoted_add_up():
     per_variant = [int(n.replace(",", "")) for n in re.findall(r"crashed; ([\d,]+) simulated s", DOC)]
     total = int(re.search(r"runs/s\), ([\d,]+) simulated s", DOC).group(1).replace(",", ""))
     assert len(per_variant) == 3 and sum(per_variant) == total
+
+
+def test_readme_and_the_analyzer_doc_quote_the_same_10_million_event_figures():
+    """Issue 19: the README said 23 s where docs/analyzer.md said 12.7 s for the same store."""
+    readme, analyzer = (ROOT / "README.md").read_text(), (ROOT / "docs" / "analyzer.md").read_text()
+    row = next(line for line in readme.splitlines() if "synthetic store of 10.1 M events" in line)
+    figures = re.findall(r"[\d.,]+ s \([\d,]+ events judged/s\)|[\d.,]+ s \([\d,]+/s\)", row)
+    assert len(figures) == 2 and all(f in analyzer for f in figures), figures
+
+
+def test_the_docs_count_the_manipulators_properties():
+    count = (ROOT / "missions" / "manipulator" / "properties.toml").read_text().count("[[property]]")
+    assert f"Its {count} properties use" in (ROOT / "docs" / "targets.md").read_text()

@@ -120,8 +120,11 @@ def test_sut_entries_are_checked_naming_the_entry(tmp_path):
     assert names == ["genom", "toy", "far"]
     assert external["toy"].argv() == ["node", "adapter.js"] and external["far"].address == "10.0.0.1:7400"
     assert external["toy"].time_scale == external["far"].time_scale == 4.0
-    with pytest.raises(UntimelyError, match=r"--sut 'far=tcp://nowhere': address = 'nowhere': give HOST:PORT"):
+    with pytest.raises(UntimelyError, match=r"--sut 'far=tcp://nowhere': address = 'nowhere'; give HOST:PORT"):
         resolve("far=tcp://nowhere", tmp_path)
+    with pytest.raises(UntimelyError, match=r"--sut 'toy=cmd:node \"adapter': command = 'node \"adapter': "
+                                            r"No closing quotation; close the quote"):
+        resolve('toy=cmd:node "adapter', tmp_path)
     with pytest.raises(UntimelyError, match=r"--sut 'x=ssh:robot': write NAME=cmd:COMMAND or NAME=tcp://HOST:PORT"):
         resolve("x=ssh:robot", tmp_path)
     with pytest.raises(UntimelyError, match=r"--time-scale 0.0: give a factor > 0"):
@@ -131,11 +134,17 @@ def test_sut_entries_are_checked_naming_the_entry(tmp_path):
 def test_suts_file_entries_are_checked_naming_file_and_key(tmp_path):
     (tmp_path / "suts.toml").write_text('[ros]\ncommand = "launch"\nslots = 8\ntime_scale = 2\n'
                                         '[bad]\ncommand = "x"\nslots = "many"\n')
-    with pytest.raises(UntimelyError, match=r"suts.toml:\[bad\] slots: slots = 'many': give a int"):
+    with pytest.raises(UntimelyError, match=r"suts.toml:7: bad.slots = 'many'; give a whole number > 0"):
         resolve("ros", tmp_path)
     (tmp_path / "suts.toml").write_text('[ros]\ncomand = "launch"\n')
-    with pytest.raises(UntimelyError, match=r"suts.toml:\[ros\] comand: unknown key 'comand'; a SUT has command,"):
+    with pytest.raises(UntimelyError, match=r"suts.toml:2: unknown key 'comand'; a SUT takes command,"):
         resolve("ros", tmp_path)
+    for table, message in [('ros = 5', r"suts.toml:1: 'ros': a SUT is a table named by"),
+                           ('[ros]\ncommand = "x"\nenv = ["A=1"]', r"suts.toml:3: ros.env = \['A=1'\]; give a table"),
+                           ('[ros]\ncommand = "x"\nstartup_s = inf', r"suts.toml:3: ros.startup_s = inf; give a number")]:
+        (tmp_path / "suts.toml").write_text(table + "\n")
+        with pytest.raises(UntimelyError, match=message):
+            resolve("ros", tmp_path)
     (tmp_path / "suts.toml").write_text('[ros]\ncommand = "launch"\nslots = 8\ntime_scale = 2\n')
     names, external = resolve("ros", tmp_path)
     # a command of a suts.toml starts in its folder, so it may name the adapter relative to it

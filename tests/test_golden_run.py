@@ -57,7 +57,8 @@ def test_same_seed_same_events_other_seed_other_delays(db):
 def test_each_run_is_its_own_campaign_with_its_config(db):
     rows = db.execute("select campaign_id, seed, config from campaigns order by campaign_id").fetchall()
     assert [r[0] for r in rows] == [1, 2, 3]
-    assert json.loads(rows[0][2]) == {"kind": "run", "sut": "reference", "max_delay": 0.003}
+    assert json.loads(rows[0][2]) == {"kind": "run", "sut": "reference", "max_delay": 0.003,
+                                      "target": str(DEFAULT_MISSION_DIR.resolve())}
 
 
 def test_unknown_variant_is_refused_with_the_known_ones(tmp_path, capsys):

@@ -1,6 +1,7 @@
 """Importing foreign traces: three formats, integer ids, row checks with line and value, all or nothing."""
 import csv
 import json
+from datetime import datetime
 
 import pyarrow as pa
 import pyarrow.parquet as pq
@@ -156,6 +157,26 @@ def test_unreadable_files_are_refused(tmp_path, interface):
         import_file(con, write(tmp_path / "empty.csv", []), interface)
 
 
+def test_hostile_files_are_refused_naming_line_and_value(tmp_path, interface):
+    """Issue 19: these raised tracebacks (RecursionError, TypeError, an ambiguous column)."""
+    con = connect(":memory:")
+    deep = tmp_path / "deep.jsonl"
+    deep.write_text(json.dumps(dict(zip(COLUMNS, ROWS[0]))) + "\n" + "[" * 200_000 + "]" * 200_000 + "\n")
+    with pytest.raises(InputFileError, match=r"deep.jsonl:line 2: JSON nested too deeply to be an event"):
+        import_file(con, deep, interface)
+    stamped = tmp_path / "stamped.parquet"
+    args = [None, {"at": datetime(2024, 5, 1, 12, 0)}] + [None] * (len(ROWS) - 2)
+    pq.write_table(pa.table({**{c: [r[i] for r in ROWS] for i, c in enumerate(COLUMNS) if c != "args"},
+                             "args": args}), stamped)
+    with pytest.raises(InputFileError, match=r"stamped.parquet:row 2: args holds \{'at': datetime.datetime\(2024, 5, 1, "
+                                             r"12, 0\)\}, which is no JSON value .*give arguments as numbers"):
+        import_file(con, stamped, interface)
+    twice = write(tmp_path / "twice.csv", [r + [r[1]] for r in ROWS], COLUMNS + ["seq"])
+    with pytest.raises(InputFileError, match=r"twice.csv:1: the header names the column 'seq' twice; keep one"):
+        import_file(con, twice, interface)
+    assert con.execute("select count(*) from traces").fetchone()[0] == 0
+
+
 def test_a_reply_class_conflicting_with_the_store_rolls_back(tmp_path, interface):
     con = connect(":memory:")
     import_file(con, write(tmp_path / "robot.csv", ROWS), interface)
@@ -185,7 +206,7 @@ def test_the_same_file_twice_is_refused_and_nothing_is_written(tmp_path, interfa
     before = counts(con)
     copy = tmp_path / "renamed.csv"
     copy.write_bytes(path.read_bytes())
-    with pytest.raises(InputFileError, match=r"renamed.csv:: these events were already imported on .* as campaign 1 "
+    with pytest.raises(InputFileError, match=r"renamed.csv: these events were already imported on .* as campaign 1 "
                                              r"\(trace ids 1-2\); nothing was imported"):
         import_file(con, copy, interface)
     assert counts(con) == before

@@ -35,41 +35,55 @@ def test_dala_interface_and_21_properties(interface, properties):
 
 
 @pytest.mark.parametrize("text, message", [
-    (GOOD.replace('interrupted = "Z"', 'interrupted = "X"'), "[replies] interrupted: class 'X' is not one of T, Z, R"),
-    (GOOD.replace('kind = "exec"', 'kind = "run"'), "[modules.m] services.Go: kind 'run' is not one of init, control, exec"),
-    (GOOD.replace("max = 1.0", "max = -1.0"), "argument 'v' needs numeric min <= max, got min=0.0 max=-1.0"),
-    (GOOD.replace('ok = "T"', ""), "the catalogue must contain ok"),
-    (GOOD.replace('ok = "T"', 'ok = "R"'), "the catalogue must contain ok = \"T\", not ok = 'R'"),
+    (GOOD.replace('interrupted = "Z"', 'interrupted = "X"'), ":4: replies.interrupted = 'X'; give 'T', 'Z' or 'R'"),
+    (GOOD.replace('kind = "exec"', 'kind = "run"'), ":8: modules.m.services.Go.kind = 'run'; give one of init, control, exec"),
+    (GOOD.replace("max = 1.0", "max = -1.0"), ":8: modules.m.services.Go.args.v: needs min <= max, got min=0.0 max=-1.0"),
+    (GOOD.replace('ok = "T"', ""), "iface.toml: the reply catalogue must contain ok"),
+    (GOOD.replace('ok = "T"', 'ok = "R"'), "the reply catalogue must contain ok = \"T\", not ok = 'R'"),
     (GOOD.replace('kind = "exec", args', 'kind = "exec", agrs'),
-     "[modules.m] services.Go: unknown key(s) ['agrs']; a service takes kind, args, until_stopped, doc"),
+     ":8: unknown key 'agrs'; a service takes kind, args, until_stopped, doc"),
     (GOOD.replace("[modules.m]", "[modules.m]\nposter = \"P\"\nposters = \"Q\""),
-     "[modules.m]: unknown key(s) ['posters']; a module takes doc, poster, services"),
+     ":8: unknown key 'posters'; a module takes doc, poster, services"),
     (GOOD.replace("max = 1.0", "max = 1.0, choices = [\"a\"]"),
-     "services.Go args.v: unknown key(s) ['choices']; a float argument takes type, min, max, doc"),
-    (GOOD + "[reply]\nok = \"T\"\n", "top level: unknown key(s) ['reply']; the top level takes replies, modules"),
+     ":8: unknown key 'choices'; a float argument takes type, min, max, doc"),
+    (GOOD + "[reply]\nok = \"T\"\n", ":9: unknown key 'reply'; the top level takes replies, modules"),
     ("[replies\n", "not valid TOML"),
     (GOOD.replace('kind = "exec"', 'kind = "exec", until_stopped = "yes"'),
-     "[modules.m] services.Go: until_stopped = 'yes'; it is true or false"),
+     ":8: modules.m.services.Go.until_stopped = 'yes'; give true or false"),
     (GOOD.replace('kind = "init"', 'kind = "init", until_stopped = true'),
-     "until_stopped = True; it is true or false, and only an exec service may run until stopped"),
+     ":7: modules.m.services.Init: until_stopped = true on an init service; only an exec service may run until stopped"),
+    # wrong TOML types, NaN, a value too long to echo, an unknown argument type
+    (GOOD.replace("[modules.m]", "[modules]\nrflex = 5\n[modules.m]"), ":7: modules.rflex = 5; give a table"),
+    (GOOD.replace('services.Init = { kind = "init" }\nservices.Go', 'services = ["Init"]\nservices2.Go'),
+     ":7: modules.m.services = ['Init']; declare the module's services: services.NAME = { kind = .. }"),
+    (GOOD.replace('args = { v = { type = "float", min = 0.0, max = 1.0 } }', 'args = ["v"]'),
+     ":8: modules.m.services.Go.args = ['v']; give a table of name = { type = .. }"),
+    (GOOD.replace("min = 0.0", "min = nan"), ":8: modules.m.services.Go.args.v.min = nan; give a finite number"),
+    (GOOD.replace('kind = "exec"', 'kind = "' + "x" * 1_000_000 + '"'),
+     "... (1,000,002 characters); give one of init, control, exec"),
+    (GOOD.replace('type = "float"', 'type = "int"'), "modules.m.services.Go.args.v = {'type': 'int', 'min': 0.0, "
+                                                     "'max': 1.0}; give 'type' = 'float', 'str'"),
 ])
 def test_malformed_interface_names_file_entry_and_value(tmp_path, text, message):
     path = write(tmp_path, "iface.toml", text)
     with pytest.raises(InputFileError) as e:
         load_interface(path)
-    assert str(path) in str(e.value) and message in str(e.value)
+    assert str(path) in str(e.value) and message in str(e.value) and len(str(e.value)) < 400
 
 
 PROP = '[[property]]\nid = "P"\nfamily = "F"\ntype = "PC"\nx = ["m.Go"]\nq = ["m.Init"]\nr_p = "wait_init"\n'
 
 
 @pytest.mark.parametrize("text, message", [
-    (PROP.replace('"PC"', '"XX"'), "property #1 (P): type 'XX' is not one of PC, ES, EE, EX, MX_R, MX_I"),
-    (PROP.replace('q = ["m.Init"]\n', ""), "type PC needs 'q', which is missing"),
-    (PROP.replace('["m.Go"]', '["m.Fly"]'), "x names 'm.Fly', which the interface"),
-    (PROP.replace('"wait_init"', '"interrupted"'), "r_p = 'interrupted' is not a class-R reply code"),
-    (PROP + 'y = ["m.Go"]\n', "key(s) ['y'] do not apply to type PC"),
-    (PROP + PROP, "property #2 (P): id 'P' is used twice"),
+    (PROP.replace('"PC"', '"XX"'), ":1: property[1]: type 'XX' is not one of PC, ES, EE, EX, MX_R, MX_I"),
+    (PROP.replace('q = ["m.Init"]\n', ""), ":1: property[1]: type PC needs 'q', which is missing"),
+    (PROP.replace('["m.Go"]', '["m.Fly"]'), ":5: property 'P': x names 'm.Fly', which the interface"),
+    (PROP.replace('"wait_init"', '"interrupted"'), ":7: property 'P': r_p = 'interrupted' is not a class-R reply code"),
+    (PROP + 'y = ["m.Go"]\n', ":1: property[1]: key(s) ['y'] do not apply to type PC"),
+    (PROP + PROP, ":8: property id 'P' is used twice (also property #1)"),
+    ("property = [1, 2]\n", ":1: property[1] = 1; give a table"),
+    (PROP.replace('"wait_init"', '["wait_init"]'), ":7: property[1].r_p = ['wait_init']; give the rejection code"),
+    ("", "props.toml: property is missing; add [[property]] entries"),
 ])
 def test_malformed_properties_name_file_entry_and_value(tmp_path, text, message):
     iface = load_interface(write(tmp_path, "iface.toml", GOOD))
@@ -77,3 +91,13 @@ def test_malformed_properties_name_file_entry_and_value(tmp_path, text, message)
     with pytest.raises(InputFileError) as e:
         load_properties(path, iface)
     assert str(path) in str(e.value) and message in str(e.value)
+
+
+def test_the_keys_a_table_accepts_are_those_its_refusal_lists(tmp_path):
+    """INTERFACE_KEYS (which docs/reference is checked against) comes from the schema models."""
+    from harness.target.interface import INTERFACE_KEYS
+    path = write(tmp_path, "iface.toml", GOOD.replace('kind = "exec", args', 'kind = "exec", agrs'))
+    with pytest.raises(InputFileError) as e:
+        load_interface(path)
+    assert str(e.value).endswith(f"a service takes {', '.join(INTERFACE_KEYS['a service'])}")
+    assert INTERFACE_KEYS["a service"] == ("kind", "args", "until_stopped", "doc")

@@ -1,10 +1,12 @@
 """layer.toml: what a simulated layer enforces, read once and checked against the interface;
 a bad entry is refused naming the file, the entry and the bad value."""
 import shutil
+from types import SimpleNamespace
 
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
+from harness.campaign.campaign import campaign_config
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.target.mission import load_mission
@@ -29,17 +31,28 @@ def folder(tmp_path):
 
 
 @pytest.mark.parametrize("old,new,message", [
-    ('kind = "excludes"', 'kind = "forbids"', r"layer.toml:\[protections.EXC\]: kind = 'forbids'; use one of "
+    ('kind = "excludes"', 'kind = "forbids"', r"layer.toml:49: protections.EXC.kind = 'forbids'; use one of "
                                               r"requires_init, requires, rejects_while, interrupts, excludes"),
     ('protections = ["PEX", "AIB"]\n', 'protections = ["PEX", "AIB", "XYZ"]\n',
-     r"layer.toml:\[variants.genom\]: protections names 'XYZ'; use one of PEX, AIB, PRE, EXC"),
-    ('protection = "AIB"', 'protection = "ZZZ"', r"\[defects.deadlock_on_dominated_start\]: protection = 'ZZZ'"),
+     r"layer.toml:75: variants.genom.protections names 'XYZ'; use one of PEX, AIB, PRE, EXC"),
+    ('protection = "AIB"', 'protection = "ZZZ"', r"layer.toml:63: defects.deadlock_on_dominated_start: "
+                                                 r"protection = 'ZZZ'; name one of PEX"),
     ('default_suts = ["genom", "bip-a", "bip-b"]', 'default_suts = ["genom", "bip-z"]',
-     r"layer.toml:\[layer\]: default_suts names 'bip-z'; use one of genom, bip-a"),
-    ('slots = 3 ', 'slots = 0 ', r"layer.toml:\[layer\]: slots = 0; give a whole number"),
+     r"layer.toml:12: layer.default_suts names 'bip-z'; use one of genom, bip-a"),
+    ('slots = 3 ', 'slots = 0 ', r"layer.toml:8: layer.slots = 0; give a whole number of activities >= 1"),
     ('Stop = { start_s = 0.01, run_s = 0.05 }', 'Stop = { start_s = 0.01, run_s = "long" }',
-     r"layer.toml:\[timing\] Stop: .*run_s = SECONDS or \"forever\""),
-    ('[layer]\n', '[layer]\ncolour = "red"\n', r"layer.toml:\[layer\]: unknown key\(s\) \['colour'\]"),
+     r"layer.toml:17: timing.Stop.run_s = 'long'; give a number of seconds >= 0 or \"forever\""),
+    ('[layer]\n', '[layer]\ncolour = "red"\n', r"layer.toml:6: unknown key 'colour'; \[layer\] takes doc, behaviour"),
+    # negative durations (every run would crash), a module that is no behaviour, wrong TOML types
+    ('Stop = { start_s = 0.01, run_s = 0.05 }', 'Stop = { start_s = 0.01, run_s = -0.05 }',
+     r"layer.toml:17: timing.Stop: run_s = -0.05; give a number of seconds >= 0"),
+    ('Stop = { start_s = 0.01, run_s = 0.05 }', 'Stop = { start_s = -1, run_s = 0.05 }',
+     r"layer.toml:17: timing.Stop.start_s = -1; give a number of seconds >= 0"),
+    ('slots = 3 ', 'slots = 3.5 ', r"layer.toml:8: layer.slots = 3.5; give a whole number of activities >= 1"),
+    ('slots = 3 ', 'slots = true ', r"layer.toml:8: layer.slots = True; give a whole number"),
+    ('pairs = [', 'pairs = 7\nold_pairs = [', r"layer.toml:\d+: protections.EXC.pairs = 7; give a list of"),
+    ('reply = "interrupted_excl"', 'reply = ["interrupted_excl"]',
+     r"layer.toml:\d+: protections.EXC.reply = \['interrupted_excl'\]; give the reply code it answers with"),
 ])
 def test_a_bad_entry_is_refused_naming_it(folder, old, new, message):
     path = folder / "layer.toml"
@@ -50,11 +63,27 @@ def test_a_bad_entry_is_refused_naming_it(folder, old, new, message):
         load_layer(folder)
 
 
+@pytest.mark.parametrize("name, message", [
+    ("os", r"layer.toml:7: behaviour = 'os' has no build\(env, world_file\) function; name a module that builds"),
+    ("no.such.module", r"layer.toml:7: behaviour = 'no.such.module' cannot be imported \(No module named 'no'\); "
+                       r"name an importable"),
+])
+def test_a_behaviour_module_that_builds_nothing_is_refused_before_any_run(folder, tmp_path, name, message):
+    path = folder / "layer.toml"
+    path.write_text(path.read_text().replace('"harness.sim.dala.modules"', f'"{name}"'))
+    with pytest.raises(UntimelyError, match=message):
+        load_layer(folder).behaviour_module()
+    with pytest.raises(UntimelyError, match=message):  # a campaign checks it before it runs anything
+        campaign_config(SimpleNamespace(mission=str(folder), mutants=1, strategy="random", ops_per_mutant=None,
+                                        time_mutations=False, jobs=1, max_delay=0.0, sut=None, time_scale=None,
+                                        seed=1))
+
+
 def test_codes_and_services_must_be_the_interfaces(folder):
     path = folder / "layer.toml"
     path.write_text(path.read_text().replace('reply = "disallowed"', 'reply = "nope"'))
     interface = load_interface(folder / "interface.toml")
-    with pytest.raises(UntimelyError, match=r"layer.toml:: reply code 'nope' is not in the catalogue of the "
+    with pytest.raises(UntimelyError, match=r"layer.toml: reply code 'nope' is not in the catalogue of the "
                                             r"interface .*interface.toml; add it there"):
         FunctionalLayer(Environment(), "reference", interface, folder / "world.toml")
     path.write_text(path.read_text().replace('reply = "nope"', 'reply = "disallowed"')
@@ -66,6 +95,6 @@ def test_codes_and_services_must_be_the_interfaces(folder):
 
 def test_a_folder_without_a_layer_has_no_default_variants(folder):
     (folder / "layer.toml").unlink()
-    with pytest.raises(UntimelyError, match=r"layer.toml:: file not found; a folder without a simulated layer "
+    with pytest.raises(UntimelyError, match=r"layer.toml: file not found; a folder without a simulated layer "
                                             r"needs --sut NAME=cmd:COMMAND"):
         load_mission(folder).default_suts()

@@ -413,3 +413,20 @@ def test_the_index_shows_what_the_last_analysis_changed(tmp_path):
     assert transitions[0] == ["sut", "property_id", "family", "previous", "current", "verdicts"]
     assert ["genom", "PRE(ndd.GotoPosition)", "PRE", "FN", "", "1"] in transitions
     assert ["genom", "PRE", "III", "tp_rate", "0", ""] in page.texts("table_changes")
+
+
+def test_after_a_first_analysis_changes_say_so_and_list_nothing(site):
+    """Issue 19, item 7: the Changes section listed every verdict as a change from nothing."""
+    db, out = site
+    index = (out / "index.html").read_text()
+    assert "This is the first analysis of the store: there is nothing to compare it with." in index
+    assert 'id="verdict_transitions"' not in index
+
+
+def test_every_trace_id_in_the_suspicious_table_is_a_link(site):
+    db, out = site
+    rows = _page(out / "index.html").tables["suspicious"][1:]
+    _, suspicious = _query(db, "select distinct trace_id from verdicts where suspicious")
+    assert rows and {int(row[0][0]) for row in rows} == {r["trace_id"] for r in suspicious}
+    for (text, href), *_ in rows:
+        assert href and (out / href).is_file(), text

@@ -49,13 +49,16 @@ def test_fallback_codes_and_single_actions_come_from_the_file(tmp_path):
 
 
 @pytest.mark.parametrize("text, message", [
-    ('actions = "/x"\n', "unknown key(s) ['actions']"),
+    ('actions = "/x"\n', "ros.toml:1: unknown key 'actions'; a mapping file takes action, services"),
     ('action = "/{robot}"\n', "may only use {module} and {service}"),
-    ('[status_codes]\nLOST = "lost"\n', "'LOST' is not a terminal goal status"),
+    ('[status_codes]\nLOST = "lost"\n', "ros.toml:2: status_codes: key 'LOST' is not allowed; give 'SUCCEEDED', 'ABORTED'"),
     ('[status_codes]\nABORTED = ""\n', "give a non-empty string"),
     ('heartbeat_stale_s = 0\n', "heartbeat_stale_s = 0; give a positive number"),
     ('[services]\nGotoPosition = "/x"\n', "'GotoPosition' is not \"module.Service\""),
     ('ping_topic = "/ping"\n', "give both ping_topic and pong_topic, or neither"),
+    ('heartbeat_stale_s = nan\n', "ros.toml:1: heartbeat_stale_s = nan; give a positive number of seconds"),
+    ('[services]\n"nav.Go" = ["/x"]\n', "ros.toml:2: services.nav.Go = ['/x']; give a valid string"),
+    ('world_topic = 5\n', "ros.toml:1: world_topic = 5; give a topic name"),
 ])
 def test_a_bad_mapping_file_is_named_with_its_value(tmp_path, text, message):
     with pytest.raises(InputFileError, match="ros.toml") as e:

@@ -1,7 +1,7 @@
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
-from harness.errors import ScriptError
+from harness.errors import InputFileError, ScriptError
 from harness.target.script import load_script, parse, validate
 
 
@@ -69,5 +69,19 @@ def test_golden_mission_uses_every_module_and_service_kind(interface):
 
 
 def test_missing_script_file_is_named(interface, tmp_path):
-    with pytest.raises(ScriptError, match="nope.mission:0: cannot read the script"):
+    with pytest.raises(InputFileError, match="nope.mission: file not found; pass an existing mission script"):
         load_script(tmp_path / "nope.mission", interface)
+    with pytest.raises(InputFileError, match=f"{tmp_path}: is a folder, not a file; pass the file itself"):
+        load_script(tmp_path, interface)
+    (tmp_path / "loop.mission").symlink_to(tmp_path / "loop.mission")
+    with pytest.raises(InputFileError, match="loop.mission: is a symbolic link that loops; point it at a real file"):
+        load_script(tmp_path / "loop.mission", interface)
+
+
+def test_only_a_newline_ends_a_step_and_a_byte_order_mark_is_no_text(interface, tmp_path):
+    path = tmp_path / "m.mission"
+    path.write_bytes("\ufeffsend rflex.Init as ri  # a comment\u2028send sick.Init\fsend ndd.Init\r\nwait ri\n"
+                     .encode())
+    script = load_script(path, interface)
+    assert [s.render() for s in script.steps] == [
+        "send rflex.Init as ri  # a comment\u2028send sick.Init\fsend ndd.Init", "wait ri"]

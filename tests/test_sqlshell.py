@@ -37,6 +37,23 @@ def test_the_command_is_read_only(db, capsys):
     assert capsys.readouterr().out.splitlines()[2].strip() == "8"
 
 
+def test_the_command_writes_no_file_and_attaches_nothing(db, tmp_path, capsys):
+    """Issue 19: `copy ... to` the store itself once overwrote it with a CSV file."""
+    before = db.read_bytes()
+    queries = [f"copy verdicts to '{db}'", f"copy verdicts to '{tmp_path / 'out.csv'}'",
+               f"attach '{tmp_path / 'other.duckdb'}' as other", f"export database '{tmp_path / 'dump'}'",
+               "select * from read_csv('/etc/hostname')", "set enable_external_access = true",
+               "reset lock_configuration"]
+    for query in queries:
+        assert main(["sql", "--db", str(db), query]) == 2, query
+        err = capsys.readouterr().err
+        assert err.startswith("error: query failed: ") and "Traceback" not in err, err
+        assert "disabled by configuration" in err or "configuration has been locked" in err, err
+    assert db.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == [db.name]
+    assert main(["sql", "--db", str(db), "select count(*) as n from verdicts"]) == 0
+
+
 def test_a_missing_store_is_refused(tmp_path, capsys):
     assert main(["sql", "--db", str(tmp_path / "none.duckdb"), "select 1"]) == 2
     assert "no store at" in capsys.readouterr().err

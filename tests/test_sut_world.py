@@ -37,15 +37,19 @@ def test_the_dala_world_loads():
 
 
 @pytest.mark.parametrize("change,message", [
-    (("radius = 0.5", "radius = -1"), "world.toml:rock #1: radius = -1; give a positive number"),
-    (("x = 5.0", 'x = "far"'), "world.toml:rock #1: x = 'far'; give a number"),
-    (("x = 5.0", "x = 9.8"), "world.toml:rock #1: (9.8, 2) with radius 0.5 is not inside the bounds "
+    (("radius = 0.5", "radius = -1"), "world.toml:13: rock[1].radius = -1; give a positive number"),
+    (("x = 5.0", 'x = "far"'), "world.toml:11: rock[1].x = 'far'; give a number"),
+    (("x = 5.0", "x = 9.8"), "world.toml:10: rock[1]: (9.8, 2) with radius 0.5 is not inside the bounds "
                              "x=[0.0, 10.0] y=[0.0, 10.0]; move it inside"),
-    (("x = 5.0", "x = 2.5"), "world.toml:rock #1: rock at (2.5, 2) overlaps the rover's start; move it"),
-    (("x = [0.0, 10.0]", "x = [10.0, 0.0]"), "world.toml:[bounds]: x = [10.0, 0.0]; give [low, high] with low < high"),
-    (("[rover]", "[robot]"), "world.toml:: a world needs a [bounds] table (x, y) and a [rover] table"),
-    (("heading_deg = 0.0", "heading_deg = true"), "world.toml:[rover]: heading_deg = True; give a number"),
-    (("[[rock]]", "[[rock]"), "world.toml:: not valid TOML"),
+    (("x = 5.0", "x = 2.5"), "world.toml:10: rock #1: rock at (2.5, 2) overlaps the rover's start; move it"),
+    (("x = [0.0, 10.0]", "x = [10.0, 0.0]"), "world.toml:2: bounds: x = [10.0, 0.0]; give [low, high] with low < high"),
+    (("[rover]", "[robot]"), "world.toml: rover is missing; a world needs a [rover] table"),
+    (("heading_deg = 0.0", "heading_deg = true"), "world.toml:8: rover.heading_deg = True; give a number"),
+    (("[[rock]]", "[[rock]"), "world.toml: not valid TOML"),
+    # an unknown key, NaN, a list for a number
+    (("[[rock]]", "[[rock]]\ncolour = 'red'"), "world.toml:11: unknown key 'colour'; a [[rock]] takes x, y, radius"),
+    (("radius = 0.5", "radius = nan"), "world.toml:13: rock[1].radius = nan; give a positive number"),
+    (("heading_deg = 0.0", "heading_deg = [0.0]"), "world.toml:8: rover.heading_deg = [0.0]; give a number"),
 ])
 def test_a_bad_world_entry_is_named_with_its_value(tmp_path, change, message):
     with pytest.raises(InputFileError) as error:

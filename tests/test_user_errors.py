@@ -163,7 +163,7 @@ def test_analyze_says_which_interface_the_properties_need(tmp_path, capsys):
     properties = tmp_path / "mine.toml"
     properties.write_text((DEFAULT_MISSION_DIR / "properties.toml").read_text())
     err = _fails(capsys, "analyze", "--db", db, "--properties", properties)
-    assert f"{tmp_path / 'interface.toml'}:: file not found; the properties {properties} name services" in err
+    assert f"{tmp_path / 'interface.toml'}: file not found; the properties {properties} name services" in err
     assert "pass --interface FILE" in err
     assert main(["analyze", "--db", str(db), "--properties", str(properties), "--interface", INTERFACE]) == 0
     assert "against 21 properties" in capsys.readouterr().out
@@ -188,3 +188,34 @@ def test_a_long_mutant_generation_shows_its_progress(monkeypatch, capsys):
     monkeypatch.setattr(campaign, "SHOW_GENERATION", 21)
     campaign._generate(config, golden, interface, [], None, 1)
     assert capsys.readouterr().err == ""
+
+
+def test_help_names_every_kind_of_system_under_test(capsys):
+    assert main(["--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "simulated layer" in text and "untimely/1" in text and "NAME=cmd:COMMAND" in text and "ROS 1" in text
+
+
+INTERRUPTED_ANALYSIS = """
+import os, signal, sys, threading
+from harness import cli
+from harness.analysis import analyzer
+
+def endless(con, *args, **kwargs):  # an analysis query that runs until Ctrl-C stops it in DuckDB
+    threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT)).start()
+    con.execute("select count(*) from range(100000000000)").fetchall()
+
+analyzer.materialise = endless
+sys.exit(cli.main(["analyze", *sys.argv[1:]]))
+"""
+
+
+def test_ctrl_c_during_an_analysis_query_stops_it_clearly(tmp_path):
+    """Issue 19: DuckDB ends a query that Ctrl-C interrupts with `RuntimeError: Query interrupted`."""
+    db = tmp_path / "judged.duckdb"
+    judged_store(load(HERE / "tables.trace"), 0.01, db).close()
+    done = subprocess.run([sys.executable, "-c", INTERRUPTED_ANALYSIS, "--db", str(db), "--interface",
+                           str(DEFAULT_MISSION_DIR / "interface.toml")], cwd=ROOT, capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 130, done.stderr
+    assert done.stderr == "stopped (Ctrl-C); the store keeps every finished transaction\n"

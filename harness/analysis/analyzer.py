@@ -23,7 +23,7 @@ from harness.analysis.oracles import VERDICT_COLUMNS, render_property
 from harness.store.sql import render_view
 from harness.analysis.provenance import default_properties, last_epsilon, record
 from harness.store.database import connect, transaction
-from harness.textable import format_table, percent, rate_interval, with_certain
+from harness.textable import counted, format_table, percent, rate_interval, with_certain
 
 # (events source, verdicts table): the observed timeline and the ground truth.
 SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
@@ -181,11 +181,12 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
     parts.append(epsilons(con))
     judged, inverted, caught, flagged = flag_accuracy(con)
     if judged:
-        parts.append(f"Ground truth: {inverted} of {judged} observed verdicts differ from the verdicts on "
-                     f"the internal timeline (view inversions). The suspicious flag (epsilon {epsilon:g} s) "
-                     f"caught {caught} of them (recall {percent(caught / inverted if inverted else None)}%) "
-                     f"and is raised on {flagged} verdicts in all "
-                     f"(precision {percent(caught / flagged if flagged else None)}%). The SUT's internal events "
+        recall = f"recall {percent(caught / inverted)}%" if inverted else "no recall to measure"
+        precision = f"precision {percent(caught / flagged)}%" if flagged else "no precision to measure"
+        parts.append(f"Ground truth: {inverted} of {judged} observed verdicts differ from the verdicts "
+                     f"on the internal timeline (view inversions). The suspicious flag (epsilon {epsilon:g} s) "
+                     f"caught {caught} of them ({recall}) and is raised on {counted(flagged, 'verdict')} in all "
+                     f"({precision}). The SUT's internal events "
                      f"settle all {flagged} uncertain verdicts: {caught} change, {flagged - caught} hold.")
     cursor = con.execute("select * exclude (campaign_id) from interface_latency order by campaign_id, sut")
     latency = cursor.fetchall()
@@ -211,14 +212,16 @@ def epsilons(con) -> str:
 
 def least_covered(con: duckdb.DuckDBPyConnection, shown: int = 5) -> str:
     """The properties whose condition was false on the fewest requests, on their worst variant
-    (of equally bad ones, the first by name)."""
+    (of equally bad ones, the first by name); targeted mutants are suggested unless they made them."""
     found = con.execute(f"""
         select property_id, min(c_false) as c_false, arg_min(sut, (c_false, sut)) as sut
         from coverage left join property_positions using (property_id) group by property_id
         order by c_false, min(position) limit {int(shown)}""").fetchall()
     listed = ", ".join(f"{p} {n} ({sut})" for p, n, sut in found)
-    return (f"Least covered (requests with C false, on the variant with fewest; view coverage): {listed}. "
-            "More cases: python -m harness campaign --strategy targeted")
+    targeted = con.execute("select count(*) from campaigns where config->>'strategy' = 'targeted'").fetchone()[0]
+    more = ("More cases: more --mutants, or another --seed, of the targeted campaign" if targeted
+            else "More cases: python -m harness campaign --strategy targeted")
+    return f"Least covered (requests with C false, on the variant with fewest; view coverage): {listed}. {more}"
 
 
 def main(args) -> int:
@@ -235,7 +238,7 @@ def main(args) -> int:
     traces, events = con.execute("select (select count(*) from traces), (select count(*) from events)").fetchone()
     verdicts = con.execute("select count(*) from verdicts").fetchone()[0]
     print(f"Judged {events} events of {traces} traces against {len(properties)} properties of "
-          f"{properties_path} in {elapsed:.2f} s: {verdicts} verdicts in table verdicts.\n")
+          f"{properties_path} in {elapsed:.2f} s: {counted(verdicts, 'verdict')} in table verdicts.\n")
     if not traces:
         print("The store holds no traces yet: run a campaign or import traces, then analyze again.")
         return 0

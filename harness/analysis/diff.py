@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import duckdb
 
-from harness.store.reads import ordered
+from harness.store.reads import analyses_made, ordered
 from harness.errors import StoreError
 from harness.store.database import connect
-from harness.textable import format_table, percent
+from harness.textable import counted, format_table, percent
 
 RATES = ("t_rob", "tp_rate", "fp_rate")  # the measures shown as percentages; the others are counts
 
@@ -22,10 +22,10 @@ def _value(measure: str, value):
 
 def changes(con) -> str:
     """The verdict transitions and the changed cells of Tables II-IV, as text."""
+    if analyses_made(con) < 2:
+        return "Changes: this is the first analysis of the store; there is nothing to compare it with."
     analyses = con.execute("select analysis_id, analysed_at, epsilon from analyses "
                            "order by analysis_id desc limit 2").fetchall()
-    if not con.execute("select count(*) from verdicts_previous").fetchone()[0]:
-        return "Changes: this is the first analysis of the store; there is nothing to compare it with."
     now = analyses[0]
     before = (f"analysis {analyses[1][0]} of {analyses[1][1]:%Y-%m-%d %H:%M:%S}, epsilon {analyses[1][2]:g} s"
               if len(analyses) > 1 else "the analysis before it")
@@ -35,7 +35,7 @@ def changes(con) -> str:
     if not transitions:
         return head + ": none, every verdict is the same."
     moved = sum(r[-1] for r in transitions)
-    parts = [f"{head}: {moved} verdicts changed.",
+    parts = [f"{head}: {counted(moved, 'verdict')} changed.",
              "Verdict transitions (NULL: no such row in that analysis)\n"
              + format_table([d[0] for d in cursor.description], transitions)]
     cursor = con.execute(ordered(con, "table_changes"))

@@ -12,6 +12,8 @@ from __future__ import annotations
 from collections import defaultdict
 from pathlib import Path
 
+import duckdb
+
 from harness.errors import StoreError, UntimelyError
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.analysis.oracles import render_property
@@ -156,6 +158,11 @@ def explanations(con, verdicts: list[dict]) -> dict[Key, str]:
 
 def main(args) -> int:
     con = connect(args.db, read_only=True)
+    try:
+        con.execute("select 1 from verdicts limit 0")
+    except duckdb.Error:
+        raise StoreError(f"{args.db} has no verdicts to explain; run python -m harness analyze --db "
+                         f"{args.db} first") from None
     interface, properties = judged_properties(con)
     if args.property not in properties:
         raise StoreError(f"no property {args.property!r} in the properties the verdicts were made from; "

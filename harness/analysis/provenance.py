@@ -8,9 +8,11 @@ are the ones of the mission the campaign was made from.
 from __future__ import annotations
 
 import hashlib
+import json
 from pathlib import Path
 
-from harness import DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR, SQL_DIR
+from harness import DEFAULT_EPSILON_S, SQL_DIR
+from harness.errors import StoreError
 
 
 def _sha256(path: Path) -> str | None:
@@ -65,11 +67,25 @@ def last_epsilon(con) -> float:
     return found[0] if found else DEFAULT_EPSILON_S
 
 
+def campaign_target(mission: str, config: dict) -> Path:
+    """The target folder a stored campaign was made from: a campaign's mission folder, the folder a
+    `run` recorded (a run stored before it did so: its script's), an import's interface's folder."""
+    if config.get("target"):
+        return Path(config["target"])
+    if config.get("kind") == "campaign" or Path(mission).is_dir():
+        return Path(mission)
+    if config.get("kind") == "import" and config.get("interface"):
+        return Path(config["interface"]).parent
+    return Path(mission).parent
+
+
 def default_properties(con) -> Path:
-    """The properties file of the mission the last campaign was made from (an imported file's
-    campaign has no mission folder: then the Dala mission's)."""
-    for (mission,) in con.execute("select mission from campaigns order by campaign_id desc").fetchall():
-        candidate = Path(mission) / "properties.toml"
+    """The properties file of the target the last campaign, run or import was made from."""
+    tried = []
+    for mission, config in con.execute("select mission, config from campaigns order by campaign_id desc").fetchall():
+        candidate = campaign_target(mission, json.loads(config or "{}")) / "properties.toml"
         if candidate.is_file():
             return candidate
-    return DEFAULT_MISSION_DIR / "properties.toml"
+        tried.append(str(candidate))
+    raise StoreError(f"the store records no target folder with a properties file ({', '.join(tried) or 'no campaign'}"
+                     "); pass --properties FILE")

@@ -12,6 +12,7 @@ from pathlib import Path
 from harness import store
 from harness.errors import UntimelyError
 from harness.run.executive import run_script
+from harness.files import existing_file
 from harness.run.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import load_script
@@ -58,7 +59,8 @@ def summary(trace: Trace, replies: dict[str, str]) -> str:
 
 
 def main(args) -> int:
-    script_path = Path(args.mission)
+    script_path = existing_file(args.mission, "file not found; run takes a mission script such as "
+                                              "missions/dala/golden.mission")
     interface_path, world_file = mission_files(script_path, args.interface, args.world)
     interface = load_interface(interface_path)
     script = load_script(script_path, interface)
@@ -66,7 +68,8 @@ def main(args) -> int:
     if len(names) != 1:
         raise UntimelyError(f"--sut {args.sut!r}: run takes one SUT; a campaign takes several")
     sut = names[0]
-    config = {"kind": "run", "sut": sut, "max_delay": args.max_delay}
+    # the target folder: analyze, explain and shrink read its properties and files
+    config = {"kind": "run", "sut": sut, "max_delay": args.max_delay, "target": str(interface_path.resolve().parent)}
     # Opened before the run: a store another process writes is refused before a long real-time
     # run, and an external SUT is told the trace id it is making (its hello's `run`).
     con = store.connect(args.db)

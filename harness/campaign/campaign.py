@@ -21,8 +21,10 @@ import sys
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
+from pathlib import Path
 
-from harness import store
+from harness import DEFAULT_MISSION_DIR, store
+from harness.schema import cut
 from harness.analysis import analyzer
 from harness.campaign import sharding, shrink
 from harness.errors import StoreError, UntimelyError
@@ -69,6 +71,8 @@ def campaign_config(args) -> dict:
         raise UntimelyError(f"--max-delay {args.max_delay}: give a delay in seconds >= 0")
     mission = load_mission(args.mission)
     suts, external = resolve(args.sut or mission.default_suts(), mission.folder, args.time_scale)
+    if mission.simulated and set(suts) - set(external):  # variants: a bad behaviour fails here, not in every run
+        mission.layer.behaviour_module()
     return {"kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
             "external": {name: sut.config() for name, sut in external.items()},
             "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,
@@ -263,6 +267,19 @@ def main(args, runner=None) -> int:
         return _run(args, config, mission, interface, golden, properties, setup, jobs, run_tasks)
 
 
+def _warn_of_a_default_target(con, campaign_id: int, mission: Path, config: dict) -> None:
+    """An external SUT every run of which crashed on the default target (Dala) was likely made for
+    another one: say so, with its first error, rather than let Dala's properties judge it."""
+    if mission.resolve() != DEFAULT_MISSION_DIR.resolve():
+        return
+    for sut, error in con.execute("""select sut, arg_min(error, trace_id) from traces where campaign_id = ?
+                                     group by sut having bool_and(outcome = 'crashed')""", [campaign_id]).fetchall():
+        if sut in config["external"]:
+            print(f"every run of {sut} crashed on the default target {DEFAULT_MISSION_DIR} (first: "
+                  f"{cut(error or 'no reason given')}); if {sut} is made for another target, pass --mission "
+                  "FOLDER with its interface.toml and golden.mission", file=sys.stderr)
+
+
 def _run(args, config, mission, interface, golden, properties, setup, jobs, run_tasks) -> int:
     con = store.connect(args.db)
     campaign_id = find_campaign(con, config, args.db)
@@ -294,6 +311,7 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
     if session.runs:
         session.progress.close()
     print(summary(con, campaign_id, session))
+    _warn_of_a_default_target(con, campaign_id, mission, config)
     if not analyzer.judges_every_trace(con):  # new traces, or a session stopped while judging
         epsilon = last_epsilon(con)  # a resumed campaign keeps the epsilon its verdicts were made with
         analyzer.materialise(con, properties, epsilon, interface, mission / "properties.toml")

@@ -29,9 +29,11 @@ import duckdb
 
 from harness import DEFAULT_EPSILON_S, store
 from harness.errors import ScriptError, StoreError, UntimelyError
+from harness.files import make_folder
 from harness.run.executive import run_script
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.analysis.judge import Judge
+from harness.analysis.provenance import campaign_target
 from harness.mutator.ddmin import ddmin
 from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
@@ -94,7 +96,7 @@ def original(con, trace_id: int, mission: str | None = None) -> Original:
         raise UntimelyError(f"trace {trace_id} was imported: it has no script to shrink; shrink a trace "
                             "that a campaign or `run` made")
     config = json.loads(config)
-    folder = Path(campaign_mission) if config.get("kind") == "campaign" else Path(campaign_mission).parent
+    folder = campaign_target(campaign_mission, config)
     return Original(trace_id, script_id, sut, seed, outcome, body, Path(mission) if mission else folder,
                     config.get("max_delay", 0.003), config.get("external", {}))
 
@@ -234,9 +236,12 @@ def header(orig: Original, behaviour: Behaviour, script_id: int, path: Path, run
 
 
 def write_mission(out: Path, orig: Original, behaviour: Behaviour, script_id: int, body: str, runs: int) -> Path:
-    out.mkdir(parents=True, exist_ok=True)
-    path = mission_file(out, script_id)
-    path.write_text(header(orig, behaviour, script_id, path, runs, len(parse(orig.body).steps)) + body)
+    path = mission_file(make_folder(out, "the shrunk scripts"), script_id)
+    try:
+        path.write_text(header(orig, behaviour, script_id, path, runs, len(parse(orig.body).steps)) + body)
+    except OSError as e:
+        raise UntimelyError(f"cannot write {str(path)!r}: {e.strerror}; the shrunk script is stored as script "
+                            f"{script_id}: pass a writable --out and shrink again to write it") from None
     return path
 
 
@@ -292,6 +297,7 @@ def default_out(db: str) -> Path:
 
 
 def main(args) -> int:
+    out = make_folder(Path(args.out) if args.out else default_out(args.db), "the shrunk scripts")  # before the work
     con = store.connect(args.db, create=False)
     orig = with_trusted_sut(original(con, args.trace_id, args.mission), args.sut, bool(args.mission),
                             args.run_stored_command)
@@ -302,5 +308,5 @@ def main(args) -> int:
     result = shrunk(orig, behaviour, properties)
     if isinstance(result, str):
         raise UntimelyError(result)
-    print(stored(con, orig, behaviour, result, Path(args.out) if args.out else default_out(args.db)))
+    print(stored(con, orig, behaviour, result, out))
     return 0

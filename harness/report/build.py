@@ -27,6 +27,7 @@ from harness.analysis.explain import explanations
 from harness.files import make_folder
 from harness.report import html, pages, queries, trace_pages
 from harness.store.database import connect
+from harness.store.reads import analyses_made
 
 PARALLEL_FROM = 400  # trace pages per worker process; fewer are not worth starting one for
 # DuckDB's memory for the report's queries: beyond it, their hash tables spill to a temporary
@@ -53,8 +54,9 @@ def main(args) -> int:
             return 0
         written = _within_memory(con, lambda: write_report(con, out))
     except OSError as e:
-        raise UntimelyError(f"cannot write the report in {str(out)!r}: {e.strerror} ({e.filename}); "
-                            "free space or pass another --out") from None
+        where = f" ({e.filename})" if e.filename else ""
+        raise UntimelyError(f"cannot write the report in {str(out)!r}: {e.strerror}{where}; the store is only "
+                            "read and unchanged: free space or pass another --out") from None
     finally:
         con.close()
         spill.cleanup()
@@ -140,7 +142,7 @@ def _write_all(con, out: Path) -> dict[str, int]:
     (they import neither DuckDB nor Arrow; this one's reading and the rest of the report take
     about as much CPU as the pages, and on a machine busy with other work a process more gets
     a larger share of it); meanwhile this one writes the rest."""
-    page_ids = sorted(queries.paged_traces(con))
+    page_ids = sorted(queries.paged_traces(con, html.SHOWN_ROWS))
     make_folder(out / "traces", "the trace pages")
     workers = min(len(os.sched_getaffinity(0)), len(page_ids) // PARALLEL_FROM)
     parallel = workers > 0
@@ -186,6 +188,7 @@ def _write_rest(con, out: Path, page_ids: set[int]) -> dict[str, int]:
     lists = pages.write_lists(out, family_traces, bad, suts, families, (tp, fp), page_ids)
     pages.write_index(out, dict(
         campaigns=queries.campaigns(con), analysis=queries.analysis(con), tables=tables, bad=bad, suts=suts,
+        first_analysis=analyses_made(con) < 2,
         charts=pages.index_charts(suts, families, tp, fp, table2, queries.verdict_mix(con)),
         csv=[t.name for t in csv_tables], pages=len(page_ids)))
     return {"traces": len(page_ids), "lists": lists, "csv": len(csv_tables)}

@@ -136,8 +136,12 @@ def family_traces(con) -> Table:
     return query_table(con, "family_traces", render_query("family_traces"))
 
 
-def paged_traces(con) -> list[int]:
-    return [r[0] for r in con.execute(render_query("paged_traces")).fetchall()]
+def paged_traces(con, suspicious_shown: int) -> list[int]:
+    """The traces that get a page (sql/report/paged_traces.sql) and those of the suspicious
+    verdicts the index shows (its first `suspicious_shown` rows), so that each of them is a link."""
+    return [r[0] for r in con.execute(f"""select trace_id from ({render_query("paged_traces")})
+        union select trace_id from ({render_query("suspicious")} limit {int(suspicious_shown)})
+        order by trace_id""").fetchall()]
 
 
 # What a trace page shows, one query per kind of data for a chunk of pages (ordered by trace id).

@@ -49,7 +49,7 @@ def traces(batch: dict[str, Rows]) -> list[dict]:
 
 def _steps(body: str) -> list[str]:
     """The script's step lines: mutants are re-rendered without the golden's comment lines."""
-    return [line for line in body.splitlines() if line.strip() and not line.lstrip().startswith("#")]
+    return [line for line in body.split("\n") if line.strip() and not line.lstrip().startswith("#")]
 
 
 def _diff(trace: dict) -> list[tuple[str, str]]:

@@ -11,7 +11,6 @@ defects), then starts it. Replies go back through the `reply` callable given wit
 """
 from __future__ import annotations
 
-import importlib
 from pathlib import Path
 from typing import Callable
 
@@ -47,12 +46,7 @@ def parse_args(service: Service, raw: dict[str, str]) -> dict | None:
 def build_modules(env: Environment, description, interface: Interface, world_file: Path) -> tuple[dict, list]:
     """The modules by name and the world's event list (virtual damage; empty without a world)."""
     if description.behaviour:
-        try:
-            behaviour = importlib.import_module(description.behaviour)
-        except ImportError as e:
-            raise UntimelyError(f"{description.path}: behaviour = {description.behaviour!r} cannot be "
-                                f"imported ({e}); name an importable Python module") from None
-        return behaviour.build(env, world_file)
+        return description.behaviour_module().build(env, world_file)
     return {m: Module(env, m) for m in interface.modules}, []
 
 

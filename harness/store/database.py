@@ -192,6 +192,20 @@ def transaction(con):
         raise _write_problem(e) from None
 
 
+@contextmanager
+def snapshot(con):
+    """The block's reads see one state of the store; it writes nothing there, so its errors (a full
+    disk where the reads are written) are the caller's to word."""
+    con.begin()
+    try:
+        yield
+    finally:
+        try:
+            con.rollback()
+        except duckdb.TransactionException:
+            pass  # DuckDB already ended the transaction of a failed statement
+
+
 def next_id(con, table: str, column: str) -> int:
     return con.execute(f"select coalesce(max({column}), 0) + 1 from {table}").fetchone()[0]
 

@@ -20,7 +20,8 @@ import pyarrow as pa
 
 from harness.store.reads import ordered
 from harness.errors import StoreError
-from harness.store.database import connect, quoted, schema_version, transaction
+from harness.files import make_folder
+from harness.store.database import connect, quoted, schema_version, snapshot
 
 FORMATS = {"parquet": "(format parquet)", "csv": "(format csv, header)"}
 MANIFEST = "manifest.json"
@@ -68,10 +69,10 @@ def _as_text_json(con, name: str) -> str:
 def export(con, store: str | Path, out: Path, fmt: str) -> dict:
     """Write every table and view of `con` under `out` in `fmt`, then the manifest; returns it."""
     _clear_previous(out)
-    out.mkdir(parents=True, exist_ok=True)
+    make_folder(out, "the export")
     entries = []
     try:
-        with transaction(con):
+        with snapshot(con):
             for name, kind in relations(con):
                 file = out / f"{name}.{fmt}"
                 query = _as_text_json(con, name)
@@ -79,10 +80,15 @@ def export(con, store: str | Path, out: Path, fmt: str) -> dict:
                 entries.append({"name": name, "kind": kind, "file": file.name, "rows": rows})
             version = schema_version(con)
     except duckdb.Error as e:
-        raise StoreError(f"cannot export the store {str(store)!r} to {str(out)!r}: {e}") from None
+        raise StoreError(f"cannot export the store {str(store)!r} to {str(out)!r}: {e}; the store is only read "
+                         "and unchanged: free space or pass another folder") from None
     manifest = {"store": str(Path(store).resolve()), "schema_version": version, "format": fmt,
                 "exported_at": datetime.now(timezone.utc).isoformat(timespec="seconds"), "tables": entries}
-    (out / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n")
+    try:
+        (out / MANIFEST).write_text(json.dumps(manifest, indent=2) + "\n")
+    except OSError as e:
+        raise StoreError(f"cannot write {str(out / MANIFEST)!r}: {e.strerror}; free space or pass another "
+                         "folder") from None
     return manifest
 
 

@@ -23,9 +23,11 @@ import pyarrow.parquet as pq
 from harness.errors import InputFileError
 from harness.store.bags import is_bag, read_bags
 from harness.store.export import with_exported_traces
-from harness.files import read_text
+from harness.files import read_bytes, read_text
+from harness.schema import cut
 from harness.target.interface import Interface, load_interface
 from harness.store.database import add_campaign, add_reply_codes, connect, next_id, place, transaction
+from harness.textable import counted
 from harness.trace import OUTCOMES
 
 REQUIRED = ("trace_id", "seq", "t", "kind", "rqst_id", "module", "service")
@@ -106,29 +108,47 @@ from placed where outcomes > 1 or suts > 1 group by trace_id
 def _text(value) -> str | None:
     if value is None or isinstance(value, str):
         return value
-    return json.dumps(value) if isinstance(value, (dict, list)) else str(value)
+    return json.dumps(value, allow_nan=False) if isinstance(value, (dict, list)) else str(value)
+
+
+def _column(path: Path, name: str, values: list, unit: str, lines: list[int]) -> pa.Array:
+    """A column's values as text; a value JSON cannot hold (a timestamp, bytes) is refused naming its line."""
+    texts = []
+    for n, value in zip(lines, values):
+        try:
+            texts.append(_text(value))
+        except (TypeError, ValueError) as e:
+            raise InputFileError(path, f"{unit} {n}", f"{name} holds {cut(value)}, which is no JSON value ({e}); "
+                                 "give arguments as numbers, strings, lists or objects") from None
+    return pa.array(texts, pa.string())
 
 
 def _read_jsonl(path: Path) -> tuple[pa.Table, str]:
     rows, lines = [], []
-    for n, line in enumerate(read_text(path).splitlines(), 1):
+    for n, line in enumerate(read_text(path).split("\n"), 1):  # a JSON string may hold U+2028
         if not line.strip():
             continue
         try:
             row = json.loads(line)
         except json.JSONDecodeError as e:
             raise InputFileError(path, f"line {n}", f"not valid JSON ({e.msg}); write one event object per line") from None
+        except RecursionError:
+            raise InputFileError(path, f"line {n}", "JSON nested too deeply to be an event; write one flat event "
+                                 "object per line") from None
         if not isinstance(row, dict):
             raise InputFileError(path, f"line {n}", f"{line.strip()[:60]!r} is not a JSON object of the events columns")
         rows.append(row)
         lines.append(n)
     names = list(dict.fromkeys(k for row in rows for k in row))
-    columns = {k: pa.array([_text(row.get(k)) for row in rows], pa.string()) for k in names}
+    columns = {k: _column(path, k, [row.get(k) for row in rows], "line", lines) for k in names}
     return pa.table({"line": pa.array(lines, pa.int64()), **columns}), "line"
 
 
 def _read_csv(path: Path) -> tuple[pa.Table, str]:
     header = next(csv.reader(io.StringIO(read_text(path), newline="")), [])
+    twice = sorted({name for name in header if header.count(name) > 1})
+    if twice:
+        raise InputFileError(path, 1, f"the header names the column {cut(twice[0])} twice; keep one")
     try:
         table = pacsv.read_csv(path, convert_options=pacsv.ConvertOptions(
             column_types={name: pa.string() for name in header}, strings_can_be_null=True))
@@ -143,9 +163,9 @@ def _read_parquet(path: Path) -> tuple[pa.Table, str]:
         table = pq.read_table(path)
     except (pa.ArrowInvalid, OSError) as e:
         raise InputFileError(path, "", f"not a readable Parquet file: {e}") from None
-    columns = {name: pa.array([_text(v) for v in table.column(name).to_pylist()], pa.string())
-               for name in table.column_names}
-    return pa.table({"line": pa.array(range(1, table.num_rows + 1), pa.int64()), **columns}), "row"
+    rows = list(range(1, table.num_rows + 1))
+    columns = {name: _column(path, name, table.column(name).to_pylist(), "row", rows) for name in table.column_names}
+    return pa.table({"line": pa.array(rows, pa.int64()), **columns}), "row"
 
 
 READERS = {".csv": _read_csv, ".jsonl": _read_jsonl, ".ndjson": _read_jsonl, ".parquet": _read_parquet}
@@ -153,8 +173,8 @@ READERS = {".csv": _read_csv, ".jsonl": _read_jsonl, ".ndjson": _read_jsonl, ".p
 
 def read(path: Path) -> tuple[pa.Table, str]:
     """The file's rows as text columns (all of REQUIRED and OPTIONAL) plus `line`, and what a line is called."""
-    if not path.is_file():
-        raise InputFileError(path, "", "file not found; pass an existing .csv, .jsonl or .parquet file")
+    if not path.is_file():  # missing, a folder or a symbolic link that loops: say which
+        read_bytes(path, "file not found; pass an existing .csv, .jsonl or .parquet file")
     reader = READERS.get(path.suffix.lower())
     if reader is None:
         raise InputFileError(path, "", f"unknown format {path.suffix!r}; use .csv, .jsonl (JSON lines) or .parquet")
@@ -270,6 +290,6 @@ def main(args) -> int:
     campaign_id, first, count = import_file(con, path, interface, args.ros)
     events = con.execute("select count(*) from events where trace_id between ? and ?",
                          [first, first + count - 1]).fetchone()[0]
-    print(f"Imported {count} traces ({events} events) from {path} as campaign {campaign_id}, "
+    print(f"Imported {counted(count, 'trace')} ({counted(events, 'event')}) from {path} as campaign {campaign_id}, "
           f"trace ids {first}-{first + count - 1}. Run python -m harness analyze --db {args.db} to judge them.")
     return 0

@@ -1,5 +1,8 @@
-"""Reading whole views in the order the store keeps as data (variants, families, properties)."""
+"""Reading whole views in the order the store keeps as data (variants, families, properties), and
+facts about the store's history that several commands state."""
 from __future__ import annotations
+
+import duckdb
 
 POSITIONS = {"sut": "variant_positions", "family": "family_positions", "property_id": "property_positions"}
 
@@ -12,3 +15,11 @@ def ordered(con, view: str) -> str:
                      for c in ranked)
     order = [f"{c}_rank nulls last" for c in ranked] + [str(n) for n in range(1, len(columns) + 1)]
     return f"select v.* from {view} v {joins} order by {', '.join(order)}"
+
+
+def analyses_made(con) -> int:
+    """How many analyses judged the store: with fewer than two, there is nothing to compare."""
+    try:
+        return con.execute("select count(*) from analyses").fetchone()[0]
+    except duckdb.CatalogException:  # a store from before analyses were recorded
+        return 0

@@ -1,4 +1,7 @@
-"""`python -m harness sql QUERY`: ad-hoc SQL on the store, read-only, printed as an aligned table."""
+"""`python -m harness sql QUERY`: ad-hoc SQL on the store, read-only, printed as an aligned table.
+
+Read-only means more than DuckDB's read-only store: a query may not write or read any other file
+(`copy ... to`, `attach`, `export database`, `read_csv`, extensions) nor change that setting back."""
 from __future__ import annotations
 
 import duckdb
@@ -23,6 +26,13 @@ def run(con: duckdb.DuckDBPyConnection, query: str) -> str:
     return f"{format_table(columns, rows)}\n({len(rows)} row{'' if len(rows) == 1 else 's'})"
 
 
+def sealed(con: duckdb.DuckDBPyConnection) -> duckdb.DuckDBPyConnection:
+    """The connection with every file outside the store out of reach, for good."""
+    con.execute("set enable_external_access = false")
+    con.execute("set lock_configuration = true")
+    return con
+
+
 def main(args) -> int:
-    print(run(connect(args.db, read_only=True), args.query))
+    print(run(sealed(connect(args.db, read_only=True)), args.query))
     return 0

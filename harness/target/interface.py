@@ -1,12 +1,15 @@
 """The interface description and the properties, read from TOML data files (DESIGN §2-§3)."""
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Annotated, Literal
+
+from pydantic import ConfigDict, Field, model_validator
 
 from harness.errors import InputFileError
-from harness.files import decode
+from harness.files import read_toml
+from harness.schema import Strict, accepted, cut, validated, where
 
 SERVICE_KINDS = ("init", "control", "exec")
 REPLY_CLASSES = ("T", "Z", "R")
@@ -20,6 +23,7 @@ TYPE_PARAMETERS = {
     "MX_R": ("y", "r_p"),
     "MX_I": ("y", "z_p"),
 }
+NAMES_HINT = 'give a non-empty list of "module.Service"'
 
 
 @dataclass(frozen=True)
@@ -53,7 +57,6 @@ class Interface:
     path: str
     replies: dict[str, str]  # reply code -> class T/Z/R
     services: dict[str, Service]  # "module.Service" -> Service
-    posters: dict[str, str]  # module -> poster name
 
     @property
     def until_stopped(self) -> list[str]:
@@ -92,137 +95,143 @@ class Property:
     z_p: str | None = None
 
 
-def read_toml(path: Path, missing: str = "file not found; pass an existing file") -> dict:
-    """A TOML data file's contents; `missing` is the message for a file that is not there."""
-    return parse_toml(path, read_bytes(path, missing))
+class FloatArgumentFile(Strict):
+    model_config = ConfigDict(title="a float argument")
+    type: Literal["float"]
+    min: float = Field(description="give a finite number, at most max")
+    max: float = Field(description="give a finite number, at least min")
+    doc: str = ""
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        if self.min > self.max:
+            raise ValueError(f"needs min <= max, got min={self.min!r} max={self.max!r}")
+        return self
 
 
-def read_bytes(path: Path, missing: str) -> bytes:
-    try:
-        return Path(path).read_bytes()
-    except FileNotFoundError:
-        raise InputFileError(path, "", missing) from None
+class StrArgumentFile(Strict):
+    model_config = ConfigDict(title="a str argument")
+    type: Literal["str"]
+    choices: list[str] = Field(min_length=1, description="give a non-empty list of string choices")
+    doc: str = ""
 
 
-def parse_toml(path: Path, content: bytes) -> dict:
-    """The TOML text `content` read from `path` (named in messages)."""
-    text = decode(path, content)  # a file that is not UTF-8 is refused naming its line
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise InputFileError(path, "", f"not valid TOML: {e}") from None
+ARGUMENT_HINT = 'give { type = "float", min = .., max = .. } or { type = "str", choices = [..] }'
 
 
-# The keys each table of an interface description may hold: a typo (`agrs`) must not pass unseen.
-INTERFACE_KEYS = {"the top level": ("replies", "modules"), "a module": ("doc", "poster", "services"),
-                  "a service": ("kind", "args", "until_stopped", "doc"),
-                  "a float argument": ("type", "min", "max", "doc"), "a str argument": ("type", "choices", "doc")}
+class ServiceFile(Strict):
+    model_config = ConfigDict(title="a service")
+    kind: Literal[SERVICE_KINDS] = Field(description=f"give one of {', '.join(SERVICE_KINDS)}")
+    args: dict[str, Annotated[FloatArgumentFile | StrArgumentFile, Field(discriminator="type")]] = Field(
+        default_factory=dict, description=f"give a table of name = {{ type = .. }}: {ARGUMENT_HINT}")
+    until_stopped: bool = Field(False, description="give true or false")
+    doc: str = ""
+
+    @model_validator(mode="after")
+    def _stoppable(self):
+        if self.until_stopped and self.kind != "exec":
+            raise ValueError(f"until_stopped = true on an {self.kind} service; only an exec service "
+                             "may run until stopped")
+        return self
 
 
-def _known_keys(path, where, table: dict, what: str) -> None:
-    unknown = sorted(set(table) - set(INTERFACE_KEYS[what]))
-    if unknown:
-        raise InputFileError(path, where, f"unknown key(s) {unknown}; {what} takes "
-                             f"{', '.join(INTERFACE_KEYS[what])}")
+class ModuleFile(Strict):
+    model_config = ConfigDict(title="a module")
+    doc: str = ""
+    poster: str = Field("", description="give the name of the poster the module writes")  # documentation only
+    services: dict[str, ServiceFile] = Field(min_length=1, description="declare the module's services: "
+                                             "services.NAME = { kind = .. }")
 
 
-def _argument(path, where, name, spec) -> Argument:
-    if not isinstance(spec, dict) or spec.get("type") not in ("float", "str"):
-        raise InputFileError(path, where, f"argument {name!r} has type {spec!r}; "
-                             "use { type = \"float\", min = .., max = .. } or { type = \"str\", choices = [..] }")
-    _known_keys(path, f"{where} args.{name}", spec, f"a {spec['type']} argument")
-    if spec["type"] == "float":
-        lo, hi = spec.get("min"), spec.get("max")
-        if not isinstance(lo, (int, float)) or not isinstance(hi, (int, float)) or lo > hi:
-            raise InputFileError(path, where, f"argument {name!r} needs numeric min <= max, got min={lo!r} max={hi!r}")
-        return Argument(name, "float", float(lo), float(hi))
-    choices = spec.get("choices")
-    if not choices or not all(isinstance(c, str) for c in choices):
-        raise InputFileError(path, where, f"argument {name!r} needs a non-empty list of string choices, got {choices!r}")
-    return Argument(name, "str", choices=tuple(choices))
+class InterfaceFile(Strict):
+    model_config = ConfigDict(title="the top level")
+    replies: dict[str, Literal[REPLY_CLASSES]] = Field(
+        min_length=1, description='give a [replies] table of code = "T", "Z" or "R"')
+    modules: dict[str, ModuleFile] = Field(min_length=1, description="declare modules as [modules.NAME] tables")
+
+    @model_validator(mode="after")
+    def _ok_terminates(self):
+        if self.replies.get("ok") != "T":
+            given = f", not ok = {self.replies['ok']!r}" if "ok" in self.replies else ""
+            raise ValueError(f"the reply catalogue must contain ok = \"T\"{given}")
+        return self
+
+
+# The keys each table of an interface description accepts (docs/reference names every one).
+INTERFACE_KEYS = {m.model_config["title"]: accepted(m)
+                  for m in (InterfaceFile, ModuleFile, ServiceFile, FloatArgumentFile, StrArgumentFile)}
+
+
+def _argument(name: str, spec) -> Argument:
+    if spec.type == "float":
+        return Argument(name, "float", float(spec.min), float(spec.max))
+    return Argument(name, "str", choices=tuple(spec.choices))
 
 
 def load_interface(path: str | Path) -> Interface:
     path = Path(path)
-    data = read_toml(path)
-    _known_keys(path, "top level", data, "the top level")
-    replies = data.get("replies")
-    if not isinstance(replies, dict) or not replies:
-        raise InputFileError(path, "[replies]", "missing reply catalogue; add a [replies] table of code = \"T|Z|R\"")
-    for code, cls in replies.items():
-        if cls not in REPLY_CLASSES:
-            raise InputFileError(path, f"[replies] {code}", f"class {cls!r} is not one of T, Z, R")
-    if replies.get("ok") != "T":
-        given = f", not ok = {replies['ok']!r}" if "ok" in replies else ""
-        raise InputFileError(path, "[replies]", f"the catalogue must contain ok = \"T\"{given}")
-    modules = data.get("modules")
-    if not isinstance(modules, dict) or not modules:
-        raise InputFileError(path, "[modules]", "no modules declared; add [modules.NAME] tables")
-    services, posters = {}, {}
-    for module, mspec in modules.items():
-        _known_keys(path, f"[modules.{module}]", mspec, "a module")
-        if mspec.get("poster"):
-            posters[module] = mspec["poster"]
-        for name, sspec in (mspec.get("services") or {}).items():
-            where = f"[modules.{module}] services.{name}"
-            kind = sspec.get("kind") if isinstance(sspec, dict) else None
-            if kind not in SERVICE_KINDS:
-                raise InputFileError(path, where, f"kind {kind!r} is not one of {', '.join(SERVICE_KINDS)}")
-            _known_keys(path, where, sspec, "a service")
-            args = {a: _argument(path, where, a, spec) for a, spec in (sspec.get("args") or {}).items()}
-            until_stopped = sspec.get("until_stopped", False)
-            if until_stopped not in (True, False) or until_stopped and kind != "exec":
-                raise InputFileError(path, where, f"until_stopped = {until_stopped!r}; it is true or false, "
-                                     "and only an exec service may run until stopped")
-            services[f"{module}.{name}"] = Service(module, name, kind, args, until_stopped)
-        if not any(s.module == module for s in services.values()):
-            raise InputFileError(path, f"[modules.{module}]", "module declares no services")
-    return Interface(str(path), dict(replies), services, posters)
+    data, text = read_toml(path)
+    spec = validated(InterfaceFile, data, path, text)
+    services = {f"{module}.{name}": Service(module, name, s.kind, {a: _argument(a, v) for a, v in s.args.items()},
+                                            s.until_stopped)
+                for module, m in spec.modules.items() for name, s in m.services.items()}
+    return Interface(str(path), dict(spec.replies), services)
 
 
-def _names(path, where, value, key, interface: Interface) -> tuple[str, ...]:
-    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
-        raise InputFileError(path, where, f"{key} = {value!r}; give a non-empty list of \"module.Service\"")
-    for v in value:
-        if v not in interface.services:
-            raise InputFileError(path, where, f"{key} names {v!r}, which the interface "
-                                 f"{interface.path} does not declare")
-    return tuple(value)
+class PropertyFile(Strict):
+    model_config = ConfigDict(title="a property")
+    id: str = Field(min_length=1, description="give every property a string id")
+    family: str = Field(min_length=1, description='give a family name such as "PEX"')
+    type: str = Field(description=f"give one of {', '.join(PROPERTY_TYPES)}")
+    x: list[str] = Field(min_length=1, description=NAMES_HINT)
+    y: list[str] | None = Field(None, min_length=1, description=NAMES_HINT)
+    q: list[str] | None = Field(None, min_length=1, description=NAMES_HINT)
+    r_p: str | None = Field(None, description="give the rejection code the property calls for")
+    z_p: str | None = Field(None, description="give the interruption code the property calls for")
+
+    @model_validator(mode="after")
+    def _parameters_of_its_type(self):
+        if self.type not in PROPERTY_TYPES:
+            raise ValueError(f"type {cut(self.type)} is not one of {', '.join(PROPERTY_TYPES)}")
+        needed = ("x",) + TYPE_PARAMETERS[self.type]
+        given = {k for k in self.model_fields_set if k not in ("id", "family", "type")}
+        if given - set(needed):
+            raise ValueError(f"key(s) {sorted(given - set(needed))} do not apply to type "
+                             f"{self.type}; it takes {', '.join(needed)}")
+        for key in needed:
+            if key not in given:
+                raise ValueError(f"type {self.type} needs {key!r}, which is missing")
+        return self
+
+
+class PropertiesFile(Strict):
+    property: list[PropertyFile] = Field(min_length=1, description="add [[property]] entries")
 
 
 def load_properties(path: str | Path, interface: Interface) -> list[Property]:
     path = Path(path)
-    entries = read_toml(path).get("property")
-    if not isinstance(entries, list) or not entries:
-        raise InputFileError(path, "", "no properties; add [[property]] entries")
-    props, seen = [], set()
-    for n, e in enumerate(entries, 1):
-        where = f"property #{n} ({e.get('id', '?')})"
-        if not isinstance(e.get("id"), str) or not e["id"]:
-            raise InputFileError(path, where, f"id = {e.get('id')!r}; every property needs a string id")
-        if e["id"] in seen:
-            raise InputFileError(path, where, f"id {e['id']!r} is used twice; ids must be unique")
-        seen.add(e["id"])
-        if e.get("type") not in PROPERTY_TYPES:
-            raise InputFileError(path, where, f"type {e.get('type')!r} is not one of {', '.join(PROPERTY_TYPES)}")
-        if not isinstance(e.get("family"), str) or not e["family"]:
-            raise InputFileError(path, where, f"family = {e.get('family')!r}; give a family name such as \"PEX\"")
-        needed = ("x",) + TYPE_PARAMETERS[e["type"]]
-        unknown = set(e) - {"id", "family", "type", *needed}
-        if unknown:
-            raise InputFileError(path, where, f"key(s) {sorted(unknown)} do not apply to type {e['type']}; "
-                                 f"it takes {', '.join(needed)}")
+    data, text = read_toml(path)
+    props, seen = [], {}
+    for n, e in enumerate(validated(PropertiesFile, data, path, text).property):
+        at = where(text, ("property", n))
+        if e.id in seen:
+            raise InputFileError(path, at, f"property id {e.id!r} is used twice (also property #{seen[e.id]}); "
+                                 "ids must be unique")
+        seen[e.id] = n + 1
         fields = {}
-        for key in needed:
-            if key not in e:
-                raise InputFileError(path, where, f"type {e['type']} needs {key!r}, which is missing")
-            if key in ("r_p", "z_p"):
-                expected = "R" if key == "r_p" else "Z"
-                if interface.replies.get(e[key]) != expected:
-                    raise InputFileError(path, where, f"{key} = {e[key]!r} is not a class-{expected} reply code "
-                                         f"of the interface {interface.path}")
-                fields[key] = e[key]
-            else:
-                fields[key] = _names(path, where, e[key], key, interface)
-        props.append(Property(id=e["id"], family=e["family"], type=e["type"], **fields))
+        for key in ("x", "y", "q"):
+            for name in getattr(e, key) or ():
+                if name not in interface.services:
+                    raise InputFileError(path, where(text, ("property", n, key)),
+                                         f"property {e.id!r}: {key} names {cut(name)}, which the interface "
+                                         f"{interface.path} does not declare")
+            fields[key] = tuple(getattr(e, key) or ())
+        for key, expected in (("r_p", "R"), ("z_p", "Z")):
+            code = getattr(e, key)
+            if code is not None and interface.replies.get(code) != expected:
+                raise InputFileError(path, where(text, ("property", n, key)),
+                                     f"property {e.id!r}: {key} = {cut(code)} is not a class-{expected} reply "
+                                     f"code of the interface {interface.path}")
+            fields[key] = code
+        props.append(Property(id=e.id, family=e.family, type=e.type, **fields))
     return props

@@ -22,17 +22,22 @@ Defect kinds:
 from __future__ import annotations
 
 import functools
+import importlib
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Annotated, Literal
+
+from pydantic import ConfigDict, Field, model_validator
 
 from harness.errors import InputFileError, UntimelyError
-from harness.target.interface import Interface, read_toml
+from harness.files import read_toml
+from harness.schema import Strict, accepted, cut, dotted, validated, where
+from harness.target.interface import Interface
 
 LAYER_FILE = "layer.toml"
 REJECTING = ("requires_init", "requires", "rejects_while")
 INTERRUPTING = ("interrupts", "excludes")
 DEFECT_KINDS = {"interrupts_on_init": "reply", "deadlock_on_start": "protection", "leak_during_init": "protection"}
-LAYER_KEYS = {"behaviour", "slots", "invalid_args", "no_slot", "stop", "default_suts", "doc"}
 
 
 @dataclass(frozen=True)
@@ -89,6 +94,13 @@ class LayerDescription:
     protections: dict[str, Protection]
     defects: dict[str, Defect]
     variants: dict[str, Variant]
+    behaviour_at: str = ""  # the line of `behaviour` in the file, for its messages
+
+    def behaviour_module(self):
+        """The behaviour module, once it is known to import and to provide build(); None without one.
+        Imported when a layer is built or a campaign checked, not when the file is read (the CLI reads
+        it for its help, and the behaviour's own imports, e.g. pymunk, take a while)."""
+        return _behaviour(self.path, self.behaviour_at, self.behaviour) if self.behaviour else None
 
     def variant(self, name: str) -> Variant:
         if name not in self.variants:
@@ -115,96 +127,138 @@ class LayerDescription:
                                      f"interface {interface.path} does not declare")
 
 
-def _strings(path, where, key, value) -> tuple[str, ...]:
-    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise InputFileError(path, where, f"{key} = {value!r}; give a list of names")
-    return tuple(value)
+SERVICES_HINT = 'give a table of "module.Service" = ["module.Service", ...]'
+Names = list[str]
 
 
-def _code(path, where, spec, key="reply") -> str:
-    if not isinstance(spec.get(key), str):
-        raise InputFileError(path, where, f"{key} = {spec.get(key)!r}; give the reply code it answers with")
-    return spec[key]
+class LayerTable(Strict):
+    model_config = ConfigDict(title="[layer]")
+    doc: str = ""
+    behaviour: str | None = Field(None, description="give the name of an importable Python module that "
+                                                    "provides build(env, world_file)")
+    slots: int = Field(3, ge=1, description="give a whole number of activities >= 1")
+    invalid_args: str = Field(description="give the reply code it answers invalid arguments with")
+    no_slot: str = Field(description="give the reply code it answers when no activity slot is free")
+    stop: str | None = Field(None, description="give the name of the service that stops its module")
+    default_suts: Names | None = Field(None, min_length=1, description="give a non-empty list of variant names "
+                                       "(a campaign's --sut when none is given), or leave it out for all variants")
 
 
-def _protection(path, name, spec) -> Protection:
-    where = f"[protections.{name}]"
-    kind = spec.get("kind")
-    if kind not in REJECTING + INTERRUPTING:
-        raise InputFileError(path, where, f"kind = {kind!r}; use one of {', '.join(REJECTING + INTERRUPTING)}")
-    table = {"requires": "after", "rejects_while": "while", "interrupts": "by"}.get(kind)
+class TimingTable(Strict):
+    model_config = ConfigDict(title="a timing")
+    start_s: float = Field(0.0, ge=0, description="give a number of seconds >= 0")
+    run_s: float | Literal["forever"] = Field(description='give a number of seconds >= 0 or "forever"')
+
+    @model_validator(mode="after")
+    def _not_negative(self):
+        if self.run_s != "forever" and self.run_s < 0:
+            raise ValueError(f"run_s = {self.run_s!r}; give a number of seconds >= 0 or \"forever\"")
+        return self
+
+
+class ProtectionTable(Strict):
+    model_config = ConfigDict(title="a protection")
+    kind: Literal[REJECTING + INTERRUPTING] = Field(description=f"use one of {', '.join(REJECTING + INTERRUPTING)}")
+    reply: str = Field(description="give the reply code it answers with")
+    after: dict[str, Names] = Field(default_factory=dict, description=SERVICES_HINT)
+    while_: dict[str, Names] = Field(default_factory=dict, alias="while", description=SERVICES_HINT)
+    by: dict[str, Names] = Field(default_factory=dict, description=SERVICES_HINT)
+    pairs: list[Annotated[Names, Field(min_length=2, max_length=2)]] = Field(
+        default_factory=list, description='give a list of ["module.Service", "module.Service"] pairs')
+    stop: bool = False
+    doc: str = ""
+
+
+class DefectTable(Strict):
+    model_config = ConfigDict(title="a defect")
+    kind: Literal[tuple(DEFECT_KINDS)] = Field(description=f"use one of {', '.join(DEFECT_KINDS)}")
+    reply: str | None = Field(None, description="give the reply code it answers with")
+    protection: str | None = Field(None, description="give the name of a protection")
+    doc: str = ""
+
+
+class VariantTable(Strict):
+    model_config = ConfigDict(title="a variant")
+    protections: Names = []
+    defects: Names = []
+    doc: str = ""
+
+
+class LayerFile(Strict):
+    model_config = ConfigDict(title="a layer description")
+    layer: LayerTable
+    timing: dict[str, TimingTable] = {}
+    protections: dict[str, ProtectionTable] = {}
+    defects: dict[str, DefectTable] = {}
+    variants: dict[str, VariantTable] = Field(min_length=1, description="add [variants.NAME] tables "
+                                                                       "(protections, defects, doc)")
+
+
+LAYER_KEYS = set(accepted(LayerTable))  # the keys of [layer] (docs/reference names every one)
+
+
+def _protection(name: str, spec: ProtectionTable) -> Protection:
     services: dict[str, set[str]] = {}
-    if table:
-        for service, others in spec.get(table, {}).items():
-            services[service] = set(_strings(path, where, f"{table}.{service!r}", others))
-    if kind == "excludes":
-        for pair in spec.get("pairs", []):
-            if not isinstance(pair, list) or len(pair) != 2:
-                raise InputFileError(path, where,
-                                     f"pairs entry {pair!r}; give [\"module.Service\", \"module.Service\"]")
-            a, b = _strings(path, where, "pairs entry", pair)
-            services.setdefault(a, set()).add(b)
-            services.setdefault(b, set()).add(a)
-    return Protection(name, kind, _code(path, where, spec), {k: frozenset(v) for k, v in services.items()},
-                      spec.get("stop", False) is True)
+    for table in (spec.after, spec.while_, spec.by):
+        for service, others in table.items():
+            services.setdefault(service, set()).update(others)
+    for a, b in spec.pairs:
+        services.setdefault(a, set()).add(b)
+        services.setdefault(b, set()).add(a)
+    return Protection(name, spec.kind, spec.reply, {k: frozenset(v) for k, v in services.items()}, spec.stop)
 
 
-def _defect(path, name, spec, protections) -> Defect:
-    where = f"[defects.{name}]"
-    kind = spec.get("kind")
-    if kind not in DEFECT_KINDS:
-        raise InputFileError(path, where, f"kind = {kind!r}; use one of {', '.join(DEFECT_KINDS)}")
-    if DEFECT_KINDS[kind] == "reply":
-        return Defect(name, kind, reply=_code(path, where, spec))
-    if spec.get("protection") not in protections:
-        raise InputFileError(path, where, f"protection = {spec.get('protection')!r}; "
-                             f"name one of {', '.join(protections)}")
-    return Defect(name, kind, protection=spec["protection"])
+def _defect(path, text, name, spec: DefectTable, protections) -> Defect:
+    needed = DEFECT_KINDS[spec.kind]
+    value = getattr(spec, needed)
+    if needed == "reply" and value is None:
+        raise InputFileError(path, where(text, ("defects", name)),
+                             f"defects.{name}: reply is missing; give the reply code it answers with")
+    if needed == "protection" and value not in protections:
+        raise InputFileError(path, where(text, ("defects", name, "protection")),
+                             f"defects.{name}: protection = {cut(value)}; name one of {', '.join(protections)}")
+    return Defect(name, spec.kind, **{needed: value})
 
 
-def _timing(path, name, spec) -> Timing:
-    run_s = spec.get("run_s")
-    if not isinstance(spec.get("start_s", 0.0), (int, float)) or not (
-            run_s == "forever" or isinstance(run_s, (int, float))):
-        raise InputFileError(path, f"[timing] {name}",
-                             f"{spec!r}; give {{ start_s = SECONDS, run_s = SECONDS or \"forever\" }}")
-    return Timing(float(spec.get("start_s", 0.0)), None if run_s == "forever" else float(run_s))
-
-
-def _picked(path, where, key, names, known: dict) -> tuple:
+def _picked(path, text, keys: tuple, names, known: dict) -> tuple:
     """The entries of `known` that the list `names` picks."""
-    for n in _strings(path, where, key, names):
+    for n in names:
         if n not in known:
-            raise InputFileError(path, where, f"{key} names {n!r}; use one of {', '.join(known) or '(none declared)'}")
+            raise InputFileError(path, where(text, keys), f"{dotted(keys)} names {cut(n)}; use one of "
+                                 f"{', '.join(known) or '(none declared)'}")
     return tuple(known[n] for n in names)
 
 
 @functools.cache
+def _behaviour(path: Path, at: str, name: str):
+    try:
+        module = importlib.import_module(name)
+    except Exception as e:  # any failure to import is the file's error, named with its cause
+        raise InputFileError(path, at, f"behaviour = {cut(name)} cannot be imported ({e}); name an importable "
+                             "Python module") from None
+    if not callable(getattr(module, "build", None)):
+        raise InputFileError(path, at, f"behaviour = {cut(name)} has no build(env, world_file) function; name a "
+                             "module that builds the layer's modules")
+    return module
+
+
+@functools.cache
 def _load(path: Path, _stamp: tuple) -> LayerDescription:
-    data = read_toml(path, f"file not found; a simulated target describes its layer in {LAYER_FILE}")
-    layer = data.get("layer", {})
-    unknown = set(layer) - LAYER_KEYS
-    if unknown:
-        raise InputFileError(path, "[layer]",
-                             f"unknown key(s) {sorted(unknown)}; known: {', '.join(sorted(LAYER_KEYS))}")
-    protections = {n: _protection(path, n, s) for n, s in data.get("protections", {}).items()}
-    defects = {n: _defect(path, n, s, protections) for n, s in data.get("defects", {}).items()}
+    data, text = read_toml(path, f"file not found; a simulated target describes its layer in {LAYER_FILE}")
+    spec = validated(LayerFile, data, path, text)
+    protections = {n: _protection(n, s) for n, s in spec.protections.items()}
+    defects = {n: _defect(path, text, n, s, protections) for n, s in spec.defects.items()}
     variants = {}
-    for name, spec in data.get("variants", {}).items():
-        where = f"[variants.{name}]"
-        enforced = {p.name for p in _picked(path, where, "protections", spec.get("protections", []), protections)}
+    for name, v in spec.variants.items():
+        enforced = {p.name for p in _picked(path, text, ("variants", name, "protections"), v.protections, protections)}
         variants[name] = Variant(name, tuple(p for p in protections.values() if p.name in enforced),  # file order
-                                 _picked(path, where, "defects", spec.get("defects", []), defects),
-                                 spec.get("doc", ""))
-    if not variants:
-        raise InputFileError(path, "[variants]", "no variants; add [variants.NAME] tables (protections, defects, doc)")
-    default = _picked(path, "[layer]", "default_suts", layer.get("default_suts", list(variants)), variants)
-    if not isinstance(layer.get("slots", 3), int) or layer.get("slots", 3) < 1:
-        raise InputFileError(path, "[layer]", f"slots = {layer['slots']!r}; give a whole number of activities >= 1")
-    return LayerDescription(
-        path, layer.get("behaviour"), layer.get("slots", 3), _code(path, "[layer]", layer, "invalid_args"),
-        _code(path, "[layer]", layer, "no_slot"), layer.get("stop"), tuple(v.name for v in default),
-        {n: _timing(path, n, s) for n, s in data.get("timing", {}).items()}, protections, defects, variants)
+                                 _picked(path, text, ("variants", name, "defects"), v.defects, defects), v.doc)
+    layer = spec.layer
+    default = _picked(path, text, ("layer", "default_suts"), layer.default_suts or list(variants), variants)
+    timing = {n: Timing(t.start_s, None if t.run_s == "forever" else t.run_s) for n, t in spec.timing.items()}
+    return LayerDescription(path, layer.behaviour, layer.slots, layer.invalid_args, layer.no_slot, layer.stop,
+                            tuple(v.name for v in default), timing, protections, defects, variants,
+                            where(text, ("layer", "behaviour")))
 
 
 def load_layer(folder: Path) -> LayerDescription:

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from harness.errors import InputFileError
+from harness.files import read_bytes
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.target.script import Script, load_script
 from harness.target.layer_description import LAYER_FILE, LayerDescription, load_layer
@@ -64,9 +65,6 @@ class Mission:
     def properties(self) -> list[Property]:
         return load_properties(self.properties_file, self.interface)
 
-    def variants(self) -> list[str]:
-        return list(self.layer.variants) if self.simulated else []
-
     def default_suts(self) -> str:
         """A campaign's --sut when none is given: the layer's default variants."""
         if not self.simulated:
@@ -79,13 +77,10 @@ class Mission:
 
 
 def _sha256(path: Path, required: bool) -> str | None:
-    try:
-        return hashlib.sha256(path.read_bytes()).hexdigest()
-    except FileNotFoundError:
-        if not required:
-            return None
-        raise InputFileError(path, "", "file not found; a mission folder holds "
-                             + ", ".join(REQUIRED) + " (and properties.toml, layer.toml, world.toml)") from None
+    if not required and not path.exists() and not path.is_symlink():
+        return None
+    return hashlib.sha256(read_bytes(path, "file not found; a mission folder holds " + ", ".join(REQUIRED)
+                                     + " (and properties.toml, layer.toml, world.toml)")).hexdigest()
 
 
 def load_mission(folder: str | Path) -> Mission:

@@ -18,6 +18,7 @@ from pathlib import Path
 
 from harness.errors import ScriptError
 from harness.files import read_text
+from harness.schema import cut
 from harness.target.interface import Interface
 
 HANDLE_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*$")
@@ -86,9 +87,9 @@ def _seconds(source, line, text, what) -> float:
     except ValueError:
         value = None
     if value is None or not value > 0 or value != value or value == float("inf"):
-        raise ScriptError(source, line, f"{what} {text!r} is not a positive number of seconds")
+        raise ScriptError(source, line, f"{what} {cut(text)} is not a positive number of seconds")
     if value > MAX_SECONDS:  # a real-time run would wait for it: a typo must not hang the bench
-        raise ScriptError(source, line, f"{what} {text!r} is longer than a day ({MAX_SECONDS:g} s); "
+        raise ScriptError(source, line, f"{what} {cut(text)} is longer than a day ({MAX_SECONDS:g} s); "
                                         "give a duration in seconds up to that")
     return value
 
@@ -98,42 +99,42 @@ def _parse_line(source: str, n: int, text: str, comment: str) -> Step:
     op, rest = words[0], words[1:]
     if op == "sleep":
         if len(rest) != 1:
-            raise ScriptError(source, n, f"'sleep' takes one number of seconds, got {' '.join(rest)!r}")
+            raise ScriptError(source, n, f"'sleep' takes one number of seconds, got {cut(' '.join(rest))}")
         return Step(n, "sleep", seconds=_seconds(source, n, rest[0], "sleep duration"), comment=comment)
     if op == "wait":
         if not rest or len(rest) > 2:
-            raise ScriptError(source, n, f"'wait' takes a handle or 'all' and an optional timeout=S, got {text!r}")
+            raise ScriptError(source, n, f"'wait' takes a handle or 'all' and an optional timeout=S, got {cut(text)}")
         timeout = None
         if len(rest) == 2:
             if not rest[1].startswith("timeout="):
-                raise ScriptError(source, n, f"unexpected {rest[1]!r} after the handle; write timeout=SECONDS")
+                raise ScriptError(source, n, f"unexpected {cut(rest[1])} after the handle; write timeout=SECONDS")
             timeout = _seconds(source, n, rest[1][len("timeout="):], "timeout")
         if rest[0] != "all" and not HANDLE_RE.match(rest[0]):
-            raise ScriptError(source, n, f"{rest[0]!r} is not a handle name (letters, digits, _)")
+            raise ScriptError(source, n, f"{cut(rest[0])} is not a handle name (letters, digits, _)")
         return Step(n, "wait", handle=rest[0], seconds=timeout, comment=comment)
     if op == "send":
         if not rest or not SERVICE_RE.match(rest[0]):
-            raise ScriptError(source, n, f"'send' needs MODULE.SERVICE first, got {' '.join(rest[:1])!r}")
+            raise ScriptError(source, n, f"'send' needs MODULE.SERVICE first, got {cut(' '.join(rest[:1]))}")
         handle = None
         if "as" in rest:
             at = rest.index("as")
             if at != len(rest) - 2 or not HANDLE_RE.match(rest[-1]) or rest[-1] == "all":
-                raise ScriptError(source, n, f"'as' must end the line with one handle name, got {' '.join(rest[at:])!r}")
+                raise ScriptError(source, n, f"'as' must end the line with one handle name, got {cut(' '.join(rest[at:]))}")
             handle, rest = rest[-1], rest[:at]
         args = []
         for word in rest[1:]:
             name, eq, value = word.partition("=")
             if not eq or not name or not value:
-                raise ScriptError(source, n, f"argument {word!r} is not of the form name=value")
+                raise ScriptError(source, n, f"argument {cut(word)} is not of the form name=value")
             args.append((name, value))
         return Step(n, "send", service=rest[0], args=tuple(args), handle=handle, comment=comment)
-    raise ScriptError(source, n, f"unknown step {op!r}; a step is send, wait or sleep")
+    raise ScriptError(source, n, f"unknown step {cut(op)}; a step is send, wait or sleep")
 
 
 def parse(text: str, source: str = "<script>") -> Script:
     """Parse a script's text; raises ScriptError naming the line of a malformed step."""
     steps = []
-    for n, raw in enumerate(text.splitlines(), 1):
+    for n, raw in enumerate(text.split("\n"), 1):  # only \n ends a line: not U+2028 or a form feed in a comment
         body, _, comment = raw.partition("#")
         if body.strip():
             steps.append(_parse_line(source, n, body.strip(), comment.strip()))
@@ -147,35 +148,35 @@ def validate(script: Script, interface: Interface) -> None:
     src, handles = script.source, {}
     for step in script.steps:
         if step.op == "wait" and step.handle != "all" and step.handle not in handles:
-            raise ScriptError(src, step.line, f"wait on handle {step.handle!r}, which no earlier line sends")
+            raise ScriptError(src, step.line, f"wait on handle {cut(step.handle)}, which no earlier line sends")
         if step.op != "send":
             continue
         service = interface.services.get(step.service)
         if service is None:
             offered = [s.name for s in interface.services.values() if s.module == step.module]
-            hint = (f"module {step.module!r} offers {', '.join(offered)}" if offered
+            hint = (f"module {cut(step.module)} offers {', '.join(offered)}" if offered
                     else f"known modules: {', '.join(interface.modules)}")
-            raise ScriptError(src, step.line, f"unknown service {step.service!r}; {hint}")
+            raise ScriptError(src, step.line, f"unknown service {cut(step.service)}; {hint}")
         given = [name for name, _ in step.args]
         for name, value in step.args:
             arg = service.args.get(name)
             if arg is None:
                 expected = ", ".join(service.args) or "no arguments"
-                raise ScriptError(src, step.line, f"{step.service} has no argument {name!r}; it takes {expected}")
+                raise ScriptError(src, step.line, f"{step.service} has no argument {cut(name)}; it takes {expected}")
             if given.count(name) > 1:
-                raise ScriptError(src, step.line, f"argument {name!r} is given twice")
+                raise ScriptError(src, step.line, f"argument {cut(name)} is given twice")
             if arg.type == "float":
                 try:
                     number = float(value)
                 except ValueError:
-                    raise ScriptError(src, step.line, f"argument {name}={value!r} is not a number") from None
+                    raise ScriptError(src, step.line, f"argument {name}={cut(value)} is not a number") from None
                 if not math.isfinite(number):  # JSON, hence the store, has no inf or nan
-                    raise ScriptError(src, step.line, f"argument {name}={value!r} is not a finite number")
+                    raise ScriptError(src, step.line, f"argument {name}={cut(value)} is not a finite number")
         missing = [a for a in service.args if a not in given]
         if missing:
             raise ScriptError(src, step.line, f"{step.service} needs argument(s) {', '.join(missing)}")
         if step.handle in handles:
-            raise ScriptError(src, step.line, f"handle {step.handle!r} already names the request "
+            raise ScriptError(src, step.line, f"handle {cut(step.handle)} already names the request "
                               f"on line {handles[step.handle]}; choose a new name")
         if step.handle:
             handles[step.handle] = step.line
@@ -183,10 +184,6 @@ def validate(script: Script, interface: Interface) -> None:
 
 def load_script(path: str | Path, interface: Interface) -> Script:
     path = Path(path)
-    try:
-        text = read_text(path)
-    except OSError as e:
-        raise ScriptError(path, 0, f"cannot read the script: {e.strerror}") from None
-    script = parse(text, str(path))
+    script = parse(read_text(path, "file not found; pass an existing mission script"), str(path))
     validate(script, interface)
     return script

@@ -1,15 +1,18 @@
 {#- Per variant and property, also where no request was relevant: how many relevant requests
     had the P-condition false (the cases that test enforcement) or true, how many fell in each
-    verdict cell, and the TP and FP rates with n and their 95% Wilson intervals. -#}
+    verdict cell, and the TP and FP rates with n and their 95% Wilson intervals; over the traces
+    Tables II-IV count (trace_scope), as property_verdicts. -#}
 create or replace view coverage as
 with variants as (
-    select sut, position as variant_rank from variant_positions semi join traces using (sut)
+    select sut, position as variant_rank from variant_positions
+    semi join (select sut from trace_scope where counted) using (sut)
 ),
 conditions as (
     select t.sut, v.property_id,
            count(*) filter (where v.c_holds = false) as c_false,
            count(*) filter (where v.c_holds) as c_true
-    from verdicts v join traces t using (trace_id)
+    from verdicts v join trace_scope t using (trace_id)
+    where t.counted
     group by all
 ),
 cells as (

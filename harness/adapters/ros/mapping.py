@@ -6,10 +6,14 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Annotated, Literal
+
+from pydantic import ConfigDict, Field, model_validator
 
 from harness.adapters.ros.routes import GENERIC_TYPE, Route, parse_route
-from harness.errors import InputFileError, UntimelyError
-from harness.target.interface import read_toml
+from harness.errors import UntimelyError
+from harness.files import read_toml
+from harness.schema import Strict, cut, validated
 
 # Terminal goal statuses that carry a reply (actionlib_msgs/GoalStatus names). LOST is not one:
 # the client declared it, the server never ended the goal, so the adapter must not invent a final.
@@ -82,39 +86,40 @@ def interface_services(interface: dict) -> list[tuple[str, str]]:
     return [(module, service) for module, services in modules.items() for service in services]
 
 
-def _text(path, key, value) -> str:
-    if not isinstance(value, str) or not value:
-        raise InputFileError(path, key, f"{key} = {value!r}; give a non-empty string")
-    return value
+TOPIC_HINT = "give a topic name such as \"/robot/world\""
+
+
+class MappingFile(Strict):
+    model_config = ConfigDict(title="a mapping file")
+    action: str = Field(DEFAULT_ACTION, min_length=1, description="give an action name, or a template of "
+                                                                  "{module} and {service}")
+    services: dict[str, Annotated[str, Field(min_length=1)] | dict] = Field(
+        {}, description='give a table of "module.Service" = "/action" or a route table (docs/ros.md)')
+    status_codes: dict[Literal[TERMINAL_STATUSES], Annotated[str, Field(min_length=1)]] = Field(
+        {}, description=f"give reply codes for terminal goal statuses: {', '.join(TERMINAL_STATUSES)}")
+    heartbeat_stale_s: float = Field(1.0, gt=0, description="give a positive number of seconds")
+    world_topic: str | None = Field(None, min_length=1, description=TOPIC_HINT)
+    internal_topic: str | None = Field(None, min_length=1, description=TOPIC_HINT)
+    ping_topic: str | None = Field(None, min_length=1, description=TOPIC_HINT)
+    pong_topic: str | None = Field(None, min_length=1, description=TOPIC_HINT)
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        try:
+            self.action.format(module="m", service="s")
+        except (KeyError, IndexError, ValueError):
+            raise ValueError(f"action = {cut(self.action)} may only use {{module}} and {{service}}") from None
+        for service in self.services:
+            if service.count(".") != 1:
+                raise ValueError(f"services: {cut(service)} is not \"module.Service\"")
+        if (self.ping_topic is None) != (self.pong_topic is None):
+            raise ValueError("give both ping_topic and pong_topic, or neither")
+        return self
 
 
 def load_mapping(path: str | Path) -> Mapping:
     path = Path(path)
-    data = read_toml(path, "mapping file not found; pass the ros.toml beside the interface")
-    topic_keys = ("world_topic", "internal_topic", "ping_topic", "pong_topic")
-    known = {"action", "services", "status_codes", "heartbeat_stale_s", *topic_keys}
-    if set(data) - known:
-        raise InputFileError(path, "", f"unknown key(s) {sorted(set(data) - known)}; it takes {', '.join(sorted(known))}")
-    action = _text(path, "action", data.get("action", DEFAULT_ACTION))
-    try:
-        action.format(module="m", service="s")
-    except (KeyError, IndexError, ValueError):
-        raise InputFileError(path, "action", f"action = {action!r} may only use {{module}} and {{service}}") from None
-    overrides = {}
-    for service, name in (data.get("services") or {}).items():
-        if service.count(".") != 1:
-            raise InputFileError(path, f"[services] {service}", f"{service!r} is not \"module.Service\"")
-        overrides[service] = parse_route(path, service, name)
-    codes = dict(DEFAULT_STATUS_CODES)
-    for status, code in (data.get("status_codes") or {}).items():
-        if status not in TERMINAL_STATUSES:
-            raise InputFileError(path, f"[status_codes] {status}",
-                                 f"{status!r} is not a terminal goal status; use one of {', '.join(TERMINAL_STATUSES)}")
-        codes[status] = _text(path, f"[status_codes] {status}", code)
-    stale = data.get("heartbeat_stale_s", 1.0)
-    if not isinstance(stale, (int, float)) or stale <= 0:
-        raise InputFileError(path, "heartbeat_stale_s", f"heartbeat_stale_s = {stale!r}; give a positive number of seconds")
-    topics = {key: _text(path, key, data[key]) if key in data else None for key in topic_keys}
-    if (topics["ping_topic"] is None) != (topics["pong_topic"] is None):
-        raise InputFileError(path, "ping_topic", "give both ping_topic and pong_topic, or neither")
-    return Mapping(str(path), action, overrides, codes, float(stale), **topics)
+    data, text = read_toml(path, "mapping file not found; pass the ros.toml beside the interface")
+    spec = validated(MappingFile, data, path, text)
+    return Mapping(str(path), spec.action, {service: parse_route(path, service, route) for service, route in spec.services.items()}, {**DEFAULT_STATUS_CODES, **spec.status_codes},
+                   spec.heartbeat_stale_s, spec.world_topic, spec.internal_topic, spec.ping_topic, spec.pong_topic)

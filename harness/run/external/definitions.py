@@ -18,9 +18,12 @@ import sys
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
+from pydantic import ConfigDict, Field, model_validator
+
 from harness import ROOT
 from harness.errors import InputFileError, UntimelyError
-from harness.target.interface import read_toml
+from harness.files import read_toml
+from harness.schema import Strict, accepted, cut, validated, where
 
 NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")
 SUTS_FILE = "suts.toml"
@@ -47,49 +50,51 @@ class ExternalSut:
         return {k: v for k, v in asdict(self).items() if k != "cwd" or v is not None}
 
 
-KEYS = {"command": str, "address": str, "env": dict, "slots": int, "time_scale": float,
-        "startup_s": float, "probe_timeout_s": float}
+class SutTable(Strict):
+    model_config = ConfigDict(title="a SUT")
+    command: str | None = Field(None, description="give the adapter's command line")
+    address: str | None = Field(None, pattern=r"^[^:\s]+:\d+$", description="give HOST:PORT, e.g. 127.0.0.1:7400")
+    env: dict[str, str] = Field({}, description="give a table of NAME = \"text\"")
+    slots: int = Field(1, gt=0, description="give a whole number > 0")
+    time_scale: float = Field(1.0, gt=0, description="give a number > 0 (mission seconds per wall second)")
+    startup_s: float = Field(30.0, gt=0, description="give a number of wall seconds > 0")
+    probe_timeout_s: float = Field(3.0, gt=0, description="give a number of wall seconds > 0")
+
+    @model_validator(mode="after")
+    def _one_transport(self):
+        if (self.command is None) == (self.address is None):
+            raise ValueError("give exactly one of command (stdio) or address (tcp HOST:PORT)")
+        if self.command is not None:
+            try:
+                words = shlex.split(self.command)
+            except ValueError as e:  # an unclosed quote
+                raise ValueError(f"command = {cut(self.command)}: {e}; close the quote") from None
+            if not words:
+                raise ValueError("command is empty: give the adapter's command line")
+        return self
 
 
-def _checked(name: str, spec: dict, where) -> ExternalSut:
-    """An ExternalSut from a table of values; `where(key)` names the entry in messages."""
-    for key, value in spec.items():
-        kind = KEYS.get(key)
-        if kind is None:
-            raise where(key, f"unknown key {key!r}; a SUT has {', '.join(KEYS)}")
-        if not (isinstance(value, kind) or kind is float and isinstance(value, int)) or isinstance(value, bool):
-            raise where(key, f"{key} = {value!r}: give a {kind.__name__}")
-    if ("command" in spec) == ("address" in spec):
-        raise where("command", "give exactly one of command (stdio) or address (tcp HOST:PORT)")
-    if "address" in spec and not re.fullmatch(r"[^:\s]+:\d+", spec["address"]):
-        raise where("address", f"address = {spec['address']!r}: give HOST:PORT, e.g. 127.0.0.1:7400")
-    if "command" in spec:
-        try:
-            words = shlex.split(spec["command"])
-        except ValueError as e:  # an unclosed quote
-            raise where("command", f"command = {spec['command']!r}: {e}; close the quote") from None
-        if not words:
-            raise where("command", "command is empty: give the adapter's command line")
-    for key in ("slots", "time_scale", "startup_s", "probe_timeout_s"):
-        if key in spec and not spec[key] > 0:
-            raise where(key, f"{key} = {spec[key]!r}: give a number > 0")
-    if not all(isinstance(v, str) for v in spec.get("env", {}).values()):
-        raise where("env", f"env = {spec['env']!r}: give text values")
-    return ExternalSut(name, **{k: float(v) if KEYS[k] is float else v for k, v in spec.items()})
+KEYS = accepted(SutTable)  # the keys of a SUT's table (docs/reference names every one)
+
+
+def _checked(name: str, spec, path, text: str | None = None) -> ExternalSut:
+    """An ExternalSut from a table of values read from `path` (a file, or the --sut option)."""
+    table = validated(SutTable, spec, path, text, at=(name,) if text is not None else ())
+    return ExternalSut(name, **table.model_dump())
 
 
 def load_suts_file(path: Path) -> dict[str, ExternalSut]:
     if not path.exists():
         return {}
+    data, text = read_toml(path)
     suts = {}
-    for name, spec in read_toml(path).items():
-        def where(key, problem, name=name):
-            return InputFileError(path, f"[{name}] {key}", problem)
+    for name, spec in data.items():
         if not NAME.fullmatch(name) or not isinstance(spec, dict):
-            raise InputFileError(path, f"[{name}]", "a SUT is a table named by letters, digits, '_', '.' or '-'")
+            raise InputFileError(path, where(text, (name,)), f"{cut(name)}: a SUT is a table named by letters, "
+                                 "digits, '_', '.' or '-'")
         if isinstance(spec.get("command"), str):
             spec = {**spec, "command": spec["command"].replace("{mission}", shlex.quote(str(path.parent.resolve())))}
-        sut = _checked(name, spec, where)
+        sut = _checked(name, spec, path, text)
         suts[name] = replace(sut, cwd=str(path.parent.resolve())) if sut.command else sut
     return suts
 
@@ -105,12 +110,10 @@ def resolve(option: str, mission: Path, time_scale: float | None = None) -> tupl
             raise UntimelyError(f"--sut {option!r}: {entry!r} is not a new SUT name; give distinct "
                                 "comma-separated entries, e.g. genom,bip-a or toy=cmd:COMMAND")
         if target:
-            def where(key, problem, entry=entry):
-                return UntimelyError(f"--sut {entry!r}: {problem}")
             if target.startswith("cmd:"):
-                external[name] = _checked(name, {"command": target[4:]}, where)
+                external[name] = _checked(name, {"command": target[4:]}, f"--sut {entry!r}")
             elif target.startswith("tcp://"):
-                external[name] = _checked(name, {"address": target[6:]}, where)
+                external[name] = _checked(name, {"address": target[6:]}, f"--sut {entry!r}")
             else:
                 raise UntimelyError(f"--sut {entry!r}: write NAME=cmd:COMMAND or NAME=tcp://HOST:PORT")
         elif name in defined:

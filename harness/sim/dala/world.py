@@ -30,8 +30,11 @@ from pathlib import Path
 import pymunk
 from pymunk import cp
 
+from pydantic import ConfigDict, Field, model_validator
+
 from harness.errors import InputFileError
-from harness.target.interface import parse_toml, read_bytes
+from harness.files import decode, parse_toml, read_bytes
+from harness.schema import Strict, dotted, validated, where
 from harness.sim.kernel import Environment
 from harness.sim.dala.laser import Laser, wall
 
@@ -57,27 +60,47 @@ class WorldSpec:
     rocks: tuple[Rock, ...]
 
 
-def _number(path, where, table, key, positive=False) -> float:
-    value = table.get(key) if isinstance(table, dict) else None
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or (positive and value <= 0):
-        need = "a positive number" if positive else "a number"
-        raise InputFileError(path, where, f"{key} = {value!r}; give {need} (metres or degrees)")
-    return float(value)
+class BoundsTable(Strict):
+    model_config = ConfigDict(title="[bounds]")
+    x: list[float] = Field(min_length=2, max_length=2, description="give [low, high] with low < high (metres)")
+    y: list[float] = Field(min_length=2, max_length=2, description="give [low, high] with low < high (metres)")
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        for key in ("x", "y"):
+            low, high = getattr(self, key)
+            if not low < high:
+                raise ValueError(f"{key} = [{low!r}, {high!r}]; give [low, high] with low < high")
+        return self
 
 
-def _interval(path, table, key) -> tuple[float, float]:
-    value = table.get(key)
-    if (not isinstance(value, list) or len(value) != 2
-            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
-            or value[0] >= value[1]):
-        raise InputFileError(path, "[bounds]", f"{key} = {value!r}; give [low, high] with low < high")
-    return float(value[0]), float(value[1])
+class RoverTable(Strict):
+    model_config = ConfigDict(title="[rover]")
+    x: float = Field(description="give a number (metres)")
+    y: float = Field(description="give a number (metres)")
+    heading_deg: float = Field(description="give a number (degrees)")
+    radius: float = Field(gt=0, description="give a positive number (metres)")
 
 
-def _inside(spec_path, where, x, y, margin, x_range, y_range) -> None:
+class RockTable(Strict):
+    model_config = ConfigDict(title="a [[rock]]")
+    x: float = Field(description="give a number (metres)")
+    y: float = Field(description="give a number (metres)")
+    radius: float = Field(gt=0, description="give a positive number (metres)")
+
+
+class WorldFile(Strict):
+    model_config = ConfigDict(title="a world")
+    doc: str = ""
+    bounds: BoundsTable = Field(description="a world needs a [bounds] table (x, y)")
+    rover: RoverTable = Field(description="a world needs a [rover] table (x, y, heading_deg, radius)")
+    rock: list[RockTable] = Field([], description="write each rock as a [[rock]] table")
+
+
+def _inside(path, text, keys, x, y, margin, x_range, y_range) -> None:
     if not (x_range[0] + margin <= x <= x_range[1] - margin and y_range[0] + margin <= y <= y_range[1] - margin):
-        raise InputFileError(spec_path, where, f"({x:g}, {y:g}) with radius {margin:g} is not inside the bounds "
-                             f"x={list(x_range)} y={list(y_range)}; move it inside")
+        raise InputFileError(path, where(text, keys), f"{dotted(keys)}: ({x:g}, {y:g}) with radius {margin:g} is "
+                             f"not inside the bounds x={list(x_range)} y={list(y_range)}; move it inside")
 
 
 def load_world(path: str | Path) -> WorldSpec:
@@ -88,29 +111,19 @@ def load_world(path: str | Path) -> WorldSpec:
 
 @lru_cache(maxsize=8)
 def _parse_world(path: Path, content: bytes) -> WorldSpec:
-    data = parse_toml(path, content)
-    bounds, rover = data.get("bounds"), data.get("rover")
-    if not isinstance(bounds, dict) or not isinstance(rover, dict):
-        raise InputFileError(path, "", "a world needs a [bounds] table (x, y) and a [rover] table "
-                             "(x, y, heading_deg, radius)")
-    x_range, y_range = _interval(path, bounds, "x"), _interval(path, bounds, "y")
-    radius = _number(path, "[rover]", rover, "radius", positive=True)
-    x, y = _number(path, "[rover]", rover, "x"), _number(path, "[rover]", rover, "y")
-    _inside(path, "[rover]", x, y, radius, x_range, y_range)
-    start = (x, y, math.radians(_number(path, "[rover]", rover, "heading_deg")))
-    rocks = []
-    entries = data.get("rock", [])
-    if not isinstance(entries, list):
-        raise InputFileError(path, "rock", f"rock = {entries!r}; write each rock as a [[rock]] table")
-    for n, entry in enumerate(entries, 1):
-        where = f"rock #{n}"
-        rock = Rock(_number(path, where, entry, "x"), _number(path, where, entry, "y"),
-                    _number(path, where, entry, "radius", positive=True))
-        _inside(path, where, rock.x, rock.y, rock.radius, x_range, y_range)
-        if math.dist((rock.x, rock.y), (x, y)) < rock.radius + radius:
-            raise InputFileError(path, where, f"rock at ({rock.x:g}, {rock.y:g}) overlaps the rover's start; move it")
-        rocks.append(rock)
-    return WorldSpec(str(path), x_range, y_range, start, radius, tuple(rocks))
+    text = decode(path, content)
+    spec = validated(WorldFile, parse_toml(path, text), path, text)
+    x_range, y_range = tuple(spec.bounds.x), tuple(spec.bounds.y)
+    rover = spec.rover
+    _inside(path, text, ("rover",), rover.x, rover.y, rover.radius, x_range, y_range)
+    for n, rock in enumerate(spec.rock):
+        _inside(path, text, ("rock", n), rock.x, rock.y, rock.radius, x_range, y_range)
+        if math.dist((rock.x, rock.y), (rover.x, rover.y)) < rock.radius + rover.radius:
+            raise InputFileError(path, where(text, ("rock", n)), f"rock #{n + 1}: rock at ({rock.x:g}, {rock.y:g}) "
+                                 "overlaps the rover's start; move it")
+    rocks = tuple(Rock(r.x, r.y, r.radius) for r in spec.rock)
+    start = (rover.x, rover.y, math.radians(rover.heading_deg))
+    return WorldSpec(str(path), x_range, y_range, start, rover.radius, rocks)
 
 
 class World:
