@@ -70,7 +70,7 @@ def test_a_bad_entry_is_refused_naming_it(folder, old, new, message):
 ])
 def test_a_behaviour_module_that_builds_nothing_is_refused_before_any_run(folder, tmp_path, name, message):
     path = folder / "layer.toml"
-    path.write_text(path.read_text().replace('"harness.sim.dala.modules"', f'"{name}"'))
+    path.write_text(path.read_text().replace('"harness.sim.dala.behaviour"', f'"{name}"'))
     with pytest.raises(UntimelyError, match=message):
         load_layer(folder).behaviour_module()
     with pytest.raises(UntimelyError, match=message):  # a campaign checks it before it runs anything

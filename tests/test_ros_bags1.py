@@ -25,7 +25,7 @@ def test_a_recorded_bag_judges_like_the_live_trace_of_its_run(tmp_path, capsys):
         time.sleep(0.1)
     assert [p.name for p in bags.iterdir()] == ["trace-1.bag"]  # closed: no .bag.active left
     assert cli(["import", str(bags), "--interface", str(DEFAULT_MISSION_DIR / "interface.toml"), "--db", db]) == 0
-    assert "Imported 1 traces" in capsys.readouterr().out
+    assert "Imported 1 trace" in capsys.readouterr().out
     assert cli(["analyze", "--db", db]) == 0
     con = store.connect(db, read_only=True)
     events = "select rqst_id, module, service, kind, args, reply from events where trace_id = ? order by all"

@@ -149,7 +149,7 @@ def test_the_mcap_file_alone_names_its_bag_and_the_cli_judges_it(tmp_path, capsy
     db = tmp_path / "s.duckdb"
     assert cli(["import", str(tmp_path / "day" / "day.mcap"), "--interface", str(DEFAULT_MISSION_DIR / "interface.toml"),
                 "--ros", str(MAPPING), "--db", str(db)]) == 0
-    assert "Imported 1 traces (10 events)" in capsys.readouterr().out
+    assert "Imported 1 trace (10 events)" in capsys.readouterr().out
     assert cli(["analyze", "--db", str(db)]) == 0
 
 

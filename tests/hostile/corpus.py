@@ -154,7 +154,7 @@ TARGET = [
     Case("layer: a negative duration", run, "layer.toml:17: timing.Stop: run_s = -0.05; give a number of seconds >= 0",
          prepare=_edit("layer.toml", "run_s = 0.05", "run_s = -0.05")),
     *(Case(f"layer: behaviour = os, {command.__name__}", command, "layer.toml:7: behaviour = 'os' has no "
-           "build(env, world_file) function", prepare=_edit("layer.toml", '"harness.sim.dala.modules"', '"os"'))
+           "build(env, world_file) function", prepare=_edit("layer.toml", '"harness.sim.dala.behaviour"', '"os"'))
       for command in (run, campaign)),
     Case("layer: default_suts = []", campaign, "layer.toml:12: layer.default_suts = []; give a non-empty list",
          prepare=_edit("layer.toml", 'default_suts = ["genom", "bip-a", "bip-b"]', "default_suts = []")),
@@ -192,7 +192,7 @@ IMPORTS = [
     Case("import: a CSV column twice", _import(lambda p: p.file(
         "twice.csv", "trace_id,seq,t,kind,rqst_id,module,service,seq\na,1,0,request,1,rflex,Init,1\n")),
          "twice.csv:1: the header names the column 'seq' twice; keep one"),
-    Case("import: a folder", _import(lambda p: p.target), "dala: is a folder, not a file"),
+    Case("import: a folder", _import(lambda p: p.target), "dala: is a folder that holds no bag"),
     Case("import: a CSV with a byte-order mark, as a spreadsheet saves it", _import(lambda p: p.file(
         "bom.csv", "\ufefftrace_id,seq,t,kind,rqst_id,module,service,reply\na,1,0,request,1,rflex,Init,\n"
                    "a,2,0.5,final,1,rflex,Init,ok\n")), "Imported 1 trace (2 events) from", code=0),

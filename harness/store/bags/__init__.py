@@ -45,7 +45,8 @@ def bags(path: Path) -> list[Path]:
         found = sorted(p for p in path.iterdir() if p.suffix.lower() == ".bag" or _rosbag2_folder(p) == p)
         if found:
             return found
-        raise InputFileError(path, "", "holds no bag (.bag files or rosbag2 folders with a metadata.yaml)")
+        raise InputFileError(path, "", "is a folder that holds no bag (.bag files or rosbag2 folders with a "
+                             "metadata.yaml); pass a .csv, .jsonl or .parquet file, a bag, or a folder of bags")
     raise InputFileError(path, "", f"{path.name} is not inside a rosbag2 folder (no metadata.yaml beside it); "
                          "pass the folder that rosbag2 recorded")
 
