@@ -119,12 +119,19 @@ def _detached_children(since: float) -> list[int]:
     return found
 
 
-def end_orphans(since: float, known: set[int] = frozenset()) -> int:
+def end_orphans(since: float, known: set[int] = frozenset(), grace_s: float = TERM_GRACE_S) -> int:
     """End and reap the children of this process started since `since` (uptime()) in another
     session, but those `known`: adapters and daemons re-parented to it as a subreaper. Returns
-    how many. They get SIGKILL at once: they were detached from the adapter's group on purpose."""
+    how many. They get `grace_s` to exit by themselves (a recorder told by its death signal closes
+    its bag), then SIGKILL: they were detached from the adapter's group on purpose."""
     orphans = [pid for pid in _detached_children(since) if pid not in known]
-    for pid in orphans:
+    deadline = time.monotonic() + grace_s
+    left = set(orphans)
+    while left and time.monotonic() < deadline:
+        left = {pid for pid in left if not _reaped(pid)}
+        if left:
+            time.sleep(0.02)
+    for pid in left:
         try:
             if os.getpgid(pid) == pid:
                 _signal_group(pid, signal.SIGKILL)
@@ -136,3 +143,11 @@ def end_orphans(since: float, known: set[int] = frozenset()) -> int:
         except ChildProcessError:
             pass
     return len(orphans)
+
+
+def _reaped(pid: int) -> bool:
+    """Whether the child `pid` has exited (and is now reaped)."""
+    try:
+        return os.waitpid(pid, os.WNOHANG)[0] == pid
+    except ChildProcessError:
+        return True
