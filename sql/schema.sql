@@ -128,3 +128,13 @@ create table if not exists module_positions (
     module    varchar primary key,
     position  integer not null
 );
+
+-- The oracles that failed in an analysis (DESIGN §6): their property's verdicts are 'unknown',
+-- every other property is judged as usual. `source` is the events table the oracle read.
+create table if not exists oracle_failures (
+    analysis_id  integer not null,
+    property_id  varchar not null,
+    source       varchar not null,
+    template     varchar not null,
+    error        varchar not null
+);

@@ -17,8 +17,6 @@ from harness.errors import PropertyError
 from harness.store.sql import ENV
 from harness.target.interface import Interface, Property
 
-# The columns of the verdicts table in the order every oracle query returns them (sql/views/verdicts.sql).
-VERDICT_COLUMNS = "trace_id, property_id, family, rqst_id, module, service, c_holds, verdict, margin_s, suspicious"
 PARAMETERS = ("x", "y", "q", "r_p", "z_p")
 _TABLE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _SERVICE = re.compile(r"[^.\s']+\.[^.\s']+")
@@ -40,21 +38,33 @@ def _parameters(prop: Property) -> dict:
     return given
 
 
+def _template(prop: Property) -> str:
+    return f"oracles/{str(prop.type).lower()}.sql"
+
+
+def _table_name(name: str, role: str) -> None:
+    if not _TABLE_NAME.fullmatch(name):
+        raise PropertyError(f"{role} {name!r} is not a table name; use events or internal_events")
+
+
 def render_property(prop: Property, events: str = "events", epsilon: float = DEFAULT_EPSILON_S,
-                    interface: Interface | None = None, explain: list[tuple[int, int]] = ()) -> str:
+                    interface: Interface | None = None, explain: list[tuple[int, int]] = (),
+                    into: str | None = None) -> str:
     """The oracle query of one property over the events table `events`: the verdicts columns.
     The interface, when given, says which requests may end an activity (see sql/oracles/ee.sql).
-    `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions."""
-    if not _TABLE_NAME.fullmatch(events):
-        raise PropertyError(f"events source {events!r} is not a table name; use events or internal_events")
+    `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions.
+    `into`: a verdicts table; then the statement inserting the rows into it."""
+    _table_name(events, "events source")
+    if into is not None:
+        _table_name(into, "verdicts table")
     if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
         raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
     parameters = _parameters(prop)
     services = sorted({s for v in parameters.values() if isinstance(v, list) for s in v})
-    template = f"oracles/{str(prop.type).lower()}.sql"
+    template = _template(prop)
     try:
         return ENV.get_template("oracles/_oracle.sql").render(
-            template=template, id=prop.id, family=prop.family, events=events, epsilon=round(float(epsilon), 6),
+            template=template, into=into, id=prop.id, family=prop.family, events=events, epsilon=round(float(epsilon), 6),
             services=services, parameters=parameters,
             until_stopped=interface.until_stopped if interface else [],
             control=interface.of_kind("control") if interface else [],
@@ -71,3 +81,15 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
     except TypeError as e:
         raise PropertyError(f"property {prop.id!r} of type {prop.type}: {e} "
                             "(the type does not use it); remove it from the property's entry") from None
+
+
+def render_unknown(prop: Property, events: str, into: str) -> str:
+    """The statement giving verdict 'unknown' to every request the property judges, for when its
+    oracle failed: the requests of its x services, and of the other roles its template declares
+    (`{% set judges = [...] %}`, as the mutual types do)."""
+    _table_name(events, "events source")
+    _table_name(into, "verdicts table")
+    roles = getattr(ENV.get_template(_template(prop)).module, "judges", ["x"])
+    judged = sorted({s for role in roles for s in getattr(prop, role) or ()})
+    return ENV.get_template("oracles/_unknown.sql").render(into=into, id=prop.id, family=prop.family,
+                                                          events=events, judged=judged)

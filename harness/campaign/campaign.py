@@ -295,6 +295,8 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
         epsilon = last_epsilon(con)  # a resumed campaign keeps the epsilon its verdicts were made with
         analyzer.materialise(con, properties, epsilon, interface, mission / "properties.toml")
         print(f"verdicts  materialised for every trace of {args.db} (epsilon {epsilon:g} s)\n")
+        for failure in analyzer.failed_oracles(con):
+            print(failure + "\n")
         print(analyzer.summary(con, epsilon))
     if args.shrink:
         print("\nshrunk reproducers, one per distinct bad behaviour (view bad_behaviours):")

@@ -12,3 +12,14 @@ def ordered(con, view: str) -> str:
                      for c in ranked)
     order = [f"{c}_rank nulls last" for c in ranked] + [str(n) for n in range(1, len(columns) + 1)]
     return f"select v.* from {view} v {joins} order by {', '.join(order)}"
+
+
+def relations(con, base_tables_only: bool = False) -> set[str]:
+    """The names of the store's tables and views (of its base tables only), temporary ones included:
+    the one place the bench asks what a store holds (older stores lack newer relations)."""
+    kind = " where table_type = 'BASE TABLE'" if base_tables_only else ""
+    return {r[0] for r in con.execute(f"select table_name from information_schema.tables{kind}").fetchall()}
+
+
+def exists(con, name: str) -> bool:
+    return name in relations(con)

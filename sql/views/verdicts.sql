@@ -1,7 +1,8 @@
 {#- The verdicts table (DESIGN §6), filled by the analyzer with every property's oracle query
     in the order of the properties file, then corrected by shared_codes.sql. `target` is
-    verdicts (observed events) or verdicts_internal (the ground truth). -#}
-create or replace table {{ target }} (
+    verdicts (observed events) or verdicts_internal (the ground truth); `temp`: a temporary table
+    (where the analyzer stages each oracle's rows); `source`: a table whose rows it gets. -#}
+create or replace {{ 'temp ' if temp | default(false) }}table {{ target }} (
     trace_id     integer not null,
     property_id  varchar not null,
     family       varchar not null,
@@ -13,3 +14,6 @@ create or replace table {{ target }} (
     margin_s     double,             -- NULL when no event near enough could change C
     suspicious   boolean not null
 );
+{% if source | default(none) %}
+insert into {{ target }} from {{ source }}
+{% endif %}
