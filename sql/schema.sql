@@ -138,3 +138,14 @@ create table if not exists oracle_failures (
     template     varchar not null,
     error        varchar not null
 );
+
+-- The shrinks that failed (`campaign --shrink` goes on with the other behaviours): which
+-- behaviour of which trace, and why.
+create table if not exists shrink_failures (
+    trace_id     integer not null,
+    sut          varchar not null,
+    verdict      varchar not null,       -- FN, FP or hung
+    property_id  varchar,                -- none for a hang
+    error        varchar not null,
+    failed_at    timestamp not null      -- UTC
+);

@@ -148,11 +148,9 @@ def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[M
         store.add_campaign(con, campaign_id, config["mission"], config["seed"], config)
         store.add_reply_codes(con, interface)
         store.place(con, "variant_positions", "sut", config["sut"])
-        rows = [(golden_id, campaign_id, "golden", None, "[]", golden_text, True, None)]
-        rows += [(golden_id + n, campaign_id, "mutant", golden_id, json.dumps(m.operations), m.body,
-                  m.valid, m.invalid_reason) for n, m in enumerate(mutants, 1)]
-        con.executemany("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
-                        "invalid_reason) values (?, ?, ?, ?, ?, ?, ?, ?)", rows)
+        store.add_scripts(con, [store.ScriptRow(golden_id, campaign_id, "golden", golden_text)] + [
+            store.ScriptRow(golden_id + n, campaign_id, "mutant", m.body, golden_id, m.operations, m.valid,
+                            m.invalid_reason) for n, m in enumerate(mutants, 1)])
         store.insert_traces(con, campaign_id, [(task.trace_id, task.script_id, trace, None)
                                                for task, trace in golden_runs])
     return campaign_id

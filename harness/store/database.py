@@ -255,6 +255,12 @@ def _table(rows: list[tuple], columns: tuple[str, ...], schema: pa.Schema, trace
     return pa.Table.from_arrays(arrays, schema=schema)
 
 
+def forget_traces(con) -> None:
+    """Empty the trace tables (of an in-memory store that judges one batch of traces after another)."""
+    for table in ("traces", "events", "internal_events", "world_events", "trace_runs"):
+        con.execute(f"delete from {table}")
+
+
 def insert_trace(con, trace_id: int, campaign_id: int, script_id: int | None, trace: Trace,
                  label: str | None = None) -> None:
     """Write one trace; the caller owns the transaction."""
