@@ -12,6 +12,8 @@ from __future__ import annotations
 from collections import defaultdict
 from pathlib import Path
 
+import duckdb
+
 from harness.errors import StoreError, UntimelyError
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.analysis.oracles import render_property
@@ -70,10 +72,15 @@ class Explainer:
                                  unnest(?::integer[]) as rqst_id) using (trace_id, property_id, rqst_id)""",
             [list(column) for column in zip(*keys)]).fetchall()}
         pairs: dict[Key, list[dict]] = defaultdict(list)
+        failed: dict[str, str] = {}  # property id -> why its oracle could not explain
         for property_id in dict.fromkeys(p for _, p, _ in keys):
             wanted = [(t, r) for t, p, r in keys if p == property_id]
-            cursor = self.con.execute(render_property(self.properties[property_id], "events", self.epsilon,
-                                                      self.interface, explain=wanted))
+            try:
+                cursor = self.con.execute(render_property(self.properties[property_id], "events", self.epsilon,
+                                                          self.interface, explain=wanted))
+            except duckdb.Error as e:  # one property's failing oracle must not hide the others' explanations
+                failed[property_id] = str(e).split("\n")[0]
+                continue
             names = [d[0] for d in cursor.description]
             for row in cursor.fetchall():
                 pair = dict(zip(names, row))
@@ -84,7 +91,14 @@ class Explainer:
         for (trace_id, _), (service, _, final_t, reply, _) in requests.items():
             if reply == "ok":
                 oks[(trace_id, service)].append(final_t)
-        return {k: self._text(k, verdicts[k], requests, oks, pairs[k]) for k in keys if k in verdicts}
+        return {k: self._failed(k, verdicts[k], failed[k[1]]) if k[1] in failed
+                else self._text(k, verdicts[k], requests, oks, pairs[k]) for k in keys if k in verdicts}
+
+    @staticmethod
+    def _failed(key: Key, verdict_row: tuple, error: str) -> str:
+        trace_id, property_id, rqst_id = key
+        return (f"{property_id} on request {rqst_id} of trace {trace_id}: {verdict_row[0]}\n"
+                f"  not explained: the property's oracle failed ({error}); fix its template, then analyze again")
 
     def _items(self, trace_id: int, prop: Property, pairs: list[dict], requests: dict,
                oks: dict) -> list[tuple]:
