@@ -16,8 +16,9 @@ from harness import DEFAULT_EPSILON_S
 from harness.errors import PropertyError
 from harness.store.sql import ENV
 from harness.target.interface import Interface, Property
+from harness.target.property_types import REPLY_CODES, SERVICE_LISTS, property_types
 
-PARAMETERS = ("x", "y", "q", "r_p", "z_p")
+PARAMETERS = (*SERVICE_LISTS, *REPLY_CODES)
 _TABLE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _SERVICE = re.compile(r"[^.\s']+\.[^.\s']+")
 
@@ -74,7 +75,7 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
         if e.name != template:
             raise
         raise PropertyError(f"property {prop.id!r}: type {prop.type!r} has no oracle template "
-                            f"{template}; use one of PC, ES, EE, EX, MX_R, MX_I") from None
+                            f"{template}; use one of {', '.join(property_types())}") from None
     except jinja2.UndefinedError as e:
         raise PropertyError(f"property {prop.id!r} of type {prop.type}: {e}; "
                             "add it to the property's entry") from None

@@ -7,19 +7,10 @@ from pathlib import Path
 
 from harness.errors import InputFileError
 from harness.files import decode
+from harness.target.property_types import REPLY_CODES, property_types
 
 SERVICE_KINDS = ("init", "control", "exec")
 REPLY_CLASSES = ("T", "Z", "R")
-PROPERTY_TYPES = ("PC", "ES", "EE", "EX", "MX_R", "MX_I")
-# Which parameters each basic type needs besides x (DESIGN §6).
-TYPE_PARAMETERS = {
-    "PC": ("q", "r_p"),
-    "ES": ("y", "r_p"),
-    "EE": ("y", "z_p"),
-    "EX": ("y", "r_p", "z_p"),
-    "MX_R": ("y", "r_p"),
-    "MX_I": ("y", "z_p"),
-}
 
 
 @dataclass(frozen=True)
@@ -195,7 +186,7 @@ def load_properties(path: str | Path, interface: Interface) -> list[Property]:
     entries = read_toml(path).get("property")
     if not isinstance(entries, list) or not entries:
         raise InputFileError(path, "", "no properties; add [[property]] entries")
-    props, seen = [], set()
+    props, seen, types = [], set(), property_types()
     for n, e in enumerate(entries, 1):
         where = f"property #{n} ({e.get('id', '?')})"
         if not isinstance(e.get("id"), str) or not e["id"]:
@@ -203,11 +194,12 @@ def load_properties(path: str | Path, interface: Interface) -> list[Property]:
         if e["id"] in seen:
             raise InputFileError(path, where, f"id {e['id']!r} is used twice; ids must be unique")
         seen.add(e["id"])
-        if e.get("type") not in PROPERTY_TYPES:
-            raise InputFileError(path, where, f"type {e.get('type')!r} is not one of {', '.join(PROPERTY_TYPES)}")
+        if e.get("type") not in types:
+            raise InputFileError(path, where, f"type {e.get('type')!r} is not one of {', '.join(types)} "
+                                 "(the templates of sql/oracles/)")
         if not isinstance(e.get("family"), str) or not e["family"]:
             raise InputFileError(path, where, f"family = {e.get('family')!r}; give a family name such as \"PEX\"")
-        needed = ("x",) + TYPE_PARAMETERS[e["type"]]
+        needed = types[e["type"]]
         unknown = set(e) - {"id", "family", "type", *needed}
         if unknown:
             raise InputFileError(path, where, f"key(s) {sorted(unknown)} do not apply to type {e['type']}; "
@@ -216,8 +208,8 @@ def load_properties(path: str | Path, interface: Interface) -> list[Property]:
         for key in needed:
             if key not in e:
                 raise InputFileError(path, where, f"type {e['type']} needs {key!r}, which is missing")
-            if key in ("r_p", "z_p"):
-                expected = "R" if key == "r_p" else "Z"
+            if key in REPLY_CODES:
+                expected = REPLY_CODES[key]
                 if interface.replies.get(e[key]) != expected:
                     raise InputFileError(path, where, f"{key} = {e[key]!r} is not a class-{expected} reply code "
                                          f"of the interface {interface.path}")
