@@ -22,6 +22,9 @@ from harness.target.interface import read_toml
 
 NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")
 SUTS_FILE = "suts.toml"
+# The transports, by the URL scheme of `--sut NAME=URL`: the key of a SUT's definition that the
+# rest of the URL fills (suts.toml writes the same key), and what it reaches.
+TRANSPORTS = {"cmd:": ("command", "stdio"), "tcp://": ("address", "tcp HOST:PORT")}
 
 
 @dataclass(frozen=True)
@@ -55,8 +58,9 @@ def _checked(name: str, spec: dict, where) -> ExternalSut:
             raise where(key, f"unknown key {key!r}; a SUT has {', '.join(KEYS)}")
         if not (isinstance(value, kind) or kind is float and isinstance(value, int)) or isinstance(value, bool):
             raise where(key, f"{key} = {value!r}: give a {kind.__name__}")
-    if ("command" in spec) == ("address" in spec):
-        raise where("command", "give exactly one of command (stdio) or address (tcp HOST:PORT)")
+    if sum(key in spec for key, _ in TRANSPORTS.values()) != 1:
+        raise where(next(iter(TRANSPORTS.values()))[0], "give exactly one of " + " or ".join(
+            f"{key} ({what})" for key, what in TRANSPORTS.values()))
     if "address" in spec and not re.fullmatch(r"[^:\s]+:\d+", spec["address"]):
         raise where("address", f"address = {spec['address']!r}: give HOST:PORT, e.g. 127.0.0.1:7400")
     if "command" in spec and not shlex.split(spec["command"]):
@@ -95,12 +99,10 @@ def resolve(option: str, mission: Path, time_scale: float | None = None) -> tupl
         if target:
             def where(key, problem, entry=entry):
                 return UntimelyError(f"--sut {entry!r}: {problem}")
-            if target.startswith("cmd:"):
-                external[name] = _checked(name, {"command": target[4:]}, where)
-            elif target.startswith("tcp://"):
-                external[name] = _checked(name, {"address": target[6:]}, where)
-            else:
+            scheme = next((s for s in TRANSPORTS if target.startswith(s)), None)
+            if scheme is None:
                 raise UntimelyError(f"--sut {entry!r}: write NAME=cmd:COMMAND or NAME=tcp://HOST:PORT")
+            external[name] = _checked(name, {TRANSPORTS[scheme][0]: target[len(scheme):]}, where)
         elif name in defined:
             external[name] = defined[name]
         names.append(name)
