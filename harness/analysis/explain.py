@@ -17,6 +17,7 @@ import duckdb
 from harness.errors import StoreError, UntimelyError
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.analysis.oracles import render_property
+from harness.store.reads import exists
 from harness.store.sql import sql_id_list
 from harness.analysis.provenance import default_properties
 from harness.store.database import connect
@@ -28,10 +29,9 @@ Key = tuple[int, str, int]  # (trace_id, property_id, rqst_id): one verdict row
 def judged_properties(con) -> tuple[Interface, dict[str, Property]]:
     """The interface and properties the stored verdicts were made from (the last analysis's file
     when it is recorded and still there, else the campaign mission's)."""
-    recorded = con.execute("select count(*) from information_schema.tables where table_name = 'analysis_files'")
     found = dict(con.execute("""select role, path from analysis_files where role in ('properties', 'interface')
                                 and analysis_id = (select max(analysis_id) from analyses)""").fetchall()) \
-        if recorded.fetchone()[0] else {}
+        if exists(con, "analysis_files") else {}
     usable = "properties" in found and Path(found["properties"]).is_file()
     path = Path(found["properties"]) if usable else default_properties(con)
     interface_file = Path(found.get("interface") or path.parent / "interface.toml") if usable else None

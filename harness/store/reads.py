@@ -1,6 +1,8 @@
 """Reading whole views in the order the store keeps as data (variants, families, properties)."""
 from __future__ import annotations
 
+from harness.store.sql import ENV, VERDICTS
+
 POSITIONS = {"sut": "variant_positions", "family": "family_positions", "property_id": "property_positions"}
 
 
@@ -23,3 +25,11 @@ def relations(con, base_tables_only: bool = False) -> set[str]:
 
 def exists(con, name: str) -> bool:
     return name in relations(con)
+
+
+def read_older_analysis(con) -> None:
+    """A store analysed before views trace_scope or trace_badness existed gets them as temporary
+    views (sql/older_analysis.sql): the report reads it as it is."""
+    missing = {"trace_scope", "trace_badness"} - relations(con)
+    if missing:
+        con.execute(ENV.get_template("older_analysis.sql").render(missing=missing, verdict_names=list(VERDICTS)))
