@@ -68,8 +68,25 @@ def render_oracles(properties: list[Property], epsilon: float, interface: Interf
             for events, target in SOURCES for p in properties]
 
 
+def _stage_all(con, rendered: list[Oracle]) -> bool:
+    """Every oracle's rows staged in one transaction (committing each statement on its own costs
+    some 15% of an analysis); False, with nothing staged, if one failed."""
+    try:
+        with transaction(con):
+            for _, target in SOURCES:
+                stage(con, target)
+            for oracle in rendered:
+                con.execute(oracle.sql)
+    except duckdb.Error:
+        return False
+    return True
+
+
 def _judge(con, rendered: list[Oracle]) -> list[OracleFailure]:
-    """Every oracle's rows staged on its own: a failing one gets 'unknown' rows instead."""
+    """Every oracle's rows staged; when one fails, each oracle again on its own (DuckDB aborts a
+    transaction at its first error), a failing one getting 'unknown' rows instead."""
+    if _stage_all(con, rendered):
+        return []
     failures = []
     for _, target in SOURCES:
         stage(con, target)
