@@ -21,8 +21,6 @@ from functools import cached_property
 from pathlib import Path
 from typing import Iterator
 
-import duckdb
-
 from harness import DEFAULT_EPSILON_S, store
 from harness.errors import ScriptError, StoreError, UntimelyError
 from harness.run.executive import run_script
@@ -184,17 +182,13 @@ def store_shrunk(con, orig: Original, behaviour: Behaviour, script: Script, runs
     record = {"op": "shrink", "trace": orig.trace_id, "sut": orig.sut, "seed": orig.seed,
               "verdict": behaviour.verdict, "property": behaviour.property_id,
               "steps_before": len(parse(orig.body).steps), "steps_after": len(script.steps), "runs": runs}
-    try:
-        with store.transaction(con):
-            campaign_id = store.next_id(con, "campaigns", "campaign_id")
-            store.add_campaign(con, campaign_id, str(orig.mission), orig.seed,
-                               {"kind": "shrink", "max_delay": orig.max_delay, **record})
-            script_id = store.next_id(con, "scripts", "script_id")
-            store.add_scripts(con, [store.ScriptRow(script_id, campaign_id, "shrunk", script.render(),
-                                                    orig.script_id, [record])])
-    except duckdb.ConstraintException as e:
-        raise StoreError(f"this store predates shrunk scripts ({e}); shrink into a store made by this "
-                         "version (run the campaign again with another --db)") from None
+    with store.transaction(con):
+        campaign_id = store.next_id(con, "campaigns", "campaign_id")
+        store.add_campaign(con, campaign_id, str(orig.mission), orig.seed,
+                           {"kind": "shrink", "max_delay": orig.max_delay, **record})
+        script_id = store.next_id(con, "scripts", "script_id")
+        store.add_scripts(con, [store.ScriptRow(script_id, campaign_id, "shrunk", script.render(),
+                                                orig.script_id, [record])])
     return script_id
 
 

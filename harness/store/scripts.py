@@ -5,6 +5,10 @@ import json
 from dataclasses import dataclass
 from datetime import datetime, timezone
 
+import duckdb
+
+from harness.errors import StoreError
+
 
 @dataclass(frozen=True)
 class ScriptRow:
@@ -20,7 +24,16 @@ class ScriptRow:
 
 
 def add_scripts(con, rows: list[ScriptRow]) -> None:
-    """The caller owns the transaction."""
+    """The caller owns the transaction. A store from before a kind of script (shrunk) is refused."""
+    try:
+        _insert(con, rows)
+    except duckdb.ConstraintException as e:
+        kinds = ", ".join(sorted({r.kind for r in rows}))
+        raise StoreError(f"this store predates {kinds} scripts ({e}); write them into a store made by this "
+                         "version (run the campaign again with another --db)") from None
+
+
+def _insert(con, rows: list[ScriptRow]) -> None:
     con.executemany("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
                     "invalid_reason) values (?, ?, ?, ?, ?, ?, ?, ?)",
                     [(r.script_id, r.campaign_id, r.kind, r.parent, json.dumps(list(r.mutations)), r.body,
