@@ -7,6 +7,7 @@ from functools import cache
 import jinja2
 
 from harness import SQL_DIR
+from harness.errors import StoreError
 
 VERDICTS = ("TN", "TP", "FN", "FP", "op", "na", "omega", "unknown")
 
@@ -65,7 +66,7 @@ def view_order() -> tuple[str, ...]:
         ready = sorted(v for v in needs if v not in ordered and needs[v] <= set(ordered))
         if not ready:
             stuck = sorted(set(needs) - set(ordered))
-            raise RuntimeError(f"the views {', '.join(stuck)} of sql/views/ read each other in a cycle; "
-                               "a view may read only views that do not read it")
+            raise StoreError(f"the views {', '.join(stuck)} of sql/views/ read each other in a cycle; "
+                             "a view may read only views that do not read it: fix one of them")
         ordered.append(ready[0])
     return tuple(ordered)
