@@ -13,6 +13,7 @@ from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR, __versio
 from harness.adapters.ros.recorder import ROSBAG_ENV
 from harness.errors import UntimelyError
 from harness.run import processes
+from harness.mutator.operators import OPERATORS, REQUEST_OPERATORS
 from harness.store.database import discard_if_empty
 
 MAX_JOBS = max(64, 2 * (os.cpu_count() or 1))  # more worker processes only compete for the machine
@@ -111,6 +112,8 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--shrink", action="store_true",
                    help="then shrink one representative trace of each distinct bad behaviour")
     c.add_argument("--time-mutations", action="store_true", help="also drop waits and change sleeps")
+    c.add_argument("--operators", metavar="A,B", help="the mutation operators random mutants draw among, of "
+                   f"{', '.join(OPERATORS)} (default: the paper's three, {', '.join(REQUEST_OPERATORS)})")
     c.add_argument("--cluster", metavar="ADDRESS", type=CLUSTER, help="run on a Dask cluster: a scheduler address "
                    "(tcp://HOST:8786) or local:N for N local workers; needs the cluster extra (docs/cluster.md)")
     c.add_argument("--max-delay", type=SECONDS, default=0.003,

@@ -12,6 +12,10 @@ class InputFileError(UntimelyError):
         self.path, self.where, self.problem = str(path), where, problem
         super().__init__(f"{self.path}:{where}: {problem}" if where != "" else f"{self.path}: {problem}")
 
+    def __reduce__(self):
+        """Rebuilt from its three parts (a worker process hands its errors over pickled)."""
+        return type(self), (self.path, self.where, self.problem)
+
 
 class ScriptError(InputFileError):
     """A mission script that cannot be run (unknown module, service, handle or argument)."""

@@ -132,3 +132,24 @@ create table if not exists module_positions (
     module    varchar primary key,
     position  integer not null
 );
+
+-- The oracles that failed in an analysis (DESIGN §6): their property's verdicts are 'unknown',
+-- every other property is judged as usual. `source` is the events table the oracle read.
+create table if not exists oracle_failures (
+    analysis_id  integer not null,
+    property_id  varchar not null,
+    source       varchar not null,
+    template     varchar not null,
+    error        varchar not null
+);
+
+-- The shrinks that failed (`campaign --shrink` goes on with the other behaviours): which
+-- behaviour of which trace, and why.
+create table if not exists shrink_failures (
+    trace_id     integer not null,
+    sut          varchar not null,
+    verdict      varchar not null,       -- FN, FP or hung
+    property_id  varchar,                -- none for a hang
+    error        varchar not null,
+    failed_at    timestamp not null      -- UTC
+);

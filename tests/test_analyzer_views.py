@@ -127,3 +127,24 @@ def test_tables_ii_to_iv_count_certain_fn_and_fp_beside_all_of_them():
     assert flag.execute("""select total, hung, with_fn, bad, t_rob, with_fn_certain, bad_certain, t_rob_certain
                            from trace_robustness""").fetchone() == (
         12, 1, 3, 4, pytest.approx(8 / 12), 1, 2, pytest.approx(10 / 12))
+
+
+def test_views_are_created_after_the_views_they_read(tmp_path, monkeypatch):
+    from harness.store import sql
+    order = sql.view_order()
+    assert set(order) >= {"requests", "trace_scope", "trace_badness", "trace_robustness", "tp_rates", "wilson"}
+    before = {name: set(order[:i]) for i, name in enumerate(order)}
+    assert {"trace_badness", "trace_scope"} <= before["trace_robustness"] and "wilson" in before["tp_rates"]
+    assert not {"verdicts", "shared_codes", "properties"} & set(order)  # rendered by name, with parameters
+    views = tmp_path / "views"
+    views.mkdir()
+    (views / "a.sql").write_text("create or replace view a as select * from b\n")
+    (views / "b.sql").write_text("-- reads a\ncreate or replace view b as select * from a\n")
+    (views / "c.sql").write_text("create or replace view c as select 1\n")
+    monkeypatch.setattr(sql, "SQL_DIR", tmp_path)
+    sql.view_order.cache_clear()
+    try:
+        with pytest.raises(sql.StoreError, match="the views a, b of sql/views/ read each other in a cycle"):
+            sql.view_order()
+    finally:
+        sql.view_order.cache_clear()

@@ -2,7 +2,9 @@
 import shutil
 
 from harness import DEFAULT_MISSION_DIR
+from harness.analysis import explain
 from harness.analysis.analyzer import materialise
+from harness.analysis.explain import Explainer, judged_properties
 from harness.cli import main
 from harness.store.database import connect
 from traces.fixtures import HERE, INTERFACE, load, judged_store
@@ -53,3 +55,23 @@ def test_explain_refuses_an_unknown_property_or_request(tmp_path, capsys):
     assert main(["explain", "1", "PEX(rflex)", "9", "--db", str(db)]) == 2
     assert "trace 1 has no verdict of PEX(rflex) on request 9; it has verdicts on requests [2]" in \
         capsys.readouterr().err
+
+
+def test_a_property_whose_oracle_fails_is_not_explained_and_the_others_are(tmp_path, monkeypatch):
+    db, ids = _store(tmp_path, "flag.trace")
+    con = connect(db, read_only=True)
+    explainer = Explainer(con, *judged_properties(con))
+    keys = [tuple(k) for k in con.execute("select trace_id, property_id, rqst_id from verdicts "
+                                          "order by all").fetchall()]
+    assert len({p for _, p, _ in keys}) >= 2
+    normal = explainer.explain(keys)
+    broken = keys[0][1]
+    original = explain.render_property
+    monkeypatch.setattr(explain, "render_property", lambda prop, *args, **kwargs: (
+        "select no_such_column from verdicts" if prop.id == broken else original(prop, *args, **kwargs)))
+    texts = explainer.explain(keys)
+    assert {k: t for k, t in texts.items() if k[1] != broken} == {k: t for k, t in normal.items() if k[1] != broken}
+    failed = [t for k, t in texts.items() if k[1] == broken]
+    assert failed and all(t.splitlines()[1] == '  not explained: the property\'s oracle failed (Binder Error: '
+                          'Referenced column "no_such_column" not found in FROM clause!); fix its template, then '
+                          'analyze again' for t in failed)

@@ -149,3 +149,93 @@ def test_any_of_succeeds_once_at_the_first_event():
     env.process(waiter())
     env.run()
     assert seen == [1.0] and either.processed and later.processed
+
+
+def test_a_failed_event_throws_its_exception_into_its_waiter():
+    env = Environment()
+    broken = env.event()
+    caught = []
+
+    def waiter():
+        try:
+            yield broken
+        except KeyError as e:
+            caught.append((env.now, e.args[0]))
+
+    env.process(waiter())
+    env.call_at(2.0, lambda: broken.fail(KeyError("no such map")))
+    env.run()
+    assert caught == [(2.0, "no such map")]
+    assert repr(broken).startswith("<Event processed, failed with KeyError('no such map')")
+    with pytest.raises(TypeError, match="'oops' is not an exception"):
+        env.event().fail("oops")
+    with pytest.raises(RuntimeError, match="already been triggered"):
+        broken.fail(KeyError("again"))
+
+
+def test_a_failure_nobody_waits_for_is_raised_out_of_run():
+    env = Environment()
+    env.event().fail(ValueError("unseen"))
+    with pytest.raises(ValueError, match="unseen"):
+        env.run()
+
+
+def test_an_exception_in_a_process_names_the_process_and_reaches_its_waiter():
+    env = Environment()
+
+    def broken():
+        yield env.timeout(1.5)
+        raise ZeroDivisionError("codel divided by zero")
+
+    child = env.process(broken(), "odometry")
+    seen = []
+
+    def parent():
+        try:
+            yield child
+        except ZeroDivisionError as e:
+            seen.append((env.now, e.__notes__))
+
+    env.process(parent(), "parent")
+    env.run()
+    assert seen == [(1.5, ["raised in process 'odometry' at t=1.500000"])]
+    assert repr(child) == "<Process odometry failed with ZeroDivisionError('codel divided by zero')>"
+
+
+def test_combinators_count_events_processed_before_them():
+    env = Environment()
+    done, later = env.event().succeed("early"), env.timeout(2.0)
+    env.run(until=1.0)
+    assert done.processed
+    either, both, none = env.any_of(later, done), env.all_of(done, later), env.all_of()
+    results = {}
+
+    def waiter(name, condition):
+        results[name] = (yield condition), env.now
+
+    for name, condition in (("either", either), ("both", both), ("none", none)):
+        env.process(waiter(name, condition))
+    env.run()
+    assert results == {"either": ({done: "early"}, 1.0), "both": ({done: "early", later: None}, 2.0),
+                       "none": ({}, 1.0)}
+    assert repr(both) == "<Condition 2 of 2 events processed, processed>"
+
+
+def test_a_combinator_fails_with_the_first_failure_and_a_processed_failure_is_thrown_again():
+    env = Environment()
+    bad, slow = env.event(), env.timeout(5.0)
+    both = env.all_of(slow, bad)
+    bad.fail(OSError("laser unplugged"))
+    caught = []
+
+    def waiter(event):
+        try:
+            yield event
+        except OSError as e:
+            caught.append((env.now, str(e)))
+
+    env.process(waiter(both))
+    env.run(until=1.0)
+    env.process(waiter(bad))  # bad is processed: waiting on it throws its failure again at once
+    env.run()
+    assert caught == [(0.0, "laser unplugged"), (1.0, "laser unplugged")]

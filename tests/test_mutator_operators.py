@@ -1,6 +1,7 @@
 """Mutation operators: each does what it says, seeded reproducibility, invalid mutants."""
 import json
 import random
+import re
 
 import pytest
 
@@ -142,3 +143,32 @@ def test_swapping_a_wait_before_its_send_is_invalid(interface):
     mutants = generate(script, interface, 30, seed=1)
     swapped = [m for m in mutants if m.operations[0]["op"] == "swap_requests"]
     assert swapped and all("wait on handle 'ri'" in m.invalid_reason for m in swapped)
+
+
+def test_operators_named_from_the_registry_are_the_only_ones_drawn(golden, interface):
+    assert operators.chosen(None) == ("delete_request", "insert_request", "swap_requests")
+    assert operators.chosen(None, time_mutations=True)[3:] == ("drop_wait", "change_sleep")
+    named = operators.chosen("change_sleep, swap_requests")
+    assert named == ("swap_requests", "change_sleep")  # in the registry's order, whatever the order given
+    drawn = {op["op"] for m in generate(golden, interface, 40, seed=3, operators=named) for op in m.operations}
+    assert drawn == {"swap_requests", "change_sleep"}
+    # absent, the default draws exactly as before the registry
+    assert [m.body for m in generate(golden, interface, 20, seed=3)] == \
+        [m.body for m in generate(golden, interface, 20, seed=3, operators=operators.chosen(None))]
+
+
+@pytest.mark.parametrize("names, time_mutations, message", [
+    ("delete_request,fly", False, "--operators 'delete_request,fly': no operator 'fly'; give a comma-separated "
+                                  "list of delete_request, insert_request, swap_requests, drop_wait, change_sleep"),
+    (" , ", False, "--operators ' , ': none named"),
+    ("drop_wait", True, "with --operators, name them in its list instead"),
+])
+def test_unknown_operators_are_refused_naming_the_registry(names, time_mutations, message):
+    with pytest.raises(operators.UntimelyError, match=re.escape(message)):
+        operators.chosen(names, time_mutations)
+
+
+def test_a_mutant_whose_operators_do_not_apply_keeps_no_operation(interface):
+    mutant = mutate(parse("send rflex.Init as ri\n"), interface, random.Random(0), operations=2,
+                    operators=("swap_requests", "drop_wait"))
+    assert mutant.operations == () and mutant.valid

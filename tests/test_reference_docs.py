@@ -10,7 +10,10 @@ from harness.adapters.ros.mapping import TERMINAL_STATUSES
 from harness.cli import _parser
 from harness.run.external.definitions import KEYS as SUT_KEYS
 from harness.store.sql import VERDICTS
-from harness.target.interface import INTERFACE_KEYS, PROPERTY_TYPES, SERVICE_KINDS, TYPE_PARAMETERS
+from harness.target.interface import INTERFACE_KEYS, SERVICE_KINDS
+from harness.target.property_types import property_types
+
+PROPERTY_TYPES = list(property_types())
 from harness.target.layer_description import DEFECT_KINDS, INTERRUPTING, LAYER_KEYS, REJECTING
 
 REFERENCE = ROOT / "docs" / "reference"
@@ -29,7 +32,7 @@ def named(text: str, word: str) -> bool:
 
 @pytest.mark.parametrize("name, words", [
     ("interface.md", sorted({k for keys in INTERFACE_KEYS.values() for k in keys} | set(SERVICE_KINDS))),
-    ("properties.md", ["id", "family", "type", "x", *sorted({p for ps in TYPE_PARAMETERS.values() for p in ps}),
+    ("properties.md", ["id", "family", "type", "x", *sorted({p for ps in property_types().values() for p in ps}),
                        *PROPERTY_TYPES]),
     ("layer.md", [*sorted(LAYER_KEYS), *REJECTING, *INTERRUPTING, *DEFECT_KINDS, "after", "while", "by", "pairs",
                   "start_s", "run_s", "bounds", "rover", "rock", "heading_deg", "radius"]),

@@ -7,12 +7,14 @@ from pathlib import Path
 
 import pytest
 
-from harness import store
+from harness import DEFAULT_MISSION_DIR, store
 from harness.cli import main
 from harness.errors import StoreError
 from harness.mutator.ddmin import ddmin
 from harness.target.script import parse
-from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, shorter_sleeps, store_shrunk
+from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, representatives, shorter_sleeps, store_shrunk
+from harness.run.executive import run_script
+from harness.target.interface import load_interface, load_properties
 
 MAX_STEPS = 10
 
@@ -138,6 +140,37 @@ def test_campaign_shrink_does_every_distinct_behaviour_once(tmp_path, capsys):
     assert main(args) == 0  # again: every behaviour has its reproducer, nothing is shrunk twice
     assert " shrunk from " not in capsys.readouterr().out
     assert len(_query(db, "select 1 from scripts where kind = 'shrunk'")) == len(behaviours)
+
+
+def _runner_broken_on_genom(script, sut, *args, **kwargs):
+    """The simulator, broken on purpose for one variant (runs in the shrink's worker processes)."""
+    if sut == "genom":
+        raise RuntimeError("the genom simulator broke on purpose")
+    return run_script(script, sut, *args, **kwargs)
+
+
+def test_a_shrink_that_fails_is_recorded_and_shown_and_the_others_go_on(tmp_path):
+    db = tmp_path / "c.duckdb"
+    assert main(["campaign", "--strategy", "targeted", "--mutants", "6", "--sut", "genom,bip-a", "--db", str(db),
+                 "--jobs", "2"]) == 0
+    con = store.connect(db)
+    behaviours = con.execute("select sut, verdict, property_id from bad_behaviours order by all").fetchall()
+    assert {sut for sut, *_ in behaviours} == {"genom", "bip-a"}
+    properties = load_properties(DEFAULT_MISSION_DIR / "properties.toml",
+                                 load_interface(DEFAULT_MISSION_DIR / "interface.toml"))
+    lines = list(representatives(con, properties, tmp_path / "shrunk", _runner_broken_on_genom, 2))
+    assert len(lines) == len(behaviours)
+    failed = [line for line in lines if "not shrunk" in line]
+    # the broken runs crash, so the script no longer shows its behaviour: the worker's UntimelyError says so
+    assert failed and all(re.fullmatch(r".* on genom: not shrunk \(table shrink_failures\): trace \d+'s script does "
+                                       r"not show the .* again when re-run with seed \d+; it cannot be shrunk", line)
+                          for line in failed)
+    assert len(failed) == sum(sut == "genom" for sut, *_ in behaviours)
+    assert con.execute("select sut, verdict, property_id from shrink_failures order by all").fetchall() == [
+        b for b in behaviours if b[0] == "genom"]
+    shrunk = [tuple(r[k] for k in ("sut", "verdict", "property")) for (text,) in
+              con.execute("select mutations from scripts where kind = 'shrunk'").fetchall() for r in json.loads(text)]
+    assert sorted(shrunk, key=str) == sorted((b for b in behaviours if b[0] == "bip-a"), key=str)
 
 
 def test_a_store_older_than_shrunk_scripts_is_refused_and_left_as_it_was(tmp_path):

@@ -150,7 +150,7 @@ def test_targeted_campaign_reaches_every_property_30_times_on_reference(tmp_path
 
 def _args(**changes):
     values = dict(mission=str(DEFAULT_MISSION_DIR), mutants=3, sut="genom", seed=1, jobs=1, ops_per_mutant=None,
-                  strategy="random", time_mutations=False, max_delay=0.003, time_scale=None)
+                  strategy="random", time_mutations=False, operators=None, max_delay=0.003, time_scale=None)
     return argparse.Namespace(**{**values, **changes})
 
 
@@ -164,3 +164,17 @@ def test_strategy_is_part_of_the_campaign_and_time_mutations_stay_random():
     assert find_campaign(con, campaign_config(_args()), "db") == 1
     with pytest.raises(StoreError, match="made with --strategy random, not targeted"):
         find_campaign(con, campaign_config(_args(strategy="targeted")), "db")
+
+
+def test_operators_are_part_of_the_campaign_and_stay_random():
+    config = campaign_config(_args(operators="swap_requests,delete_request"))
+    assert config["operators"] == ["delete_request", "swap_requests"]
+    assert campaign_config(_args())["operators"] is None
+    with pytest.raises(UntimelyError, match="--operators applies to --strategy random only"):
+        campaign_config(_args(strategy="targeted", operators="swap_requests"))
+    con = store.connect()
+    store.add_campaign(con, 1, "m", 1, {k: v for k, v in campaign_config(_args()).items()
+                                        if k != "operators"})  # made before --operators
+    assert find_campaign(con, campaign_config(_args()), "db") == 1
+    with pytest.raises(StoreError, match=r"made with --operators \(the default\), not delete_request,swap_requests"):
+        find_campaign(con, config, "db")

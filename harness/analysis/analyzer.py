@@ -16,22 +16,19 @@ import duckdb
 
 from harness import SQL_DIR
 from harness.analysis import diff
-from harness.store.reads import ordered
+from harness.analysis.oracles import render_property, render_unknown
+from harness.analysis.provenance import default_properties, last_epsilon, sources
 from harness.errors import InputFileError, PropertyError, StoreError
-from harness.target.interface import Interface, Property, load_interface, load_properties
-from harness.analysis.oracles import VERDICT_COLUMNS, render_property
-from harness.store.sql import render_view
-from harness.analysis.provenance import default_properties, last_epsilon, record
+from harness.store.analyses import (OracleFailure, drop_staged, keep_previous, publish, record, replace_old_analysis,
+                                    stage, staged, try_statement)
 from harness.store.database import connect, transaction
+from harness.store.reads import exists, ordered, relations
+from harness.store.sql import render_query, render_view, view_order
+from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.textable import counted, format_table, percent, rate_interval, with_certain
 
 # (events source, verdicts table): the observed timeline and the ground truth.
 SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
-# Creation order: each view reads only tables or views created before it.
-VIEWS = ("wilson", "property_positions", "family_positions", "judged_traces", "trace_scope", "requests",
-         "activities", "property_verdicts", "family_verdicts", "trace_badness", "trace_robustness",
-         "tp_rates", "fp_rates", "inversions", "interface_latency", "coverage", "bad_behaviours",
-         "table_values", "verdict_transitions", "table_changes", "analysis", "trace_epsilon")
 # What orders the views' rows, by column: variants as the campaign ran them, properties and
 # families in the order of the properties file, All last (the store's positions tables and views).
 _LINE = re.compile(r"LINE (\d+):")
@@ -39,91 +36,112 @@ _LINE = re.compile(r"LINE (\d+):")
 
 @dataclass
 class Oracle:
-    """One property's rendered query over one events source."""
+    """One property's rendered statement inserting its verdicts from one events source."""
     prop: Property
+    source: str
     target: str
     sql: str
 
-    def failed(self, error: duckdb.Error) -> StoreError:
-        """The error naming the property, the template and the line of its rendered query."""
+    def failure(self, error: duckdb.Error) -> OracleFailure:
+        """The failure, naming the template and the line of the rendered statement it comes from."""
         message = str(error).split("\n")[0]
         template = SQL_DIR / "oracles" / f"{self.prop.type.lower()}.sql"
-        where = ""
         line = _LINE.search(str(error))
+        where = ""
         if line:
-            number = int(line.group(1)) - 1  # the rendered query comes after "insert into ... (columns)\n"
+            number = int(line.group(1))
             lines = self.sql.splitlines()
             text = lines[number - 1].strip() if 0 < number <= len(lines) else ""
             # the line comes from the type's template or from a template it imports
             found = [t for t in [template, *sorted((SQL_DIR / "oracles").glob("*.sql"))]
                      if text and text in t.read_text()]
             template = found[0] if found else template
-            where = f", line {number} of the rendered query: {text!r}"
-        return StoreError(f"the oracle of property {self.prop.id!r} ({self.target}) failed: {message} "
-                          f"[template {template.relative_to(SQL_DIR.parent)}{where}]; fix the template or the "
-                          f"property (harness.store.sql.render_property renders its query). "
-                          f"The previous verdicts are kept.")
+            where = f", line {number - 1} of the rendered query: {text!r}"
+        return OracleFailure(self.prop.id, self.source, str(template.relative_to(SQL_DIR.parent)),
+                             f"{message}{where}")
 
 
 def render_oracles(properties: list[Property], epsilon: float, interface: Interface | None = None) -> list[Oracle]:
     if not properties:
         raise PropertyError("no properties to judge; give a properties file with [[property]] entries")
-    return [Oracle(p, target, render_property(p, events, epsilon, interface, peers=properties))
+    return [Oracle(p, events, target, render_property(p, events, epsilon, interface, peers=properties,
+                                                      into=staged(target)))
             for events, target in SOURCES for p in properties]
 
 
-def _exists(con, name: str) -> bool:
-    return con.execute("select count(*) from information_schema.tables where table_name = ?", [name]).fetchone()[0] > 0
+def _stage_all(con, rendered: list[Oracle]) -> bool:
+    """Every oracle's rows staged in one transaction (committing each statement on its own costs
+    some 15% of an analysis); False, with nothing staged, if one failed."""
+    try:
+        with transaction(con):
+            for _, target in SOURCES:
+                stage(con, target)
+            for oracle in rendered:
+                con.execute(oracle.sql)
+    except duckdb.Error:
+        return False
+    return True
 
 
-def _keep_previous(con) -> None:
-    """The verdicts and Tables II-IV of the analysis being replaced (empty before the first one),
-    for the diff views."""
-    if _exists(con, "verdicts"):
-        con.execute(render_view("table_values"))
-        con.execute("create or replace table verdicts_previous as from verdicts")
-        con.execute("create or replace table table_values_previous as from table_values")
-    else:
-        con.execute(render_view("verdicts", target="verdicts_previous"))
-        con.execute("create or replace table table_values_previous (sut varchar, family varchar, "
-                    "paper_table varchar, measure varchar, value double)")
+def _judge(con, rendered: list[Oracle]) -> list[OracleFailure]:
+    """Every oracle's rows staged; when one fails, each oracle again on its own (DuckDB aborts a
+    transaction at its first error), a failing one getting 'unknown' rows instead."""
+    if _stage_all(con, rendered):
+        return []
+    failures = []
+    for _, target in SOURCES:
+        stage(con, target)
+    for oracle in rendered:
+        error = try_statement(con, oracle.sql)
+        if error is not None:
+            failures.append(oracle.failure(error))
+            con.execute(render_unknown(oracle.prop, oracle.source, staged(oracle.target)))
+    return failures
 
 
 def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsilon: float,
                 interface: Interface | None = None, properties_file: Path | None = None,
                 interface_file: Path | None = None) -> float:
     """(Re)build the verdict tables and the views in one transaction, keeping the previous verdicts
-    for the diff; a failure keeps the old ones. Returns the seconds it took."""
+    for the diff; a property whose oracle fails gets verdicts 'unknown' and its failure recorded,
+    any other failure keeps the old verdicts (failed_oracles reads what failed). Returns the seconds
+    it took."""
     started = time.perf_counter()
     rendered = render_oracles(properties, epsilon, interface)  # a property that cannot be rendered stops us here
     try:
+        failures = _judge(con, rendered)
         with transaction(con):
-            if con.execute("select count(*) from information_schema.tables where table_name = 'analysis' "
-                           "and table_type = 'BASE TABLE'").fetchone()[0]:
-                con.execute("drop table analysis")  # a store analysed before the analyses table
-            _keep_previous(con)
+            replace_old_analysis(con)
+            keep_previous(con)
             for _, target in SOURCES:
-                con.execute(render_view("verdicts", target=target))
-            for oracle in rendered:
-                try:
-                    con.execute(f"insert into {oracle.target} ({VERDICT_COLUMNS})\n{oracle.sql}")
-                except duckdb.Error as e:
-                    raise oracle.failed(e) from None
-            for _, target in SOURCES:
+                publish(con, target)
                 con.execute(render_view("shared_codes", target=target))
             con.execute(render_view("properties", properties=properties))
-            for name in VIEWS:
+            for name in view_order():
                 con.execute(render_view(name))
             seconds = time.perf_counter() - started
-            record(con, properties_file, epsilon, len(properties), seconds, interface_file)
+            record(con, epsilon, len(properties), seconds, sources(properties_file, interface_file), failures)
     except duckdb.Error as e:
-        raise StoreError(f"the oracle queries failed on this store: {e}") from None
+        raise StoreError(f"the oracle queries failed on this store: {e}; the previous verdicts are kept") from None
+    finally:
+        for _, target in SOURCES:
+            drop_staged(con, target)
     return seconds
+
+
+def failed_oracles(con) -> list[str]:
+    """What failed in the last analysis, one paragraph per failed oracle (table oracle_failures)."""
+    if "oracle_failures" not in relations(con):  # a store read as it is, from before the table
+        return []
+    found = con.execute(render_query("oracle_failures")).fetchall()
+    return [f"The oracle of property {p!r} on {source} failed: {error} [template {template}]; its {n} "
+            "verdicts are 'unknown' (table oracle_failures), every other property was judged. "
+            "Fix the template or the property, then analyze again." for p, source, template, error, n in found]
 
 
 def judges_every_trace(con: duckdb.DuckDBPyConnection) -> bool:
     """True when the stored verdicts were made after the last trace came in."""
-    if not (_exists(con, "verdicts") and _exists(con, "analysis")):
+    if not {"verdicts", "analysis"} <= relations(con):
         return False
     return con.execute("select traces = (select count(*) from traces) from analysis").fetchone()[0]
 
@@ -242,6 +260,8 @@ def main(args) -> int:
     if not traces:
         print("The store holds no traces yet: run a campaign or import traces, then analyze again.")
         return 0
+    for failure in failed_oracles(con):
+        print(failure + "\n")
     print(summary(con, epsilon))
     print("\n" + diff.changes(con))
     return 0

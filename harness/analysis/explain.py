@@ -17,6 +17,7 @@ import duckdb
 from harness.errors import StoreError, UntimelyError
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.analysis.oracles import render_property
+from harness.store.reads import exists
 from harness.store.sql import sql_id_list
 from harness.analysis.provenance import default_properties
 from harness.store.database import connect
@@ -28,10 +29,9 @@ Key = tuple[int, str, int]  # (trace_id, property_id, rqst_id): one verdict row
 def judged_files(con, properties: str | None = None) -> tuple[Path, Path]:
     """The properties file (`properties` if given) and interface file the stored verdicts were made
     from: the last analysis's when they are recorded and still there, else the campaign mission's."""
-    recorded = con.execute("select count(*) from information_schema.tables where table_name = 'analysis_files'")
     found = dict(con.execute("""select role, path from analysis_files where role in ('properties', 'interface')
                                 and analysis_id = (select max(analysis_id) from analyses)""").fetchall()) \
-        if recorded.fetchone()[0] else {}
+        if exists(con, "analysis_files") else {}
     if properties is not None:
         return Path(properties), Path(properties).parent / "interface.toml"
     usable = "properties" in found and Path(found["properties"]).is_file()
@@ -82,11 +82,16 @@ class Explainer:
                                  unnest(?::integer[]) as rqst_id) using (trace_id, property_id, rqst_id)""",
             [list(column) for column in zip(*keys)]).fetchall()}
         pairs: dict[Key, list[dict]] = defaultdict(list)
+        failed: dict[str, str] = {}  # property id -> why its oracle could not explain
         for property_id in dict.fromkeys(p for _, p, _ in keys):
             wanted = [(t, r) for t, p, r in keys if p == property_id]
-            cursor = self.con.execute(render_property(self.properties[property_id], "events", self.epsilon,
-                                                      self.interface, explain=wanted,
-                                                      peers=list(self.properties.values()), runs=self.runs))
+            try:
+                cursor = self.con.execute(render_property(self.properties[property_id], "events", self.epsilon,
+                                                          self.interface, explain=wanted,
+                                                          peers=list(self.properties.values()), runs=self.runs))
+            except duckdb.Error as e:  # one property's failing oracle must not hide the others' explanations
+                failed[property_id] = str(e).split("\n")[0]
+                continue
             names = [d[0] for d in cursor.description]
             for row in cursor.fetchall():
                 pair = dict(zip(names, row))
@@ -97,7 +102,14 @@ class Explainer:
         for (trace_id, _), (service, _, final_t, reply, _) in requests.items():
             if reply == "ok":
                 oks[(trace_id, service)].append(final_t)
-        return {k: self._text(k, verdicts[k], requests, oks, pairs[k]) for k in keys if k in verdicts}
+        return {k: self._failed(k, verdicts[k], failed[k[1]]) if k[1] in failed
+                else self._text(k, verdicts[k], requests, oks, pairs[k]) for k in keys if k in verdicts}
+
+    @staticmethod
+    def _failed(key: Key, verdict_row: tuple, error: str) -> str:
+        trace_id, property_id, rqst_id = key
+        return (f"{property_id} on request {rqst_id} of trace {trace_id}: {verdict_row[0]}\n"
+                f"  not explained: the property's oracle failed ({error}); fix its template, then analyze again")
 
     def _items(self, trace_id: int, prop: Property, pairs: list[dict], requests: dict,
                oks: dict) -> list[tuple]:

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from harness import DEFAULT_EPSILON_S, store
 from harness.target.interface import Interface, Property
-from harness.analysis.oracles import VERDICT_COLUMNS, render_property
+from harness.analysis.oracles import render_property
 from harness.store.sql import render_view
 from harness.trace import Trace
 
@@ -19,8 +19,7 @@ class Judge:
         store.add_reply_codes(self.con, interface)
         self.con.execute(render_view("properties", properties=properties))
         self.sql = "\n".join([render_view("verdicts", target="verdicts") + ";"]
-                             + [f"insert into verdicts ({VERDICT_COLUMNS})\n"
-                                f"{render_property(p, 'events', epsilon, interface, peers=properties)};"
+                             + [render_property(p, "events", epsilon, interface, peers=properties, into="verdicts") + ";"
                                 for p in properties]
                              + [render_view("shared_codes", target="verdicts") + ";"])
 
@@ -28,8 +27,7 @@ class Judge:
         """Per trace, its verdict rows (the verdicts columns but trace_id) in the order of the
         properties, then of the requests."""
         con = self.con
-        for table in ("traces", "events", "internal_events", "world_events", "trace_runs"):
-            con.execute(f"delete from {table}")
+        store.forget_traces(con)
         for n, trace in enumerate(traces, 1):
             store.insert_trace(con, n, 0, None, trace)
         con.execute(self.sql)

@@ -16,11 +16,9 @@ from harness import DEFAULT_EPSILON_S
 from harness.errors import PropertyError
 from harness.store.sql import ENV
 from harness.target.interface import Interface, Property
+from harness.target.property_types import REPLY_CODES, SERVICE_LISTS, property_types
 
-# The columns of the verdicts table in the order every oracle query returns them (sql/views/verdicts.sql).
-VERDICT_COLUMNS = ("trace_id, property_id, family, rqst_id, module, service, c_holds, verdict, margin_s, suspicious, "
-                   "certain, alternatives")
-PARAMETERS = ("x", "y", "q", "r_p", "z_p")
+PARAMETERS = (*SERVICE_LISTS, *REPLY_CODES)
 _TABLE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _SERVICE = re.compile(r"[^.\s']+\.[^.\s']+")
 
@@ -54,27 +52,38 @@ def interrupters(properties: list[Property]) -> list[tuple[str, str, str]]:
     return sorted(found)
 
 
+def _template(prop: Property) -> str:
+    return f"oracles/{str(prop.type).lower()}.sql"
+
+
+def _table_name(name: str, role: str) -> None:
+    if not _TABLE_NAME.fullmatch(name):
+        raise PropertyError(f"{role} {name!r} is not a table name; use events or internal_events")
+
+
 def render_property(prop: Property, events: str = "events", epsilon: float = DEFAULT_EPSILON_S,
                     interface: Interface | None = None, explain: list[tuple[int, int]] = (),
-                    peers: list[Property] = (), runs: bool = True) -> str:
+                    peers: list[Property] = (), runs: bool = True, into: str | None = None) -> str:
     """The oracle query of one property over the events table `events`: the verdicts columns.
     The interface, when given, says which requests may end an activity, and `peers` (the properties
     judged with it) on which other modules an interruption may come from (see sql/oracles/ee.sql).
     `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions.
-    `runs`: whether the store has trace_runs, whose pings give a real-time trace its epsilon."""
-    if not _TABLE_NAME.fullmatch(events):
-        raise PropertyError(f"events source {events!r} is not a table name; use events or internal_events")
+    `runs`: whether the store has trace_runs, whose pings give a real-time trace its epsilon.
+    `into`: a verdicts table; then the statement inserting the rows into it."""
+    _table_name(events, "events source")
+    if into is not None:
+        _table_name(into, "verdicts table")
     if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
         raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
     parameters = _parameters(prop)
     services = sorted({s for v in parameters.values() if isinstance(v, list) for s in v})
     own = {s.split(".")[0] for s in services}
     enders = [e for e in interrupters([prop, *peers]) if e[0] in prop.x or e[0] in prop.y]
-    template = f"oracles/{str(prop.type).lower()}.sql"
+    template = _template(prop)
     try:
         return ENV.get_template("oracles/_oracle.sql").render(
-            template=template, id=prop.id, family=prop.family, events=events, epsilon=round(float(epsilon), 6),
-            parameters=parameters, enders=enders, runs=runs,
+            template=template, into=into, id=prop.id, family=prop.family, events=events,
+            epsilon=round(float(epsilon), 6), parameters=parameters, enders=enders, runs=runs,
             modules=sorted(own | {service.split(".")[0] for *_, service in enders}),
             until_stopped=interface.until_stopped if interface else [],
             control=interface.of_kind("control") if interface else [],
@@ -84,10 +93,22 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
         if e.name != template:
             raise
         raise PropertyError(f"property {prop.id!r}: type {prop.type!r} has no oracle template "
-                            f"{template}; use one of PC, ES, EE, EX, MX_R, MX_I") from None
+                            f"{template}; use one of {', '.join(property_types())}") from None
     except jinja2.UndefinedError as e:
         raise PropertyError(f"property {prop.id!r} of type {prop.type}: {e}; "
                             "add it to the property's entry") from None
     except TypeError as e:
         raise PropertyError(f"property {prop.id!r} of type {prop.type}: {e} "
                             "(the type does not use it); remove it from the property's entry") from None
+
+
+def render_unknown(prop: Property, events: str, into: str) -> str:
+    """The statement giving verdict 'unknown' to every request the property judges, for when its
+    oracle failed: the requests of its x services, and of the other roles its template declares
+    (`{% set judges = [...] %}`, as the mutual types do)."""
+    _table_name(events, "events source")
+    _table_name(into, "verdicts table")
+    roles = getattr(ENV.get_template(_template(prop)).module, "judges", ["x"])
+    judged = sorted({s for role in roles for s in getattr(prop, role) or ()})
+    return ENV.get_template("oracles/_unknown.sql").render(into=into, id=prop.id, family=prop.family,
+                                                          events=events, judged=judged)

@@ -1,4 +1,5 @@
-"""What an analysis was made from (the `analyses` and `analysis_files` tables of sql/schema.sql).
+"""What an analysis was made from (the `analyses` and `analysis_files` tables of sql/schema.sql,
+written by harness.store.analyses).
 
 Each analysis records the SHA-256 of its properties file, of the interface beside it and of every
 template under sql/; `stale_files` says which of them no longer match the files on disk, so that
@@ -28,26 +29,15 @@ def templates() -> list[Path]:
     return [t for folder in ("oracles", "views") for t in sorted((SQL_DIR / folder).glob("*.sql"))]
 
 
-def sources(properties_file: Path, interface_file: Path | None = None) -> list[tuple[str, str, str]]:
+def sources(properties_file: Path | None, interface_file: Path | None = None) -> list[tuple[str, str, str]]:
     """(role, path, sha256) of every file that decides the verdicts (the interface: beside the
-    properties unless given)."""
+    properties unless given); none for properties given in code."""
+    if properties_file is None:
+        return []
     files = [("properties", properties_file),
              ("interface", interface_file or properties_file.parent / "interface.toml")]
     files += [("template", t) for t in templates()]
     return [(role, str(path.resolve()), _sha256(path)) for role, path in files]
-
-
-def record(con, properties_file: Path | None, epsilon: float, properties: int, seconds: float,
-           interface_file: Path | None = None) -> None:
-    """Add the analysis just made to `analyses` (its files when it was judged from a properties
-    file); the caller owns the transaction."""
-    analysis_id = con.execute("select coalesce(max(analysis_id), 0) + 1 from analyses").fetchone()[0]
-    con.execute("insert into analyses (analysis_id, analysed_at, epsilon, properties, traces, seconds) "
-                "select ?, now()::timestamp, ?, ?, (select count(*) from traces), ?",
-                [analysis_id, epsilon, properties, seconds])
-    if properties_file is not None:
-        con.executemany("insert into analysis_files (analysis_id, role, path, sha256) values (?, ?, ?, ?)",
-                        [[analysis_id, *source] for source in sources(properties_file, interface_file)])
 
 
 def stale_files(con) -> list[tuple[str, str]]:

@@ -5,7 +5,6 @@ trace, so ad-hoc runs and campaigns can share a store without mixing.
 """
 from __future__ import annotations
 
-import json
 from collections import Counter
 from pathlib import Path
 
@@ -84,9 +83,7 @@ def main(args) -> int:
         store.add_campaign(con, campaign_id, str(script_path), args.seed, config)
         store.add_reply_codes(con, interface)
         script_id = store.next_id(con, "scripts", "script_id")
-        con.execute("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
-                    "invalid_reason) values (?, ?, 'golden', null, ?, ?, true, null)",
-                    [script_id, campaign_id, json.dumps([]), script.render()])
+        store.add_scripts(con, [store.ScriptRow(script_id, campaign_id, "golden", script.render())])
         trace_id = store.next_id(con, "traces", "trace_id")
         store.insert_trace(con, trace_id, campaign_id, script_id, trace)
     print(f"trace {trace_id} of {script_path} on {sut} (seed {args.seed}) stored in {args.db}")

@@ -33,7 +33,7 @@ from harness.files import read_text
 from harness.target.interface import Interface
 from harness.target.mission import load_mission
 from harness.mutator import strategies
-from harness.mutator.operators import Mutant
+from harness.mutator.operators import Mutant, chosen as chosen_operators
 from harness.store.sql import render_query
 from harness.progress import Progress
 from harness.analysis.provenance import last_epsilon
@@ -42,10 +42,10 @@ from harness.trace import Trace
 from harness.run.workers import Pool, Setup, Task, script_label
 
 # Arguments that decide what is run; --jobs, --cluster and --db do not.
-COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "max_delay",
-            "files", "shard")
+COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "operators",
+            "max_delay", "files", "shard")
 # What a config stored before a key existed means by its absence.
-ABSENT = {"external": {}, "strategy": "random", "shard": None}
+ABSENT = {"external": {}, "strategy": "random", "shard": None, "operators": None}
 RUN_WALL_LIMIT_S = 600.0  # of a simulated run; a real-time one has the executive's watchdogs
 REALTIME_WALL_LIMIT_S = 3 * 3600.0
 # A transaction per simulated run cost a quarter of a campaign; a killed campaign re-runs at most
@@ -62,7 +62,8 @@ def campaign_config(args) -> dict:
     if not 0 <= args.mutants <= MAX_MUTANTS:
         raise UntimelyError(f"--mutants {args.mutants}: give a number of mutants from 0 to {MAX_MUTANTS:,}; "
                             "split a larger study into campaigns of other --seed values")
-    ops_per_mutant = strategies.operations(args.strategy, args.ops_per_mutant, args.time_mutations)
+    ops_per_mutant = strategies.operations(args.strategy, args.ops_per_mutant, args.time_mutations, args.operators)
+    named = None if args.operators is None else list(chosen_operators(args.operators, args.time_mutations))
     if ops_per_mutant < 1:
         raise UntimelyError(f"--ops-per-mutant {ops_per_mutant}: give at least 1 operation per mutant")
     if args.jobs < 0:
@@ -76,7 +77,7 @@ def campaign_config(args) -> dict:
     return {"kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
             "external": {name: sut.config() for name, sut in external.items()},
             "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,
-            "time_mutations": args.time_mutations,
+            "time_mutations": args.time_mutations, "operators": named,
             "max_delay": args.max_delay, "jobs": args.jobs,
             "files": mission.hashes(), "shard": sharding.parse(getattr(args, "shard", None))}
 
@@ -93,7 +94,7 @@ def _difference(stored: dict, wanted: dict) -> str | None:
             continue
         if key == "external":
             return f"external SUTs {stored.get(key, ABSENT[key])}, not {wanted[key]}"
-        show = (lambda v: ",".join(v)) if key == "sut" else str
+        show = (lambda v: ",".join(v) if v else "(the default)") if key in ("sut", "operators") else str
         flag = "--" + key.replace("_", "-")
         return f"{flag} {show(stored.get(key, ABSENT.get(key)))}, not {show(wanted[key])}"
     return None
@@ -152,11 +153,9 @@ def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[M
         store.add_campaign(con, campaign_id, config["mission"], config["seed"], config)
         store.add_reply_codes(con, interface)
         store.place(con, "variant_positions", "sut", config["sut"])
-        rows = [(golden_id, campaign_id, "golden", None, "[]", golden_text, True, None)]
-        rows += [(golden_id + n, campaign_id, "mutant", golden_id, json.dumps(m.operations), m.body,
-                  m.valid, m.invalid_reason) for n, m in enumerate(mutants, 1)]
-        con.executemany("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
-                        "invalid_reason) values (?, ?, ?, ?, ?, ?, ?, ?)", rows)
+        store.add_scripts(con, [store.ScriptRow(golden_id, campaign_id, "golden", golden_text)] + [
+            store.ScriptRow(golden_id + n, campaign_id, "mutant", m.body, golden_id, m.operations, m.valid,
+                            m.invalid_reason) for n, m in enumerate(mutants, 1)])
         store.insert_traces(con, campaign_id, [(task.trace_id, task.script_id, trace, None)
                                                for task, trace in golden_runs])
     return campaign_id
@@ -316,6 +315,8 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
         epsilon = last_epsilon(con)  # a resumed campaign keeps the epsilon its verdicts were made with
         analyzer.materialise(con, properties, epsilon, interface, mission / "properties.toml")
         print(f"verdicts  materialised for every trace of {args.db} (epsilon {epsilon:g} s)\n")
+        for failure in analyzer.failed_oracles(con):
+            print(failure + "\n")
         print(analyzer.summary(con, epsilon))
     if args.shrink:
         print("\nshrunk reproducers, one per distinct bad behaviour (view bad_behaviours):")

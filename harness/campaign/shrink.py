@@ -25,8 +25,6 @@ from functools import cached_property
 from pathlib import Path
 from typing import Iterator
 
-import duckdb
-
 from harness import DEFAULT_EPSILON_S, store
 from harness.errors import ScriptError, StoreError, UntimelyError
 from harness.files import make_folder
@@ -212,18 +210,13 @@ def store_shrunk(con, orig: Original, behaviour: Behaviour, script: Script, runs
     record = {"op": "shrink", "trace": orig.trace_id, "sut": orig.sut, "seed": orig.seed,
               "verdict": behaviour.verdict, "property": behaviour.property_id,
               "steps_before": len(parse(orig.body).steps), "steps_after": len(script.steps), "runs": runs}
-    try:
-        with store.transaction(con):
-            campaign_id = store.next_id(con, "campaigns", "campaign_id")
-            store.add_campaign(con, campaign_id, str(orig.mission), orig.seed,
-                               {"kind": "shrink", "max_delay": orig.max_delay, **record})
-            script_id = store.next_id(con, "scripts", "script_id")
-            con.execute("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
-                        "invalid_reason) values (?, ?, 'shrunk', ?, ?, ?, true, null)",
-                        [script_id, campaign_id, orig.script_id, json.dumps([record]), script.render()])
-    except duckdb.ConstraintException as e:
-        raise StoreError(f"this store predates shrunk scripts ({e}); shrink into a store made by this "
-                         "version (run the campaign again with another --db)") from None
+    with store.transaction(con):
+        campaign_id = store.next_id(con, "campaigns", "campaign_id")
+        store.add_campaign(con, campaign_id, str(orig.mission), orig.seed,
+                           {"kind": "shrink", "max_delay": orig.max_delay, **record})
+        script_id = store.next_id(con, "scripts", "script_id")
+        store.add_scripts(con, [store.ScriptRow(script_id, campaign_id, "shrunk", script.render(),
+                                                orig.script_id, [record])])
     return script_id
 
 
@@ -246,14 +239,10 @@ def write_mission(out: Path, orig: Original, behaviour: Behaviour, script_id: in
 
 
 def shrunk(orig: Original, behaviour: Behaviour, properties: list[Property],
-           runner=run_script) -> tuple[Script, int, float] | str:
-    """(the shrunk script, runs, seconds), or why it cannot be shrunk: a worker process returns
-    the message, since UntimelyError subclasses do not all survive pickling."""
+           runner=run_script) -> tuple[Script, int, float]:
+    """(the shrunk script, runs, seconds)."""
     started = time.perf_counter()
-    try:
-        script, runs = shrink(orig, behaviour, properties, runner)
-    except UntimelyError as e:
-        return str(e)
+    script, runs = shrink(orig, behaviour, properties, runner)
     return script, runs, time.perf_counter() - started
 
 
@@ -287,9 +276,12 @@ def representatives(con, properties: list[Property], out: Path, external: dict[s
         futures = [(behaviour, orig, pool.submit(shrunk, orig, behaviour, properties, runner))
                    for behaviour, orig in todo]
         for behaviour, orig, future in futures:
-            result = future.result()
-            yield f"{behaviour}: not shrunk: {result}" if isinstance(result, str) else \
-                stored(con, orig, behaviour, result, out)
+            try:
+                yield stored(con, orig, behaviour, future.result(), out)
+            except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
+                why = str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}"
+                store.record_shrink_failure(con, orig.trace_id, behaviour.sut, behaviour.verdict, behaviour.property_id, why)
+                yield f"{behaviour}: not shrunk (table shrink_failures): {why}"
 
 
 def default_out(db: str) -> Path:
@@ -306,7 +298,5 @@ def main(args) -> int:
         raise UntimelyError(f"--verdict {args.verdict} needs --property: the property whose verdict to keep")
     behaviour = behaviour_of(orig, properties, args.property, args.verdict)
     result = shrunk(orig, behaviour, properties)
-    if isinstance(result, str):
-        raise UntimelyError(result)
     print(stored(con, orig, behaviour, result, out))
     return 0

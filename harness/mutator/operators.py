@@ -2,7 +2,8 @@
 
 The paper's three operators act on module requests (`send` steps): delete one, insert
 an additional one, swap a pair. Two time-domain operators are opt-in: drop a `wait`,
-change a `sleep`. An operator may produce a script the validator rejects (a `wait` on a
+change a `sleep`. A new operator is a function (steps, rng, interface) -> record or None
+(None: it does not apply) added to the registry OPERATORS; `campaign --operators` picks by name. An operator may produce a script the validator rejects (a `wait` on a
 deleted handle, a `wait` moved before its `send`): such a mutant is kept, marked invalid.
 
 Each operation is recorded as a JSON-able dict: `op`, the involved step(s) as text, and
@@ -16,7 +17,7 @@ import random
 from dataclasses import dataclass, replace
 from typing import Callable
 
-from harness.errors import ScriptError
+from harness.errors import ScriptError, UntimelyError
 from harness.target.interface import Interface, Service
 from harness.target.script import Script, Step, validate
 
@@ -122,22 +123,44 @@ def change_sleep(steps, rng, interface):
     return {"op": "change_sleep", "line": _line(old), "step": step_text(old), "seconds": seconds}
 
 
-REQUEST_OPERATORS = (delete_request, insert_request, swap_requests)
-TIME_OPERATORS = (drop_wait, change_sleep)
+# The registry: every operator by name, in the order a mutant draws among those it may use.
+OPERATORS = {op.__name__: op for op in (delete_request, insert_request, swap_requests, drop_wait, change_sleep)}
+REQUEST_OPERATORS = ("delete_request", "insert_request", "swap_requests")  # the paper's, the default
+TIME_OPERATORS = ("drop_wait", "change_sleep")  # added by --time-mutations
+
+
+def chosen(names: str | None, time_mutations: bool = False) -> tuple[str, ...]:
+    """The operators a campaign draws among: those named (`campaign --operators a,b`), in the
+    registry's order, or the paper's, with the time-domain ones for --time-mutations."""
+    if names is None:
+        return REQUEST_OPERATORS + (TIME_OPERATORS if time_mutations else ())
+    given = [n.strip() for n in names.split(",") if n.strip()]
+    unknown = [n for n in given if n not in OPERATORS]
+    if unknown or not given:
+        raise UntimelyError(f"--operators {names!r}: {'no operator ' + repr(unknown[0]) if unknown else 'none named'}; "
+                            f"give a comma-separated list of {', '.join(OPERATORS)}")
+    if time_mutations:
+        raise UntimelyError("--time-mutations adds drop_wait and change_sleep to the default operators; "
+                            "with --operators, name them in its list instead")
+    return tuple(n for n in OPERATORS if n in given)
 
 
 def mutate(golden: Script, interface: Interface, rng: random.Random, operations: int = 1,
-           time_mutations: bool = False, label: str = "mutant") -> Mutant:
-    """Apply `operations` operators drawn uniformly among those that apply, then validate."""
+           time_mutations: bool = False, label: str = "mutant", operators: tuple[str, ...] | None = None) -> Mutant:
+    """Apply `operations` operators drawn uniformly among those that apply (of `operators`, by
+    default chosen(None, time_mutations)), then validate. An operation none of them applies to is
+    left out (insert_request always applies)."""
     steps, records = list(golden.steps), []
+    names = chosen(None, time_mutations) if operators is None else operators
     for _ in range(operations):
-        candidates = list(REQUEST_OPERATORS + (TIME_OPERATORS if time_mutations else ()))
+        candidates = [OPERATORS[n] for n in names]
         record = None
-        while record is None:  # insert_request always applies, so this ends
+        while record is None and candidates:
             operator = rng.choice(candidates)
             candidates.remove(operator)
             record = operator(steps, rng, interface)
-        records.append(record)
+        if record is not None:
+            records.append(record)
     return validated(Script(tuple(steps), label).renumbered(), records, interface)
 
 
@@ -153,7 +176,7 @@ def validated(script: Script, records: list[dict], interface: Interface) -> Muta
 def generate(golden: Script, interface: Interface, count: int, seed: int, operations: int = 1,
              time_mutations: bool = False, redraws: int = 50,
              name: Callable[[int], str] = "mutant {}".format,
-             on_mutant: Callable[[], None] = lambda: None) -> list[Mutant]:
+             on_mutant: Callable[[], None] = lambda: None, operators: tuple[str, ...] | None = None) -> list[Mutant]:
     """`count` seeded mutants; `name(n)` labels the n-th (from 1) in its validator message,
     `on_mutant()` is called after each (progress). A mutant whose body equals the golden or an
     earlier mutant's is redrawn (up to `redraws` times), so duplicates only remain when the
@@ -162,7 +185,7 @@ def generate(golden: Script, interface: Interface, count: int, seed: int, operat
     seen, mutants = {golden.renumbered().render()}, []
     for n in range(1, count + 1):
         for _ in range(redraws + 1):
-            mutant = mutate(golden, interface, rng, operations, time_mutations, name(n))
+            mutant = mutate(golden, interface, rng, operations, time_mutations, name(n), operators)
             if mutant.body not in seen:
                 break
         seen.add(mutant.body)

@@ -22,13 +22,16 @@ STRATEGIES = ("random", "targeted")
 DEFAULT_OPERATIONS = {"random": 1, "targeted": targeted.SITES_PER_MUTANT}
 
 
-def operations(strategy: str, given: int | None, time_mutations: bool) -> int:
+def operations(strategy: str, given: int | None, time_mutations: bool, named_operators: str | None = None) -> int:
     """Operations per mutant: the one given, or the strategy's default; refuses what does not apply."""
     if strategy not in STRATEGIES:
         raise UntimelyError(f"--strategy {strategy!r}: choose one of {', '.join(STRATEGIES)}")
     if strategy == "targeted" and time_mutations:
         raise UntimelyError("--time-mutations applies to --strategy random only; targeted mutants "
                             "choose their own sleeps")
+    if strategy == "targeted" and named_operators is not None:
+        raise UntimelyError("--operators applies to --strategy random only; targeted mutants insert "
+                            "the requests that falsify conditions")
     return DEFAULT_OPERATIONS[strategy] if given is None else given
 
 
@@ -40,8 +43,9 @@ def generate(config: dict, golden: Script, interface: Interface, properties: lis
     calls `on_mutant()` after each mutant (progress)."""
     count, seed, ops = config["mutants"], config["seed"], config["ops_per_mutant"]
     if config["strategy"] == "random":
+        named = config.get("operators")
         return operators.generate(golden, interface, count, seed, ops, config["time_mutations"], name=name,
-                                  on_mutant=on_mutant)
+                                  on_mutant=on_mutant, operators=tuple(named) if named else None)
     trace = run_golden()
     verdicts = Judge(interface, properties).verdicts([trace])[0]
     return targeted.generate(golden, trace, verdicts, interface, properties, count, seed, ops, name=name)

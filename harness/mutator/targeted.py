@@ -59,14 +59,26 @@ def _es(x, y) -> Falsifier:
     return Falsifier("during", send=tuple(x), running=tuple(y))
 
 
-def falsifiers(prop: Property) -> list[Falsifier]:
+def _generic(prop: Property) -> list[Falsifier]:
+    """A type without its own aims (a new template): every way its parameters can make a condition
+    false, x sent before Q's ok or while a y runs, or while another x runs when it has neither."""
     x, y = prop.x, prop.y
-    return {"PC": lambda: [Falsifier("before_ok", send=x, need=prop.q)],
-            "ES": lambda: [_es(x, y)],
-            "EE": lambda: [_ee(x, y)],
-            "EX": lambda: [_es(x, y), _ee(x, y)],
-            "MX_R": lambda: [_es(x, y), _es(y, x)],
-            "MX_I": lambda: [_ee(x, y), _ee(y, x)]}[prop.type]()
+    aims = [Falsifier("before_ok", send=x, need=prop.q)] if prop.q else []
+    aims += [_es(x, y), _ee(x, y)] if y else []
+    return aims or [_es(x, x)]
+
+
+# The aims of the paper's types (DESIGN §6), by what falsifies each one's condition.
+AIMS = {"PC": lambda p: [Falsifier("before_ok", send=p.x, need=p.q)],
+        "ES": lambda p: [_es(p.x, p.y)],
+        "EE": lambda p: [_ee(p.x, p.y)],
+        "EX": lambda p: [_es(p.x, p.y), _ee(p.x, p.y)],
+        "MX_R": lambda p: [_es(p.x, p.y), _es(p.y, p.x)],
+        "MX_I": lambda p: [_ee(p.x, p.y), _ee(p.y, p.x)]}
+
+
+def falsifiers(prop: Property) -> list[Falsifier]:
+    return AIMS.get(prop.type, _generic)(prop)
 
 
 def disturbers(prop: Property, interface: Interface) -> list[Falsifier]:

@@ -5,9 +5,9 @@ import json
 from collections.abc import Iterator
 from itertools import islice
 
-from harness.store.reads import ordered
+from harness.store.reads import exists, ordered, read_older_analysis, relations
 from harness.errors import StoreError
-from harness.store.sql import render_query, render_view, sql_id_list
+from harness.store.sql import render_query, sql_id_list
 from harness.analysis.provenance import stale_files
 from harness.report.html import VERDICTS
 from harness.report.tables import Table, query_table
@@ -33,7 +33,7 @@ def check_analysed(con, db: str) -> None:
     """Refuse a store whose verdicts were never materialised: the report would be empty. A store
     analysed before view trace_scope existed gets it as a temporary view counting every trace,
     and one analysed before view trace_badness gets that view as a temporary one."""
-    have = _names(con)
+    have = relations(con)
     missing = [name for name in ("traces", *ANALYSED) if name not in have]
     if "traces" in missing:
         raise StoreError(f"{db!r} is not an Untimely store (no traces table); pass the campaign's --db")
@@ -43,16 +43,12 @@ def check_analysed(con, db: str) -> None:
         lacking = ", ".join(missing) or "any analysis"
         raise StoreError(f"{db!r} has no verdicts yet (lacks {lacking}); "
                          f"run python -m harness analyze --db {db} first")
-    if "trace_scope" not in have:  # analysed by an earlier bench, whose views count every trace
-        con.execute("create temp view trace_scope as select trace_id, sut, campaign_id, true as counted, "
-                    "null::varchar as left_out from traces")
-    if "trace_badness" not in have:  # the rule, as a temporary view, for a store analysed before it
-        con.execute(render_view("trace_badness", temp=True))
+    read_older_analysis(con)
 
 
 def per_property(con) -> Table:
     """The coverage view; a store analysed before it had one (read as it is) shows its verdict counts."""
-    if con.execute("select count(*) from information_schema.tables where table_name = 'coverage'").fetchall()[0][0]:
+    if exists(con, "coverage"):
         return view(con, "coverage", percent=COVERAGE_RATES)
     return view(con, "property_verdicts")
 
@@ -92,10 +88,6 @@ def verdict_mix(con) -> dict[tuple[str, str], int]:
     return {(r["sut"], v): r[v.lower()] for r in found for v in VERDICTS}
 
 
-def _names(con) -> set[str]:
-    return {r[0] for r in con.execute("select table_name from information_schema.tables").fetchall()}
-
-
 def analysis(con) -> dict:
     """When the verdicts were made, from how many properties, with which epsilon and files, and
     which of those files changed on disk since (the verdicts no longer match them)."""
@@ -114,7 +106,7 @@ def analysis(con) -> dict:
 def changes(con) -> tuple[Table, ...]:
     """What the last analysis changed: verdict transitions and the changed cells of Tables II-IV
     (empty for a store judged before they were kept)."""
-    if not set(CHANGES) <= _names(con):
+    if not set(CHANGES) <= relations(con):
         return tuple(Table(name, [], []) for name in CHANGES)
     return (query_table(con, "verdict_transitions", ordered(con, "verdict_transitions")),
             query_table(con, "table_changes", ordered(con, "table_changes") + ", paper_table"))

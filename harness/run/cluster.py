@@ -30,7 +30,7 @@ from harness import MISSIONS_DIR, ROOT, SQL_DIR
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.trace import Trace
-from harness.run.workers import Setup, Task, UserError, crashed
+from harness.run.workers import Setup, Task, crashed
 
 PACKAGE = Path(__file__).resolve().parent.parent  # harness/
 ALLOWED_FAILURES = "distributed.scheduler.allowed-failures"
@@ -87,7 +87,7 @@ def _interface(path: str):
 _slots_lock, _busy_slots = threading.Lock(), set()
 
 
-def _run_remote(setup: Setup, task: Task) -> Trace | UserError:
+def _run_remote(setup: Setup, task: Task) -> Trace | UntimelyError:
     """Runs on a Dask worker; a slot number per concurrent run of this worker process."""
     with _slots_lock:
         slot = min(set(range(len(_busy_slots) + 1)) - _busy_slots)
@@ -169,8 +169,8 @@ class Cluster:
                     result = crashed(task, f"the Dask worker running it failed: {type(error).__name__}: {error}")
                 else:
                     result = future.result()
-                if isinstance(result, UserError):
-                    raise UntimelyError(result.message)
+                if isinstance(result, UntimelyError):
+                    raise result
                 on_trace(task, result)
                 if pending:
                     submit()

@@ -60,7 +60,7 @@ class Setup:
     external: dict[str, ExternalSut] = field(default_factory=dict)  # SUTs run over untimely/1
     watchdog_s: float | None = None  # wall seconds a run may take before its worker is killed
 
-    def run(self, task: Task, interface, slot: int) -> "Trace | UserError":
+    def run(self, task: Task, interface, slot: int) -> "Trace | UntimelyError":
         """One run, wherever it happens (a pool worker, a Dask worker); never raises."""
         start = time.perf_counter()
         try:
@@ -69,15 +69,9 @@ class Setup:
                 return run_external(script, self.external[task.sut], task.seed, interface, slot, task.trace_id)
             return self.runner(script, task.sut, task.seed, interface, self.world_file, self.max_delay)
         except UntimelyError as e:  # the user's input (a variant, world or adapter that cannot be used)
-            return UserError(str(e))
+            return e
         except Exception:  # noqa: BLE001 - any other failure is this run's crash
             return crashed(task, traceback.format_exc().strip(), time.perf_counter() - start)
-
-
-@dataclass(frozen=True)
-class UserError:
-    """An UntimelyError raised in a worker, as text: its subclasses do not all survive pickling."""
-    message: str
 
 
 def script_label(script_id: int) -> str:
@@ -200,8 +194,8 @@ class Pool:
                                                       "the worker was killed", setup.watchdog_s)
                     elif result is None:
                         result = crashed(worker.task, worker.death())
-                    if isinstance(result, UserError):
-                        raise UntimelyError(result.message)
+                    if isinstance(result, UntimelyError):
+                        raise result
                     task, worker.task = worker.task, None
                     if not worker.process.is_alive():
                         workers.remove(worker)

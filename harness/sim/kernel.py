@@ -4,6 +4,10 @@ Processes are generators that yield events; the kernel resumes a process when th
 it waits on is processed. Scheduled events sit in a heap of (time, priority, seq, event):
 `seq` is a global counter, so events at equal times run in a reproducible order.
 Nothing here sleeps: time jumps from one event to the next.
+
+Failures as in SimPy: an event may `fail(exception)`, which is thrown into the processes waiting
+on it; a process whose generator raises fails with that exception, noted with the process's name;
+a failure that nothing waits on is raised out of `run`, so that it never passes silently.
 """
 from __future__ import annotations
 
@@ -46,9 +50,22 @@ class Event:
         self.env._schedule(self, 0.0, priority)
         return self
 
-    def __repr__(self) -> str:
+    def fail(self, exception: BaseException, priority: int = NORMAL) -> "Event":
+        """Trigger the event as failed: `exception` is thrown into the processes waiting on it."""
+        if not isinstance(exception, BaseException):
+            raise TypeError(f"{exception!r} is not an exception; fail() takes an exception instance")
+        if self.triggered:
+            raise RuntimeError(f"{self!r} has already been triggered")
+        self.triggered, self.ok, self.value = True, False, exception
+        self.env._schedule(self, 0.0, priority)
+        return self
+
+    def _state(self) -> str:
         state = "processed" if self.processed else "triggered" if self.triggered else "pending"
-        return f"<{type(self).__name__} {state} at t={self.env.now:.6f}>"
+        return state if self.ok else f"{state}, failed with {self.value!r}"
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} {self._state()} at t={self.env.now:.6f}>"
 
 
 class Timeout(Event):
@@ -68,6 +85,39 @@ class Timeout(Event):
 
     def __repr__(self) -> str:
         return f"<Timeout {self.delay:g}s {'processed' if self.processed else 'pending'}>"
+
+
+class Condition(Event):
+    """Succeeds when `needed` of `events` have been processed (any_of: one, all_of: all), with
+    the values of those processed so far by event; fails with the first failure among them.
+    Events processed before the condition was made count at once."""
+
+    __slots__ = ("events", "needed")
+
+    def __init__(self, env: "Environment", events: tuple[Event, ...], needed: int):
+        super().__init__(env)
+        self.events, self.needed = events, needed
+        if needed == 0:
+            self.succeed({})
+        for event in events:
+            if event.callbacks is None:
+                self._check(event)
+            else:
+                event.callbacks.append(self._check)
+
+    def _check(self, event: Event) -> None:
+        if self.triggered:
+            return
+        if not event.ok:
+            self.fail(event.value)
+            return
+        self.needed -= 1
+        if self.needed == 0:
+            self.succeed({e: e.value for e in self.events if e.callbacks is None and e.ok})
+
+    def __repr__(self) -> str:
+        done = sum(e.callbacks is None for e in self.events)
+        return f"<Condition {done} of {len(self.events)} events processed, {self._state()}>"
 
 
 class Process(Event):
@@ -115,20 +165,29 @@ class Process(Event):
             self.triggered, self.value = True, stop.value
             self.env._schedule(self, 0.0, NORMAL)
             return
+        except Exception as error:  # the process fails: its waiters get the error, or run() raises it
+            error.add_note(f"raised in process {self.name!r} at t={self.env.now:.6f}")
+            self.triggered, self.ok, self.value = True, False, error
+            self.env._schedule(self, 0.0, URGENT)
+            return
         if not isinstance(nxt, Event):
             raise TypeError(f"process {self.name!r} yielded {nxt!r}; yield an Event")
         callbacks = nxt.callbacks
-        if callbacks is None:  # already processed: resume right away
+        if callbacks is None:  # already processed: resume right away, with its value or its failure
             resume = Event(self.env)
             resume.callbacks.append(self._resumer)
-            resume.succeed(nxt.value, priority=URGENT)
+            if nxt.ok:
+                resume.succeed(nxt.value, priority=URGENT)
+            else:
+                resume.fail(nxt.value, priority=URGENT)
             self.target = resume
         else:
             callbacks.append(self._resumer)
             self.target = nxt
 
     def __repr__(self) -> str:
-        return f"<Process {self.name} {'alive' if self.is_alive else 'done'}>"
+        state = "alive" if self.is_alive else "done" if self.ok else f"failed with {self.value!r}"
+        return f"<Process {self.name} {state}>"
 
 
 class Environment:
@@ -151,12 +210,13 @@ class Environment:
     def process(self, generator: Generator, name: str = "") -> Process:
         return Process(self, generator, name)
 
-    def any_of(self, *events: Event) -> Event:
-        """An event that succeeds, once, when the first of `events` is processed."""
-        either = Event(self)
-        for event in events:
-            event.callbacks.append(lambda _e: either.triggered or either.succeed())
-        return either
+    def any_of(self, *events: Event) -> Condition:
+        """An event that succeeds, once, when the first of `events` is processed (at once if one is)."""
+        return Condition(self, events, min(1, len(events)))
+
+    def all_of(self, *events: Event) -> Condition:
+        """An event that succeeds when every one of `events` has been processed."""
+        return Condition(self, events, len(events))
 
     def call_at(self, time: float, callback: Callable[[], None]) -> Event:
         """Run a plain callback at an absolute time (used for message delivery)."""
@@ -176,7 +236,7 @@ class Environment:
         callbacks, event.callbacks = event.callbacks, None
         for callback in callbacks:
             callback(event)
-        if not event.ok and not callbacks and not isinstance(event.value, Interrupt):
+        if not event.ok and not callbacks:
             raise event.value  # a failure nobody waits for must not pass silently
 
     def run(self, until: float | Event | None = None) -> None:

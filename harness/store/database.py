@@ -7,7 +7,6 @@ import re
 import sys
 from contextlib import contextmanager
 from datetime import datetime, timezone
-from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -247,29 +246,31 @@ def place(con, table: str, column: str, names: list[str]) -> None:
                     from given where name not in (select {column} from {table})""")
 
 
-@cache
-def _schemas() -> dict[str, pa.Schema]:
-    """The Arrow schemas of the trace tables. pyarrow is imported by the functions that write a
-    store: a process that only reads one, such as the report, is some 50 MB smaller without it."""
-    import pyarrow as pa
-    events = pa.schema([("trace_id", pa.int32()), ("seq", pa.int32()), ("t", pa.float64()),
-                        ("kind", pa.string()), ("rqst_id", pa.int32()), ("module", pa.string()),
-                        ("service", pa.string()), ("args", pa.string()), ("reply", pa.string())])
-    return {"traces": pa.schema([("trace_id", pa.int32()), ("campaign_id", pa.int32()), ("script_id", pa.int32()),
-                                 ("sut", pa.string()), ("seed", pa.int64()), ("outcome", pa.string()),
-                                 ("sim_s", pa.float64()), ("wall_s", pa.float64()), ("error", pa.string()),
-                                 ("label", pa.string())]),
-            "events": events, "internal_events": events,
-            "world_events": pa.schema([("trace_id", pa.int32()), ("t", pa.float64()), ("kind", pa.string()),
-                                       ("detail", pa.string())])}
+_SCHEMAS: dict[str, pa.Schema] = {}
+
+
+def _schema(con, table: str) -> pa.Schema:
+    """A trace table's Arrow schema, as DuckDB gives it from sql/schema.sql (the one definition of
+    its columns). pyarrow is imported by the functions that write a store: a process that only
+    reads one, such as the report, is some 50 MB smaller without it."""
+    if table not in _SCHEMAS:
+        _SCHEMAS[table] = con.sql(f"select * from {table} limit 0").to_arrow_table().schema
+    return _SCHEMAS[table]
 
 
 def _table(rows: list[tuple], columns: tuple[str, ...], schema: pa.Schema, trace_ids: list[int]) -> pa.Table:
-    """Rows (without their trace id) of several traces as one Arrow table; `trace_ids` row by row."""
+    """Rows (without their trace id) of several traces as one Arrow table of the table's `schema`
+    (its other columns are left to their defaults); `trace_ids` row by row."""
     import pyarrow as pa
-    arrays = [pa.array(trace_ids, pa.int32())]
-    arrays += [pa.array(values, schema.field(name).type) for name, values in zip(columns, zip(*rows))]
-    return pa.Table.from_arrays(arrays, schema=schema)
+    fields = [schema.field(name) for name in ("trace_id", *columns)]
+    arrays = [pa.array(values, f.type) for f, values in zip(fields, [trace_ids, *zip(*rows)])]
+    return pa.Table.from_arrays(arrays, schema=pa.schema(fields))
+
+
+def forget_traces(con) -> None:
+    """Empty the trace tables (of an in-memory store that judges one batch of traces after another)."""
+    for table in ("traces", "events", "internal_events", "world_events", "trace_runs"):
+        con.execute(f"delete from {table}")
 
 
 def insert_trace(con, trace_id: int, campaign_id: int, script_id: int | None, trace: Trace,
@@ -284,16 +285,16 @@ def insert_traces(con, campaign_id: int, runs: list[tuple[int, int | None, Trace
     if not runs:  # e.g. a shard that runs none of the golden runs
         return
     import pyarrow as pa
-    schemas = _schemas()
-    rows = [(trace_id, campaign_id, script_id, t.sut, t.seed, t.outcome, t.sim_s, t.wall_s, t.error, label)
+    schema = _schema(con, "traces")
+    rows = [dict(trace_id=trace_id, campaign_id=campaign_id, script_id=script_id, label=label,
+                 **{c: getattr(t, c) for c in schema.names if hasattr(t, c)})
             for trace_id, script_id, t, label in runs]
     place(con, "variant_positions", "sut", [t.sut for _, _, t, _ in sorted(runs, key=lambda run: run[0])])
-    trace_rows = pa.Table.from_arrays([pa.array(c, f.type) for c, f in zip(zip(*rows), schemas["traces"])],  # noqa: F841
-                                      schema=schemas["traces"])
-    con.execute(f"insert into traces ({', '.join(schemas['traces'].names)}) select * from trace_rows")
+    trace_rows = pa.Table.from_pylist(rows, schema=schema)  # noqa: F841 (read by DuckDB)
+    con.execute("insert into traces by name select * from trace_rows")
     for table, columns in (("events", EVENT_COLUMNS), ("internal_events", EVENT_COLUMNS),
                            ("world_events", WORLD_EVENT_COLUMNS)):
-        schema = schemas[table]
+        schema = _schema(con, table)
         rows, trace_ids = [], []
         for trace_id, _, trace, _ in runs:
             these = getattr(trace, table)
@@ -301,7 +302,7 @@ def insert_traces(con, campaign_id: int, runs: list[tuple[int, int | None, Trace
             trace_ids += [trace_id] * len(these)
         if rows:
             arrow = _table(rows, columns, schema, trace_ids)  # noqa: F841 (read by DuckDB)
-            con.execute(f"insert into {table} ({', '.join(schema.names)}) select * from arrow")
+            con.execute(f"insert into {table} by name select * from arrow")
     for trace_id, _, trace, _ in runs:
         if trace.provenance:
             columns = ", ".join(trace.provenance)

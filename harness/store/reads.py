@@ -2,7 +2,7 @@
 facts about the store's history that several commands state."""
 from __future__ import annotations
 
-import duckdb
+from harness.store.sql import ENV, VERDICTS
 
 POSITIONS = {"sut": "variant_positions", "family": "family_positions", "property_id": "property_positions"}
 
@@ -19,7 +19,23 @@ def ordered(con, view: str) -> str:
 
 def analyses_made(con) -> int:
     """How many analyses judged the store: with fewer than two, there is nothing to compare."""
-    try:
-        return con.execute("select count(*) from analyses").fetchone()[0]
-    except duckdb.CatalogException:  # a store from before analyses were recorded
-        return 0
+    return con.execute("select count(*) from analyses").fetchone()[0] if exists(con, "analyses") else 0
+
+
+def relations(con, base_tables_only: bool = False) -> set[str]:
+    """The names of the store's tables and views (of its base tables only), temporary ones included:
+    the one place the bench asks what a store holds (older stores lack newer relations)."""
+    kind = " where table_type = 'BASE TABLE'" if base_tables_only else ""
+    return {r[0] for r in con.execute(f"select table_name from information_schema.tables{kind}").fetchall()}
+
+
+def exists(con, name: str) -> bool:
+    return name in relations(con)
+
+
+def read_older_analysis(con) -> None:
+    """A store analysed before views trace_scope or trace_badness existed gets them as temporary
+    views (sql/older_analysis.sql): the report reads it as it is."""
+    missing = {"trace_scope", "trace_badness"} - relations(con)
+    if missing:
+        con.execute(ENV.get_template("older_analysis.sql").render(missing=missing, verdict_names=list(VERDICTS)))

@@ -1,13 +1,15 @@
 """The Jinja environment of sql/: every view, oracle and query of the bench is rendered through it."""
 from __future__ import annotations
 
+import re
 from functools import cache
 
 import jinja2
 
 from harness import SQL_DIR
+from harness.errors import StoreError
 
-VERDICTS = ("TN", "TP", "FN", "FP", "op", "na", "omega")
+VERDICTS = ("TN", "TP", "FN", "FP", "op", "na", "omega", "unknown")
 
 
 def sql_literal(value) -> str:
@@ -36,3 +38,35 @@ def render_query(name: str) -> str:
     """The read-only query sql/report/<name>.sql, of the report or of a command's summary (a rule
     about stored data that other readers want is a view of sql/views/ instead)."""
     return ENV.get_template(f"report/{name}.sql").render()
+
+
+_COMMENTS = re.compile(r"\{#.*?#\}|--[^\n]*", re.S)
+_DEFINES = re.compile(r"create\s+or\s+replace\s+(?:\{\{[^}]*\}\}\s*)?(?:temp\s+)?(?:view|table|macro)\s+(\w+)"
+                      r"(?:\s*\([^)]*\))?\s+as\b", re.I)
+_WORD = re.compile(r"\w+")
+
+
+@cache
+def view_order() -> tuple[str, ...]:
+    """The views of sql/views/ that the analyzer (re)creates after the verdicts, each after the
+    relations it reads: a file that defines relations `as` a query, sorted by the names of the
+    other such files' relations its text mentions (ties by name). Files that take parameters
+    (verdicts, shared_codes, properties) define nothing this way and are rendered by name."""
+    defines, mentions = {}, {}
+    for path in sorted((SQL_DIR / "views").glob("*.sql")):
+        text = _COMMENTS.sub(" ", path.read_text())
+        names = _DEFINES.findall(text)
+        if names:
+            defines[path.stem] = set(names)
+            mentions[path.stem] = set(_WORD.findall(text)) - set(names)
+    provider = {name: view for view, names in defines.items() for name in names}
+    needs = {view: {provider[w] for w in words if w in provider} for view, words in mentions.items()}
+    ordered: list[str] = []
+    while len(ordered) < len(needs):
+        ready = sorted(v for v in needs if v not in ordered and needs[v] <= set(ordered))
+        if not ready:
+            stuck = sorted(set(needs) - set(ordered))
+            raise StoreError(f"the views {', '.join(stuck)} of sql/views/ read each other in a cycle; "
+                             "a view may read only views that do not read it: fix one of them")
+        ordered.append(ready[0])
+    return tuple(ordered)

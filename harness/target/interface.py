@@ -10,19 +10,10 @@ from pydantic import ConfigDict, Field, model_validator
 from harness.errors import InputFileError
 from harness.files import read_toml
 from harness.schema import Strict, accepted, cut, validated, where
+from harness.target.property_types import REPLY_CODES, property_types
 
 SERVICE_KINDS = ("init", "control", "exec")
 REPLY_CLASSES = ("T", "Z", "R")
-PROPERTY_TYPES = ("PC", "ES", "EE", "EX", "MX_R", "MX_I")
-# Which parameters each basic type needs besides x (DESIGN §6).
-TYPE_PARAMETERS = {
-    "PC": ("q", "r_p"),
-    "ES": ("y", "r_p"),
-    "EE": ("y", "z_p"),
-    "EX": ("y", "r_p", "z_p"),
-    "MX_R": ("y", "r_p"),
-    "MX_I": ("y", "z_p"),
-}
 NAMES_HINT = 'give a non-empty list of "module.Service"'
 
 
@@ -182,7 +173,7 @@ class PropertyFile(Strict):
     model_config = ConfigDict(title="a property")
     id: str = Field(min_length=1, description="give every property a string id")
     family: str = Field(min_length=1, description='give a family name such as "PEX"')
-    type: str = Field(description=f"give one of {', '.join(PROPERTY_TYPES)}")
+    type: str = Field(description="give a type that has a template in sql/oracles/ (PC, ES, EE, EX, MX_R, MX_I)")
     x: list[str] = Field(min_length=1, description=NAMES_HINT)
     y: list[str] | None = Field(None, min_length=1, description=NAMES_HINT)
     q: list[str] | None = Field(None, min_length=1, description=NAMES_HINT)
@@ -191,9 +182,10 @@ class PropertyFile(Strict):
 
     @model_validator(mode="after")
     def _parameters_of_its_type(self):
-        if self.type not in PROPERTY_TYPES:
-            raise ValueError(f"type {cut(self.type)} is not one of {', '.join(PROPERTY_TYPES)}")
-        needed = ("x",) + TYPE_PARAMETERS[self.type]
+        types = property_types()
+        if self.type not in types:
+            raise ValueError(f"type {cut(self.type)} is not one of {', '.join(types)} (the templates of sql/oracles/)")
+        needed = types[self.type]
         given = {k for k in self.model_fields_set if k not in ("id", "family", "type")}
         if given - set(needed):
             raise ValueError(f"key(s) {sorted(given - set(needed))} do not apply to type "
@@ -226,7 +218,7 @@ def load_properties(path: str | Path, interface: Interface) -> list[Property]:
                                          f"property {e.id!r}: {key} names {cut(name)}, which the interface "
                                          f"{interface.path} does not declare")
             fields[key] = tuple(getattr(e, key) or ())
-        for key, expected in (("r_p", "R"), ("z_p", "Z")):
+        for key, expected in REPLY_CODES.items():
             code = getattr(e, key)
             if code is not None and interface.replies.get(code) != expected:
                 raise InputFileError(path, where(text, ("property", n, key)),

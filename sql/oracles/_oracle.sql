@@ -1,10 +1,15 @@
 {#- One property's oracle query (DESIGN §6): the requests of its modules in `events` (the
     observed `events` or the ground-truth `internal_events`), its type's CTE chain from
     `template`, and its verdict rows with the contract columns; with `explain`, the pairs that
-    decided the condition of some requests instead (explain.requests: (trace_id, rqst_id) pairs). Rendered by harness/oracles.py. -#}
+    decided the condition of some requests instead (explain.requests: (trace_id, rqst_id) pairs);
+    with `into`, the statement inserting the verdict rows into that table. Rendered by
+    harness/analysis/oracles.py. -#}
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/_epsilon.sql' as eps %}
 {% import template as oracle with context %}
+{% if into %}
+insert into {{ into }} by name
+{% endif %}
 with {{ base.requests(events, modules, explain.traces if explain else none) }},
 {{ eps.per_trace(runs) }},
 {{ oracle.ctes('p', **parameters) }}

@@ -1,7 +1,8 @@
 {#- The verdicts table (DESIGN §6), filled by the analyzer with every property's oracle query
     in the order of the properties file, then corrected by shared_codes.sql. `target` is
-    verdicts (observed events) or verdicts_internal (the ground truth). -#}
-create or replace table {{ target }} (
+    verdicts (observed events) or verdicts_internal (the ground truth); `temp`: a temporary table
+    (where the analyzer stages each oracle's rows); `source`: a table whose rows it gets. -#}
+create or replace {{ 'temp ' if temp | default(false) }}table {{ target }} (
     trace_id     integer not null,
     property_id  varchar not null,
     family       varchar not null,
@@ -15,3 +16,6 @@ create or replace table {{ target }} (
     certain      boolean not null,   -- the verdict holds in every ordering of the events closer than epsilon
     alternatives varchar[] not null  -- the other verdicts those orderings give, sorted; [] when certain
 );
+{% if source | default(none) %}
+insert into {{ target }} from {{ source }}
+{% endif %}

@@ -27,6 +27,9 @@ from harness.schema import Strict, accepted, cut, validated, where
 
 NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")
 SUTS_FILE = "suts.toml"
+# The transports, by the URL scheme of `--sut NAME=URL`: the key of a SUT's definition that the
+# rest of the URL fills (suts.toml writes the same key), and what it reaches.
+TRANSPORTS = {"cmd:": ("command", "stdio"), "tcp://": ("address", "tcp HOST:PORT")}
 
 
 @dataclass(frozen=True)
@@ -62,8 +65,8 @@ class SutTable(Strict):
 
     @model_validator(mode="after")
     def _one_transport(self):
-        if (self.command is None) == (self.address is None):
-            raise ValueError("give exactly one of command (stdio) or address (tcp HOST:PORT)")
+        if sum(getattr(self, key) is not None for key, _ in TRANSPORTS.values()) != 1:
+            raise ValueError("give exactly one of " + " or ".join(f"{key} ({what})" for key, what in TRANSPORTS.values()))
         if self.command is not None:
             try:
                 words = shlex.split(self.command)
@@ -110,12 +113,10 @@ def resolve(option: str, mission: Path, time_scale: float | None = None) -> tupl
             raise UntimelyError(f"--sut {option!r}: {entry!r} is not a new SUT name; give distinct "
                                 "comma-separated entries, e.g. genom,bip-a or toy=cmd:COMMAND")
         if target:
-            if target.startswith("cmd:"):
-                external[name] = _checked(name, {"command": target[4:]}, f"--sut {entry!r}")
-            elif target.startswith("tcp://"):
-                external[name] = _checked(name, {"address": target[6:]}, f"--sut {entry!r}")
-            else:
+            scheme = next((s for s in TRANSPORTS if target.startswith(s)), None)
+            if scheme is None:
                 raise UntimelyError(f"--sut {entry!r}: write NAME=cmd:COMMAND or NAME=tcp://HOST:PORT")
+            external[name] = _checked(name, {TRANSPORTS[scheme][0]: target[len(scheme):]}, f"--sut {entry!r}")
         elif name in defined:
             external[name] = defined[name]
         names.append(name)

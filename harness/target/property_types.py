@@ -1,0 +1,48 @@
+"""The basic property types, read from the oracle templates (DESIGN §6): a template
+sql/oracles/<type>.sql (not starting with `_`) defines a type named <TYPE>, and its macro
+`ctes(name, ...)` declares the parameters a property of that type gives, in order. A new type is
+a new template (and the fixtures that test it); no Python changes.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import jinja2
+from jinja2 import nodes
+
+from harness import SQL_DIR
+from harness.errors import PropertyError
+
+TEMPLATES = SQL_DIR / "oracles"
+# What a properties file can say of a property: request types (lists of "module.Service") and
+# reply codes of class R (r_p) or Z (z_p). A template may take any of them.
+SERVICE_LISTS = ("x", "y", "q")
+REPLY_CODES = {"r_p": "R", "z_p": "Z"}
+
+
+def _parameters(path: Path) -> tuple[str, ...]:
+    try:
+        tree = jinja2.Environment().parse(path.read_text())
+    except (OSError, jinja2.TemplateSyntaxError) as e:
+        raise PropertyError(f"the oracle template {path} cannot be read: {e}; fix it or remove it") from None
+    macro = next((m for m in tree.find_all(nodes.Macro) if m.name == "ctes"), None)
+    if macro is None or not macro.args or macro.args[0].name != "name":
+        raise PropertyError(f"the oracle template {path} defines no macro ctes(name, ...); a type's template "
+                            "defines its CTE chain as {% macro ctes(name, x, ...) %} (see sql/oracles/pc.sql)")
+    declared = tuple(a.name for a in macro.args[1:])
+    unknown = [p for p in declared if p not in (*SERVICE_LISTS, *REPLY_CODES)]
+    if unknown or "x" not in declared:
+        raise PropertyError(f"the oracle template {path} declares ctes{('name', *declared)}: "
+                            f"{'parameter ' + repr(unknown[0]) if unknown else 'no x'}; a type takes x and any "
+                            f"of {', '.join(p for p in (*SERVICE_LISTS, *REPLY_CODES) if p != 'x')}")
+    return declared
+
+
+def property_types(folder: Path | None = None) -> dict[str, tuple[str, ...]]:
+    """Type name (PC, ES, ...) -> the parameters its properties give, x first."""
+    found = {}
+    for path in sorted((folder or TEMPLATES).glob("*.sql")):
+        if not path.name.startswith("_"):
+            declared = _parameters(path)
+            found[path.stem.upper()] = ("x",) + tuple(p for p in declared if p != "x")
+    return found

@@ -1,0 +1,11 @@
+{#- The views a store analysed by an earlier bench lacks, as temporary views, so that the report
+    reads it as it is. `missing`: the views it lacks. -#}
+{% if 'trace_scope' in missing %}
+-- analysed before trace_scope: its views counted every trace
+create temp view trace_scope as
+select trace_id, sut, campaign_id, true as counted, null::varchar as left_out
+from traces;
+{% endif %}
+{% if 'trace_badness' in missing %}
+{% with temp = true %}{% include 'views/trace_badness.sql' %}{% endwith %};
+{% endif %}

@@ -1,0 +1,41 @@
+"""Every error class of the bench survives pickling (a worker process hands its errors over so)."""
+import importlib
+import inspect
+import pickle
+import pkgutil
+
+import harness
+from harness.errors import InputFileError, ScriptError, UntimelyError
+
+
+def _modules():
+    for info in pkgutil.walk_packages(harness.__path__, "harness."):
+        if info.name == "harness.__main__":  # runs the command line
+            continue
+        try:
+            yield importlib.import_module(info.name)
+        except ImportError:  # an optional extra (ROS) that is not installed
+            continue
+
+
+def _error_classes() -> set[type]:
+    return {cls for module in _modules() for _, cls in inspect.getmembers(module, inspect.isclass)
+            if issubclass(cls, BaseException) and cls.__module__.startswith("harness.")}
+
+
+def _instance(cls: type) -> BaseException:
+    if issubclass(cls, InputFileError):
+        return cls("missions/x/golden.mission", "line 3", "unknown service 'rflex.Fly'; use one of Init, Stop")
+    return cls("the bench's message, quoting 'the value'")
+
+
+def test_every_error_class_pickles_with_its_message_and_fields():
+    classes = _error_classes()
+    assert {UntimelyError, InputFileError, ScriptError} <= classes and len(classes) >= 8
+    for cls in classes:
+        error = _instance(cls)
+        again = pickle.loads(pickle.dumps(error))
+        assert type(again) is cls and str(again) == str(error) and vars(again) == vars(error), cls
+    script = pickle.loads(pickle.dumps(_instance(ScriptError)))
+    assert (script.path, script.where, script.problem) == (
+        "missions/x/golden.mission", "line 3", "unknown service 'rflex.Fly'; use one of Init, Stop")
