@@ -3,9 +3,11 @@ import importlib
 import inspect
 import pickle
 import pkgutil
+import signal
 
 import harness
 from harness.errors import InputFileError, ScriptError, UntimelyError
+from harness.run.processes import Stopped
 
 
 def _modules():
@@ -24,6 +26,8 @@ def _error_classes() -> set[type]:
 
 
 def _instance(cls: type) -> BaseException:
+    if cls is Stopped:  # made from the number of the signal that stopped the bench
+        return cls(signal.SIGTERM)
     if issubclass(cls, InputFileError):
         return cls("missions/x/golden.mission", "line 3", "unknown service 'rflex.Fly'; use one of Init, Stop")
     return cls("the bench's message, quoting 'the value'")

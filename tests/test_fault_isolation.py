@@ -5,7 +5,7 @@ import shutil
 import jinja2
 import pytest
 
-from harness import SQL_DIR
+from harness import DEFAULT_MISSION_DIR, SQL_DIR
 from harness.analysis import analyzer
 from harness.cli import main
 from harness.store import sql as oracles
@@ -70,7 +70,8 @@ def test_analyze_shows_the_failure_and_judges_the_rest(tmp_path, monkeypatch, ca
     db = tmp_path / "store.duckdb"
     judged_store(fixture, EPSILON, db).close()
     _broken_sql(tmp_path, monkeypatch, "pc")
-    assert main(["analyze", "--db", str(db), "--epsilon", str(EPSILON)]) == 0
+    assert main(["analyze", "--db", str(db), "--epsilon", str(EPSILON),
+                 "--properties", str(DEFAULT_MISSION_DIR / "properties.toml")]) == 0
     out = capsys.readouterr().out
     assert "The oracle of property 'PEX(rflex)' on events and internal_events failed: Binder Error: " in out
     assert "[template sql/oracles/pc.sql]; its " in out and "Table II - per trace results" in out

@@ -158,7 +158,7 @@ def test_a_shrink_that_fails_is_recorded_and_shown_and_the_others_go_on(tmp_path
     assert {sut for sut, *_ in behaviours} == {"genom", "bip-a"}
     properties = load_properties(DEFAULT_MISSION_DIR / "properties.toml",
                                  load_interface(DEFAULT_MISSION_DIR / "interface.toml"))
-    lines = list(representatives(con, properties, tmp_path / "shrunk", _runner_broken_on_genom, 2))
+    lines = list(representatives(con, properties, tmp_path / "shrunk", {}, _runner_broken_on_genom, 2))
     assert len(lines) == len(behaviours)
     failed = [line for line in lines if "not shrunk" in line]
     # the broken runs crash, so the script no longer shows its behaviour: the worker's UntimelyError says so

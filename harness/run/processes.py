@@ -28,6 +28,9 @@ class Stopped(KeyboardInterrupt):
         super().__init__(signal.Signals(signum).name)
         self.signum = signum
 
+    def __reduce__(self):
+        return type(self), (self.signum,)
+
 
 STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
 
