@@ -64,13 +64,18 @@ def _parser() -> argparse.ArgumentParser:
                    f"variants {variants_help}{EXTERNAL_HELP}")
     c.add_argument("--seed", type=int, default=2012, help="campaign seed (default: %(default)s)")
     c.add_argument("--jobs", type=int, default=0, help="worker processes, 0 = all cores (default: %(default)s)")
-    c.add_argument("--strategy", choices=("random", "targeted"), default="random",
+    c.add_argument("--strategy", choices=("random", "targeted", "focused"), default="random",
                    help="random: the paper's operators; targeted: mutants aimed at falsifying the "
-                        "least-covered properties' conditions (default: %(default)s)")
+                        "least-covered properties' conditions; focused: short tests, one per way to "
+                        "falsify a condition, until the campaign decides it is done (default: %(default)s)")
+    c.add_argument("--budget", metavar="DURATION",
+                   help="focused only: the mission time all runs may take, shrink runs included "
+                        "(4000s, 40m, 1h; default: none, the stopping rule ends the campaign)")
     c.add_argument("--ops-per-mutant", type=int, default=None,
                    help="mutation operations per mutant (default: 1 random, 3 targeted)")
     c.add_argument("--shrink", action="store_true",
-                   help="then shrink one representative trace of each distinct bad behaviour")
+                   help="then shrink one representative trace of each distinct bad behaviour "
+                        "(focused: each new finding as it shows, within the budget)")
     c.add_argument("--time-mutations", action="store_true", help="also drop waits and change sleeps")
     c.add_argument("--cluster", metavar="ADDRESS", help="run on a Dask cluster: a scheduler address "
                    "(tcp://HOST:8786) or local:N for N local workers; needs the cluster extra (docs/cluster.md)")

@@ -30,7 +30,8 @@ SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
 # Creation order: each view reads only tables or views created before it.
 VIEWS = ("wilson", "property_positions", "family_positions", "judged_traces", "trace_scope", "requests",
          "activities", "property_verdicts", "family_verdicts", "trace_badness", "trace_robustness",
-         "tp_rates", "fp_rates", "inversions", "interface_latency", "coverage", "bad_behaviours",
+         "tp_rates", "fp_rates", "inversions", "interface_latency", "coverage", "trace_findings",
+         "bad_behaviours", "findings",
          "table_values", "verdict_transitions", "table_changes", "analysis")
 # What orders the views' rows, by column: variants as the campaign ran them, properties and
 # families in the order of the properties file, All last (the store's positions tables and views).

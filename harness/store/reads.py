@@ -12,3 +12,9 @@ def ordered(con, view: str) -> str:
                      for c in ranked)
     order = [f"{c}_rank nulls last" for c in ranked] + [str(n) for n in range(1, len(columns) + 1)]
     return f"select v.* from {view} v {joins} order by {', '.join(order)}"
+
+
+def observed_events(con, trace_id: int) -> list[tuple]:
+    """A stored trace's observed events as a Trace holds them (EVENT_COLUMNS order)."""
+    return con.execute("select seq, t, kind, rqst_id, module, service, args, reply from events "
+                       "where trace_id = ? order by seq", [trace_id]).fetchall()
