@@ -8,7 +8,8 @@ send s while an activity r runs. A test for it is
      them given a timeout (twice the longest run the golden showed, plus a second);
   2. the perturbation: s alone (q never sent), q then s (s lands while q runs), r then s (in
      r's start phase), or r, a sleep shorter than r's shortest golden run, then s;
-  3. nothing more: the executive's drain (DRAIN_S) awaits the outstanding final replies.
+  3. after SETTLE_S, the request that ended r or s in the golden run if it never ends by itself
+     (the golden's Stop); then the executive's drain (DRAIN_S) awaits the outstanding finals.
 So a test's mission time has an upper bound known before it runs (`bound_s`), which is what
 lets a campaign keep within its budget (harness.campaign.budget).
 
@@ -32,8 +33,12 @@ from harness.mutator.timeline import Timeline
 from harness.target.script import Script, Step
 
 UNSEEN_RUN_S = 5.0  # how long an activity the golden never ran is awaited
-START_SLEEP_S = (0.001, 0.1)  # a repeat of a start-phase aim: a short sleep, log-uniform
+# A start-phase (or "while q runs") aim sleeps FIRST_SLEEP_S, longer than the interface's delays so
+# the layer gets r before s, and the observed timeline orders them; its repeats draw log-uniformly.
+FIRST_SLEEP_S = 0.01
+START_SLEEP_S = (0.005, 0.1)
 RUN_SLEEP_S = (0.01, 1.0)  # a running-phase sleep, log-uniform, below the shortest golden run
+SETTLE_S = 1.0  # after the perturbation, before ending the activities that never end by themselves
 
 
 @dataclass(frozen=True)
@@ -89,6 +94,16 @@ class Builder:
         for a in timeline.activities:
             if a.accepted and a.end is not None:
                 self.runs.setdefault(a.service, []).append(a.end - a.start)
+        # What ended each activity that never ends by itself, in the golden run: the last request
+        # of its module sent before its end (the golden's Stop).
+        self.enders: dict[str, str] = {}
+        for a in timeline.activities:
+            if a.service in interface.until_stopped and a.accepted and a.end is not None:
+                module = interface.services[a.service].module
+                before = [b for b in timeline.activities if b is not a and b.start <= a.end
+                          and b.step > a.step and interface.services[b.service].module == module]
+                if before:
+                    self.enders.setdefault(a.service, before[-1].service)
 
     def closure(self, services, without: str | None = None) -> list[str]:
         """The services that must have ended ok before `services` are sent, transitively;
@@ -145,13 +160,13 @@ class Builder:
         return [Step(0, "wait", handle=h, seconds=self._timeout([s])) for h, s, _ in awaited]
 
     def sleep(self, aim: Aim, rng: random.Random, repeat: bool) -> list[Step]:
-        if aim.phase == "without" or (aim.phase == "start" and not repeat):
+        if aim.phase == "without":
             return []
+        if aim.phase in ("start", "during") and not repeat:
+            return [Step(0, "sleep", seconds=FIRST_SLEEP_S)]
         lo, hi = START_SLEEP_S if aim.phase == "start" else RUN_SLEEP_S
         if aim.phase != "start":
             hi = max(lo, min([hi] + [0.9 * d for d in self.runs.get(aim.other, [])]))
-        if aim.phase == "during" and not repeat:
-            return []
         return [Step(0, "sleep", seconds=plausible(lo * (hi / lo) ** rng.random()))]
 
     def test(self, aim: Aim, rng: random.Random, repeat: bool) -> list[Step]:
@@ -165,7 +180,11 @@ class Builder:
         else:
             steps = self.context(self.closure([aim.send, aim.other]), rng)
             steps += [self.request(aim.other, rng)]
-        return steps + self.sleep(aim, rng, repeat) + [self.request(aim.send, rng)]
+        steps += self.sleep(aim, rng, repeat) + [self.request(aim.send, rng)]
+        enders = list(dict.fromkeys(self.enders[s] for s in (aim.other, aim.send) if s in self.enders))
+        if enders:  # else the drain would wait its full time for an activity that never ends
+            steps += [Step(0, "sleep", seconds=SETTLE_S)] + [self.request(e, rng) for e in enders]
+        return steps
 
 
 def bound_s(script: Script) -> float:

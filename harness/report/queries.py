@@ -32,7 +32,7 @@ def rows(con, sql: str, params=()) -> list[dict]:
 def check_analysed(con, db: str) -> None:
     """Refuse a store whose verdicts were never materialised: the report would be empty. A store
     analysed before view trace_scope existed gets it as a temporary view counting every trace,
-    and one analysed before view trace_badness gets that view as a temporary one."""
+    and one analysed before views trace_badness or findings gets them as temporary ones."""
     have = _names(con)
     missing = [name for name in ("traces", *ANALYSED) if name not in have]
     if "traces" in missing:
@@ -44,8 +44,9 @@ def check_analysed(con, db: str) -> None:
     if "trace_scope" not in have:  # analysed by an earlier bench, whose views count every trace
         con.execute("create temp view trace_scope as select trace_id, sut, campaign_id, true as counted, "
                     "null::varchar as left_out from traces")
-    if "trace_badness" not in have:  # the rule, as a temporary view, for a store analysed before it
-        con.execute(render_view("trace_badness", temp=True))
+    for name in ("trace_badness", "trace_findings", "findings"):  # for a store analysed before them
+        if name not in have:
+            con.execute(render_view(name, temp=True))
 
 
 def per_property(con) -> Table:

@@ -1,7 +1,7 @@
 -- What was found, per variant (issue 21): each (property, kind) that went wrong -- FN, FP, hung,
 -- crashed (property null) -- with the first trace that showed it, how many traces show it, and
 -- its shrunk reproducer if one was made (the first shrunk script recorded for it).
-create or replace view findings as
+create or replace {{ 'temp ' if temp | default(false) }}view findings as
 with found as (
     select sut, property_id, kind, min(trace_id) as first_trace, count(distinct trace_id) as traces
     from trace_findings

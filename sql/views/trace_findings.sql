@@ -2,7 +2,7 @@
 -- or the trace hung or crashed (property null). The one rule of a finding: the views
 -- bad_behaviours and findings, and a focused campaign's stopping rule (on its in-memory judge),
 -- all read it.
-create or replace view trace_findings as
+create or replace {{ 'temp ' if temp | default(false) }}view trace_findings as
 with wrong_verdicts as (
     select distinct trace_id, property_id, verdict as kind
     from verdicts
