@@ -118,14 +118,14 @@ def test_bad_budget_arguments_are_refused_with_a_message(tmp_path, capsys, argv,
 
 def test_a_target_folder_outside_the_repository_with_an_external_adapter(tmp_path, capsys):
     """The toy pump-and-valve target (tests/test_toy_target.py), its layer a stdlib adapter run over
-    untimely/1 at 20x: the careless pump's missing DRY protection is found and shrunk."""
+    untimely/1 at 5x: the careless pump's missing DRY protection is found and shrunk."""
     toy = tmp_path / "toy"
     toy.mkdir()
     for name, text in (("interface.toml", INTERFACE), ("properties.toml", PROPERTIES), ("golden.mission", GOLDEN)):
         (toy / name).write_text(text)
     (toy / "suts.toml").write_text(
-        f'[pump]\ncommand = "{{python}} {PUMP}"\nslots = 4\ntime_scale = 20.0\n\n'
-        f'[careless]\ncommand = "{{python}} {PUMP} --careless"\nslots = 4\ntime_scale = 20.0\n')
+        f'[pump]\ncommand = "{{python}} {PUMP}"\nslots = 4\ntime_scale = 5.0\n\n'
+        f'[careless]\ncommand = "{{python}} {PUMP} --careless"\nslots = 4\ntime_scale = 5.0\n')
     db = tmp_path / "toy.duckdb"
     assert cli(["campaign", "--mission", str(toy), "--strategy", "focused", "--budget", "20m", "--shrink",
                 "--sut", "pump,careless", "--db", str(db)]) == 0

@@ -31,7 +31,7 @@ class Judge:
         """Per trace, its verdict rows (the verdicts columns but trace_id) in the order of the
         properties, then of the requests."""
         con = self.con
-        for table in ("traces", "events", "internal_events", "world_events"):
+        for table in ("traces", "events", "internal_events", "world_events", "trace_runs"):
             con.execute(f"delete from {table}")
         for n, trace in enumerate(traces, 1):
             store.insert_trace(con, n, 0, None, trace)

@@ -3,8 +3,8 @@
 An aim is one way to falsify (or, for a disturbance, to probe) a property's P-condition, as
 targeted.py lists them (falsifiers, disturbers): send s before a service q has ended ok, or
 send s while an activity r runs. A test for it is
-  1. the context: the golden script's sends of the services s and r need (the Q of the PC
-     properties naming them, transitively), in the golden's order, with the golden's waits on
+  1. the context: the golden script's sends of the services s and r need (their modules' inits,
+     the Q of the PC properties naming them, transitively), in the golden's order, with the golden's waits on
      them given a timeout (twice the longest run the golden showed, plus a second);
   2. the perturbation: s alone (q never sent), q then s (s lands while q runs), r then s (in
      r's start phase), or r, a sleep shorter than r's shortest golden run, then s;
@@ -85,7 +85,11 @@ class Builder:
 
     def __init__(self, golden: Script, timeline: Timeline, interface: Interface, properties: list[Property]):
         self.golden, self.interface = golden, interface
-        self.needs: dict[str, set[str]] = {}
+        # A service needs its module's inits (the interface names them) and the Q of the PC
+        # properties naming it.
+        self.needs: dict[str, set[str]] = {s: {i for i in interface.of_kind("init") if i != s
+                                               and interface.services[i].module == svc.module}
+                                           for s, svc in interface.services.items()}
         for p in properties:
             if p.type == "PC":
                 for x in p.x:

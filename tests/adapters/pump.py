@@ -8,7 +8,7 @@ import sys
 import threading
 
 careless = "--careless" in sys.argv
-lock = threading.Lock()
+lock = threading.RLock()
 scale = [1.0]
 ready, running = set(), {}  # running: request id -> (module, timer or None)
 
@@ -19,42 +19,41 @@ def send(**fields) -> None:
         sys.stdout.flush()
 
 
-def final(rqst_id: int, code: str) -> None:
+def final(rqst_id: int, code: str, then=lambda: None) -> None:
+    """The final reply and what it changes, at once: no request is taken in between."""
     with lock:
         if running.pop(rqst_id, None) is None:
             return  # already ended by a Halt
-    send(op="reply", id=rqst_id, kind="final", code=code)
+        then()
+        send(op="reply", id=rqst_id, kind="final", code=code)
 
 
-def later(seconds: float, rqst_id: int, module: str, code: str = "ok", then=None) -> None:
+def later(seconds: float, rqst_id: int, module: str, code: str = "ok", then=lambda: None) -> None:
     def end():
-        if then:
-            then()
-        final(rqst_id, code)
+        final(rqst_id, code, then)
     timer = threading.Timer(seconds / scale[0], end)
-    with lock:
-        running[rqst_id] = (module, timer)
+    running[rqst_id] = (module, timer)
     timer.start()
 
 
 def request(rqst_id: int, module: str, service: str) -> None:
+    with lock:
+        answer(rqst_id, module, service)
+
+
+def answer(rqst_id: int, module: str, service: str) -> None:
     if service == "Init":
         return later(0.2, rqst_id, module, then=lambda: ready.add(module))
     if module not in ready:
         return send(op="reply", id=rqst_id, kind="final", code="not_ready")
     if service == "Halt":
-        with lock:
-            stopped = [i for i, (m, _) in running.items() if m == module]
-        for i in stopped:
+        for i in [i for i, (m, _) in running.items() if m == module]:
             final(i, "stopped")
         return later(0.05, rqst_id, module)
     if service == "Run":
-        with lock:
-            opening = any(m == "valve" for m, _ in running.values())
-        if opening and not careless:
+        if any(m == "valve" for m, _ in running.values()) and not careless:
             return send(op="reply", id=rqst_id, kind="final", code="refused")
-        with lock:
-            running[rqst_id] = (module, None)
+        running[rqst_id] = (module, None)
         return
     later(1.0, rqst_id, module)  # valve.Open
 
