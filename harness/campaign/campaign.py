@@ -71,10 +71,11 @@ def campaign_config(args) -> dict:
         raise UntimelyError(f"--max-delay {args.max_delay}: give a delay in seconds >= 0")
     mission = load_mission(args.mission)
     suts, external = resolve(args.sut or mission.default_suts(), mission.folder, args.time_scale)
-    if args.budget is not None and args.strategy != "focused":
-        raise UntimelyError(f"--budget {args.budget} applies to --strategy focused, whose tests are made as "
+    given = getattr(args, "budget", None)  # callers that build their own arguments may leave it out
+    if given is not None and args.strategy != "focused":
+        raise UntimelyError(f"--budget {given} applies to --strategy focused, whose tests are made as "
                             f"the campaign goes; a {args.strategy} campaign runs its --mutants")
-    budget = {} if args.budget is None else {"budget_s": parse_duration(args.budget)}
+    budget = {} if given is None else {"budget_s": parse_duration(given)}
     return {**budget, "kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
             "external": {name: sut.config() for name, sut in external.items()},
             "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,
@@ -91,13 +92,14 @@ def _difference(stored: dict, wanted: dict) -> str | None:
                 continue
             return (f"--mission {stored['mission']} had other contents: {', '.join(changed)} "
                     f"differ from {wanted['mission']}")
-        if stored.get(key, ABSENT.get(key)) == wanted[key]:
+        theirs, ours = stored.get(key, ABSENT.get(key)), wanted.get(key, ABSENT.get(key))
+        if theirs == ours:
             continue
         if key == "external":
-            return f"external SUTs {stored.get(key, ABSENT[key])}, not {wanted[key]}"
-        show = (lambda v: ",".join(v)) if key == "sut" else str
-        flag = "--" + key.replace("_", "-")
-        return f"{flag} {show(stored.get(key, ABSENT.get(key)))}, not {show(wanted[key])}"
+            return f"external SUTs {theirs}, not {ours}"
+        show = {"sut": ",".join, "budget_s": lambda v: "none" if v is None else f"{v:g}s"}.get(key, str)
+        flag = "--budget" if key == "budget_s" else "--" + key.replace("_", "-")
+        return f"{flag} {show(theirs)}, not {show(ours)}"
     return None
 
 
