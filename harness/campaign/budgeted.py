@@ -13,8 +13,11 @@ The table campaign_budgets records the budget, the rule, the mission seconds of 
 from __future__ import annotations
 
 import json
+import queue
 import time
-from dataclasses import dataclass, replace
+import threading
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from harness import store
@@ -37,17 +40,22 @@ class BudgetSpent(Exception):
 
 @dataclass
 class MeteredOriginal(shrink.Original):
-    """A trace to shrink whose re-runs are counted against the campaign's budget."""
+    """A trace to shrink whose re-runs are counted against the campaign's budget (shrinks run
+    side by side: one lock keeps the budget's account)."""
     budget: Budget | None = None
     bound: float = 0.0  # no candidate outlasts the original script's bound
     spent_s: float = 0.0
+    account: threading.Lock = field(default_factory=threading.Lock)  # shared by the shrinks of a campaign
 
     def run(self, body: str, runner=None):
-        if not self.budget.fits(self.bound):
-            raise BudgetSpent()
+        with self.account:
+            if not self.budget.fits(self.bound):
+                raise BudgetSpent()
+            self.budget.spent_s += self.bound  # reserved until the run says what it took
         trace = super().run(body, runner) if runner else super().run(body)
-        self.budget.spent_s += trace.sim_s
-        self.spent_s += trace.sim_s
+        with self.account:
+            self.budget.spent_s += trace.sim_s - self.bound
+            self.spent_s += trace.sim_s
         return trace
 
 
@@ -59,11 +67,13 @@ def record(con, campaign_id: int, budget: Budget, shrink_s: float, tests: int, s
 
 class FocusedRun:
     def __init__(self, con, campaign_id: int, config: dict, plan: Plan, golden_id: int, tasks_of,
-                 run_tasks, batches, properties, interface, shrink_to: Path | None, say):
+                 run_tasks, batches, properties, interface, shrink_to: Path | None, say, jobs: int = 1):
         self.con, self.campaign_id, self.config, self.plan = con, campaign_id, config, plan
         self.golden_id, self.tasks_of, self.run_tasks, self.batches = golden_id, tasks_of, run_tasks, batches
         self.properties, self.interface, self.shrink_to, self.say = properties, interface, shrink_to, say
         self.judge = Judge(interface, properties)
+        # shrinks side by side only on external SUTs: in process, threads would share one core
+        self.shrinkers, self.account = (max(1, jobs) if config["external"] else 1), threading.Lock()
         self.state = {sut: VariantState() for sut in config["sut"]}
         stored = con.execute("select sum(sim_s) from traces where campaign_id = ?", [campaign_id]).fetchone()[0]
         self.shrink_s = (con.execute("select shrink_s from campaign_budgets where campaign_id = ?",
@@ -131,40 +141,61 @@ class FocusedRun:
                     self.shown[trace_id] = found
                     self.budget.spent_s += trace.sim_s
                 self.stored |= set(fresh)
+            found = []
             for k, tasks in tests:
                 if k == cut:
-                    return self._stop("budget", k)
+                    break
                 for task in tasks:
                     new = self.state[task.sut].record(self.shown.get(task.trace_id, set()), len(self.plan.aims),
                                                       PATIENCE)
-                    for property_id, kind in sorted(new, key=str):
-                        self._found(task, property_id, kind)
+                    found += [(task, property_id, kind) for property_id, kind in sorted(new, key=str)]
                 n = k + 1
+            self._shrink(found)
             record(self.con, self.campaign_id, self.budget, self.shrink_s, n, None)
+            if cut is not None:
+                return self._stop("budget", n)
 
-    def _found(self, task: Task, property_id: str | None, kind: str) -> None:
-        what = f"{kind} on {property_id}" if property_id else kind
-        self.say(f"found     {task.sut}: {what} (trace {task.trace_id}, script {task.script_id})")
-        if self.shrink_to is None or kind == "crashed" or (task.sut, kind, property_id) in self.shrunk:
-            return
-        orig = shrink.original(self.con, task.trace_id)
-        metered = MeteredOriginal(**vars(orig), budget=self.budget, bound=bound_s(parse(orig.body)))
-        behaviour = shrink.Behaviour(task.sut, kind, property_id)
-        started = time.perf_counter()
-        try:
-            script, runs = shrink.shrink(metered, behaviour, self.properties)
-        except BudgetSpent:
-            self.say(f"          {behaviour}: not shrunk, the budget is spent")
-            return
-        except UntimelyError as e:
-            self.say(f"          {behaviour}: not shrunk: {e}")
-            return
-        finally:
-            self.shrink_s += metered.spent_s
-        self.shrunk.add((task.sut, kind, property_id))
-        line = shrink.stored(self.con, orig, behaviour, (script, runs, time.perf_counter() - started),
-                             self.shrink_to)
-        self.say(f"          shrunk in {metered.spent_s:,.0f} mission s: " + line.split(": ", 1)[1])
+    def _shrink(self, found: list[tuple[Task, str | None, str]]) -> None:
+        """Says what a round found; shrinks each new finding from the trace that showed it, side by
+        side on an external SUT (each shrink on a slot of its own), and stores them in order."""
+        todo = []
+        for task, property_id, kind in found:
+            what = f"{kind} on {property_id}" if property_id else kind
+            self.say(f"found     {task.sut}: {what} (trace {task.trace_id}, script {task.script_id})")
+            if self.shrink_to is None or kind == "crashed" or (task.sut, kind, property_id) in self.shrunk:
+                continue
+            orig = shrink.original(self.con, task.trace_id)
+            metered = MeteredOriginal(**{f.name: getattr(orig, f.name) for f in fields(orig)}, budget=self.budget,
+                                      bound=bound_s(parse(orig.body)), account=self.account)
+            todo.append((orig, metered, shrink.Behaviour(task.sut, kind, property_id)))
+        slots = queue.SimpleQueue()
+        for slot in range(self.shrinkers):
+            slots.put(slot)
+
+        def shrunk(metered: MeteredOriginal, behaviour: shrink.Behaviour):
+            metered.slot = slots.get()
+            started = time.perf_counter()
+            try:
+                script, runs = shrink.shrink(metered, behaviour, self.properties)
+                return script, runs, time.perf_counter() - started
+            except BudgetSpent:
+                return "the budget is spent"
+            except UntimelyError as e:
+                return str(e)
+            finally:
+                slots.put(metered.slot)
+        with ThreadPoolExecutor(self.shrinkers) as pool:
+            futures = [(orig, metered, behaviour, pool.submit(shrunk, metered, behaviour))
+                       for orig, metered, behaviour in todo]
+            for orig, metered, behaviour, future in futures:
+                result = future.result()
+                self.shrink_s += metered.spent_s
+                if isinstance(result, str):
+                    self.say(f"          {behaviour}: not shrunk: {result}")
+                    continue
+                self.shrunk.add((behaviour.sut, behaviour.verdict, behaviour.property_id))
+                line = shrink.stored(self.con, orig, behaviour, result, self.shrink_to)
+                self.say(f"          shrunk in {metered.spent_s:,.0f} mission s: " + line.split(": ", 1)[1])
 
     def _stop(self, reason: str, tests: int) -> str:
         record(self.con, self.campaign_id, self.budget, self.shrink_s, tests, reason)

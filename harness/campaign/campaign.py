@@ -264,7 +264,8 @@ def _judged(con, db, properties, interface, mission, show: bool = True) -> None:
             print(analyzer.summary(con, epsilon))
 
 
-def _focused(args, con, campaign_id, config, mission, interface, golden, properties, run_tasks, start) -> None:
+def _focused(args, con, campaign_id, config, mission, interface, golden, properties, run_tasks, start,
+             jobs: int) -> None:
     """A focused campaign: the golden on every variant, then tests until it stops (harness.campaign.budgeted)."""
     if campaign_id is None:
         golden_id = store.next_id(con, "scripts", "script_id")
@@ -282,7 +283,7 @@ def _focused(args, con, campaign_id, config, mission, interface, golden, propert
     with Batches(con, campaign_id, session, set(config["external"])) as batches:
         focused_run = budgeted.FocusedRun(con, campaign_id, config, plan, golden_id,
                                           lambda script_id, body: _tasks([(script_id, body)], golden_id, config),
-                                          run_tasks, batches, properties, interface, out, print)
+                                          run_tasks, batches, properties, interface, out, print, jobs)
         reason = focused_run.run()
     session.progress.close()
     print(summary(con, campaign_id, session))
@@ -312,7 +313,7 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
     variants = len(config["sut"])
     start = time.monotonic()
     if config["strategy"] == "focused":
-        _focused(args, con, campaign_id, config, mission, interface, golden, properties, run_tasks, start)
+        _focused(args, con, campaign_id, config, mission, interface, golden, properties, run_tasks, start, jobs)
         return 0
     if campaign_id is None:
         golden_id = store.next_id(con, "scripts", "script_id")
