@@ -76,9 +76,9 @@ class FocusedRun:
         self.shrinkers, self.account = (max(1, jobs) if config["external"] else 1), threading.Lock()
         self.state = {sut: VariantState() for sut in config["sut"]}
         stored = con.execute("select sum(sim_s) from traces where campaign_id = ?", [campaign_id]).fetchone()[0]
-        self.shrink_s = (con.execute("select shrink_s from campaign_budgets where campaign_id = ?",
-                                     [campaign_id]).fetchone() or [0.0])[0]
-        self.budget = Budget(config["budget_s"], (stored or 0.0) + self.shrink_s)
+        self.shrink_s, self.stopped = con.execute("select shrink_s, stopped from campaign_budgets where "
+                                                  "campaign_id = ?", [campaign_id]).fetchone() or (0.0, None)
+        self.budget = Budget(config.get("budget_s"), (stored or 0.0) + self.shrink_s)
         self.scripts = {json.loads(m)[0]["test"]: (script_id, body) for script_id, m, body in con.execute(
             "select script_id, mutations, body from scripts where campaign_id = ? and kind = 'mutant'",
             [campaign_id]).fetchall()}
@@ -109,6 +109,9 @@ class FocusedRun:
 
     def run(self) -> str:
         """Runs rounds until the campaign stops; returns why (rule, budget or tests)."""
+        if self.stopped:
+            self.say(f"campaign {self.campaign_id} is complete; nothing to run")
+            return self.stopped
         n, cap = 0, self.config["mutants"]
         while True:
             active = [s for s in self.config["sut"] if not self.state[s].done]
