@@ -137,3 +137,8 @@ def test_a_target_folder_outside_the_repository_with_an_external_adapter(tmp_pat
     assert not [f for f in found if f[0] == "pump"], found
     total, stopped, _ = spent(db)
     assert stopped == "rule" and total <= 1200
+    assert cli(["report", "--db", str(db), "--out", str(tmp_path / "report")]) == 0
+    index = (tmp_path / "report" / "index.html").read_text()
+    assert index.index('<h2 id="findings">') < index.index('<h2 id="campaign">')
+    assert "DRY(pump.Run)" in index.split('<h2 id="campaign">')[0]
+    assert (tmp_path / "report" / "findings.csv").read_text().count("\n") == len(found) + 1
