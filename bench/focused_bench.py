@@ -69,10 +69,12 @@ def compare(folder: Path, name: str, mission: Path, suts: str) -> None:
     wall = campaign(db, mission, suts, "--strategy", "focused", "--budget", "4000s", "--shrink")
     con = store.connect(db, read_only=True)
     spent, stopped = focused_spent(con)
+    first, _ = first_exposures(con, wanted)
     found = exposed(con, wanted)
     missing = [f"{e.sut} {e.what}" for e, r in found.items() if r is None]
     steps = max((r[1] for r in found.values() if r), default=0)
-    print(f"  focused   stopped ({stopped}) after {spent:,.0f} mission s, shrinking included "
+    print(f"  focused   every defect shown after {first:,.0f} mission s (shrinking not counted); "
+          f"stopped ({stopped}) after {spent:,.0f} mission s, shrinking included "
           f"({wall:.0f} s wall in process); {len(wanted) - len(missing)} of {len(wanted)} exposed with a "
           f"reproducer of <= 10 steps (largest {steps})" + (f"; missing: {', '.join(missing)}" if missing else ""))
 
