@@ -47,6 +47,11 @@ def first_exposures(con, wanted) -> tuple[float | None, int]:
     return con.execute("select sum(sim_s) from traces where trace_id <= ?", [max(shown)]).fetchone()[0], len(shown)
 
 
+def shown_after(con, wanted) -> str:
+    spent, shown = first_exposures(con, wanted)
+    return f"{spent:,.0f} mission s" if spent is not None else f"not all: {shown} of {len(wanted)}"
+
+
 def focused_spent(con) -> tuple[float, str]:
     traces = con.execute("select sum(sim_s) from traces").fetchone()[0]
     shrink_s, stopped = con.execute("select shrink_s, stopped from campaign_budgets").fetchone()
@@ -60,20 +65,17 @@ def compare(folder: Path, name: str, mission: Path, suts: str) -> None:
         db = folder / f"{name}-{strategy}.duckdb"
         wall = campaign(db, mission, suts, "--strategy", strategy, "--mutants", "300")
         con = store.connect(db, read_only=True)
-        spent, shown = first_exposures(con, wanted)
         total = con.execute("select sum(sim_s) from traces").fetchone()[0]
-        figure = f"{spent:,.0f} mission s" if spent is not None else f"not all: {shown} of {len(wanted)}"
-        print(f"  {strategy:<9} every defect shown after {figure} (campaign {total:,.0f} mission s, "
+        print(f"  {strategy:<9} every defect shown after {shown_after(con, wanted)} (campaign {total:,.0f} mission s, "
               f"{wall:.0f} s wall in process; shrinking not counted)")
     db = folder / f"{name}-focused.duckdb"
     wall = campaign(db, mission, suts, "--strategy", "focused", "--budget", "4000s", "--shrink")
     con = store.connect(db, read_only=True)
     spent, stopped = focused_spent(con)
-    first, _ = first_exposures(con, wanted)
     found = exposed(con, wanted)
     missing = [f"{e.sut} {e.what}" for e, r in found.items() if r is None]
     steps = max((r[1] for r in found.values() if r), default=0)
-    print(f"  focused   every defect shown after {first:,.0f} mission s (shrinking not counted); "
+    print(f"  focused   every defect shown after {shown_after(con, wanted)} (shrinking not counted); "
           f"stopped ({stopped}) after {spent:,.0f} mission s, shrinking included "
           f"({wall:.0f} s wall in process); {len(wanted) - len(missing)} of {len(wanted)} exposed with a "
           f"reproducer of <= 10 steps (largest {steps})" + (f"; missing: {', '.join(missing)}" if missing else ""))
