@@ -104,13 +104,18 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--seed", type=SEED, default=2012, help="campaign seed (default: %(default)s)")
     c.add_argument("--jobs", type=JOBS, default=0, help=f"worker processes, 0 = all cores, at most {MAX_JOBS} "
                                                         "(default: %(default)s)")
-    c.add_argument("--strategy", choices=("random", "targeted"), default="random",
+    c.add_argument("--strategy", choices=("random", "targeted", "focused"), default="random",
                    help="random: the paper's operators; targeted: mutants aimed at falsifying the "
-                        "least-covered properties' conditions (default: %(default)s)")
+                        "least-covered properties' conditions; focused: short tests, one per way to "
+                        "falsify a condition, until the campaign decides it is done (default: %(default)s)")
+    c.add_argument("--budget", metavar="DURATION",
+                   help="focused only: the mission time all runs may take, shrink runs included "
+                        "(4000s, 40m, 1h; default: none, the stopping rule ends the campaign)")
     c.add_argument("--ops-per-mutant", type=COUNT, default=None,
                    help="mutation operations per mutant (default: 1 random, 3 targeted)")
     c.add_argument("--shrink", action="store_true",
-                   help="then shrink one representative trace of each distinct bad behaviour")
+                   help="then shrink one representative trace of each distinct bad behaviour "
+                        "(focused: each new finding as it shows, within the budget)")
     c.add_argument("--time-mutations", action="store_true", help="also drop waits and change sleeps")
     c.add_argument("--operators", metavar="A,B", help="the mutation operators random mutants draw among, of "
                    f"{', '.join(OPERATORS)} (default: the paper's three, {', '.join(REQUEST_OPERATORS)})")

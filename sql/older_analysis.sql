@@ -9,3 +9,6 @@ from traces;
 {% if 'trace_badness' in missing %}
 {% with temp = true %}{% include 'views/trace_badness.sql' %}{% endwith %};
 {% endif %}
+{% for name in ('trace_findings', 'findings') if name in missing %}
+{% with temp = true %}{% include 'views/' ~ name ~ '.sql' %}{% endwith %};
+{% endfor %}

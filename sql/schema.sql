@@ -153,3 +153,16 @@ create table if not exists shrink_failures (
     error        varchar not null,
     failed_at    timestamp not null      -- UTC
 );
+
+-- A campaign run under a budget or a stopping rule (--strategy focused, issue 21): its budget in
+-- mission seconds (null: none), its stopping rule, the mission seconds of its shrink runs (the
+-- traces hold the others), how many tests it has made, and why it stopped (rule, budget or
+-- tests; null while it runs).
+create table if not exists campaign_budgets (
+    campaign_id  integer primary key,
+    budget_s     double,
+    rule         varchar not null,
+    shrink_s     double not null,
+    tests        integer not null,
+    stopped      varchar
+);

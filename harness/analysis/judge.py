@@ -1,8 +1,9 @@
 """Judging traces that are not in a store yet: the analyzer's verdicts table, in memory.
 
 Targeted generation judges the golden run to learn which P-conditions it already falsifies,
-and shrinking judges every candidate script's run. Both use the oracles of `analyze` (the
-same rendered verdicts table, shared-code rule included), on a private in-memory DuckDB.
+shrinking judges every candidate script's run, a focused campaign what each test found. All use
+the oracles of `analyze` (the same rendered verdicts table, shared-code rule included, and the
+view trace_findings), on a private in-memory DuckDB.
 """
 from __future__ import annotations
 
@@ -22,6 +23,8 @@ class Judge:
                              + [render_property(p, "events", epsilon, interface, peers=properties, into="verdicts") + ";"
                                 for p in properties]
                              + [render_view("shared_codes", target="verdicts") + ";"])
+        self.con.execute(render_view("verdicts", target="verdicts"))  # for the view, until verdicts() makes it
+        self.con.execute(render_view("trace_findings"))
 
     def verdicts(self, traces: list[Trace]) -> list[list[dict]]:
         """Per trace, its verdict rows (the verdicts columns but trace_id) in the order of the
@@ -39,3 +42,12 @@ class Judge:
             record = dict(zip(names, row))
             judged[record.pop("trace_id") - 1].append(record)
         return judged
+
+    def findings(self, traces: list[Trace]) -> list[set[tuple[str | None, str]]]:
+        """Per trace, the (property_id, kind) that went wrong in it (view trace_findings)."""
+        self.verdicts(traces)
+        found = [set() for _ in traces]
+        for trace_id, property_id, kind in self.con.execute(
+                "select trace_id, property_id, kind from trace_findings").fetchall():
+            found[trace_id - 1].add((property_id, kind))
+        return found

@@ -26,7 +26,8 @@ from pathlib import Path
 from harness import DEFAULT_MISSION_DIR, store
 from harness.schema import cut
 from harness.analysis import analyzer
-from harness.campaign import sharding, shrink
+from harness.campaign import budgeted, sharding, shrink
+from harness.campaign.budget import parse_duration
 from harness.errors import StoreError, UntimelyError
 from harness.run.executive import run_script
 from harness.files import read_text
@@ -34,6 +35,7 @@ from harness.target.interface import Interface
 from harness.target.mission import load_mission
 from harness.mutator import strategies
 from harness.mutator.operators import Mutant, chosen as chosen_operators
+from harness.store.reads import observed_events
 from harness.store.sql import render_query
 from harness.progress import Progress
 from harness.analysis.provenance import last_epsilon
@@ -43,9 +45,9 @@ from harness.run.workers import Pool, Setup, Task, script_label
 
 # Arguments that decide what is run; --jobs, --cluster and --db do not.
 COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "operators",
-            "max_delay", "files", "shard")
+            "max_delay", "budget_s", "files", "shard")
 # What a config stored before a key existed means by its absence.
-ABSENT = {"external": {}, "strategy": "random", "shard": None, "operators": None}
+ABSENT = {"external": {}, "strategy": "random", "shard": None, "operators": None, "budget_s": None}
 RUN_WALL_LIMIT_S = 600.0  # of a simulated run; a real-time one has the executive's watchdogs
 REALTIME_WALL_LIMIT_S = 3 * 3600.0
 # A transaction per simulated run cost a quarter of a campaign; a killed campaign re-runs at most
@@ -74,7 +76,12 @@ def campaign_config(args) -> dict:
     suts, external = resolve(args.sut or mission.default_suts(), mission.folder, args.time_scale)
     if mission.simulated and set(suts) - set(external):  # variants: a bad behaviour fails here, not in every run
         mission.layer.behaviour_module()
-    return {"kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
+    given = getattr(args, "budget", None)  # callers that build their own arguments may leave it out
+    if given is not None and args.strategy != "focused":
+        raise UntimelyError(f"--budget {given} applies to --strategy focused, whose tests are made as "
+                            f"the campaign goes; a {args.strategy} campaign runs its --mutants")
+    budget = {} if given is None else {"budget_s": parse_duration(given)}
+    return {**budget, "kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
             "external": {name: sut.config() for name, sut in external.items()},
             "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,
             "time_mutations": args.time_mutations, "operators": named,
@@ -90,13 +97,15 @@ def _difference(stored: dict, wanted: dict) -> str | None:
                 continue
             return (f"--mission {stored['mission']} had other contents: {', '.join(changed)} "
                     f"differ from {wanted['mission']}")
-        if stored.get(key, ABSENT.get(key)) == wanted[key]:
+        theirs, ours = stored.get(key, ABSENT.get(key)), wanted.get(key, ABSENT.get(key))
+        if theirs == ours:
             continue
         if key == "external":
-            return f"external SUTs {stored.get(key, ABSENT[key])}, not {wanted[key]}"
-        show = (lambda v: ",".join(v) if v else "(the default)") if key in ("sut", "operators") else str
-        flag = "--" + key.replace("_", "-")
-        return f"{flag} {show(stored.get(key, ABSENT.get(key)))}, not {show(wanted[key])}"
+            return f"external SUTs {theirs}, not {ours}"
+        listed = lambda v: ",".join(v) if v else "(the default)"  # noqa: E731
+        show = {"sut": listed, "operators": listed, "budget_s": lambda v: "none" if v is None else f"{v:g}s"}.get(key, str)
+        flag = "--budget" if key == "budget_s" else "--" + key.replace("_", "-")
+        return f"{flag} {show(theirs)}, not {show(ours)}"
     return None
 
 
@@ -251,6 +260,46 @@ def _backend(cluster: str | None, setup: Setup, jobs: int):
         yield backend.run_all
 
 
+def _judged(con, db, properties, interface, mission, show: bool = True) -> None:
+    """Verdicts for every stored trace (new traces, or a session stopped while judging)."""
+    if not analyzer.judges_every_trace(con):
+        epsilon = last_epsilon(con)  # a resumed campaign keeps the epsilon its verdicts were made with
+        analyzer.materialise(con, properties, epsilon, interface, mission / "properties.toml")
+        if show:
+            print(f"verdicts  materialised for every trace of {db} (epsilon {epsilon:g} s)\n")
+            for failure in analyzer.failed_oracles(con):
+                print(failure + "\n")
+            print(analyzer.summary(con, epsilon))
+
+
+def _focused(args, con, campaign_id, config, mission, interface, golden, properties, run_tasks, start,
+             jobs: int) -> None:
+    """A focused campaign: the golden on every variant, then tests until it stops (harness.campaign.budgeted)."""
+    if campaign_id is None:
+        golden_id = store.next_id(con, "scripts", "script_id")
+        session = Session(Progress(len(config["sut"])), start)
+        campaign_id = _create(con, config, golden_id, read_text(mission / "golden.mission"), [], interface,
+                              run_tasks, session)
+        session.progress.close()
+    golden_id = con.execute("select min(script_id) from scripts where campaign_id = ?", [campaign_id]).fetchone()[0]
+    golden_trace = Trace(config["sut"][0], 0, events=observed_events(con, _tasks([(golden_id, "")], golden_id,
+                                                                                    config)[0].trace_id))
+    plan = strategies.plan(config, golden, interface, properties, golden_trace)
+    _judged(con, args.db, properties, interface, mission, show=False)  # what the stored traces found
+    session = Session(Progress(len(config["sut"]) * len(plan.aims), unit="runs"), start)
+    out = shrink.default_out(args.db) if args.shrink else None
+    with Batches(con, campaign_id, session, set(config["external"])) as batches:
+        focused_run = budgeted.FocusedRun(con, campaign_id, config, plan, golden_id,
+                                          lambda script_id, body: _tasks([(script_id, body)], golden_id, config),
+                                          run_tasks, batches, properties, interface, out, print, jobs)
+        reason = focused_run.run()
+    session.progress.close()
+    print(summary(con, campaign_id, session))
+    print(budgeted.stopped_line(focused_run, reason))
+    _judged(con, args.db, properties, interface, mission)
+    print("\nfindings (view findings):\n" + budgeted.findings_table(con))
+
+
 def main(args, runner=None) -> int:
     """`runner` replaces harness.run.executive.run_script (tests inject failing ones)."""
     config = campaign_config(args)
@@ -284,6 +333,9 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
     campaign_id = find_campaign(con, config, args.db)
     variants = len(config["sut"])
     start = time.monotonic()
+    if config["strategy"] == "focused":
+        _focused(args, con, campaign_id, config, mission, interface, golden, properties, run_tasks, start, jobs)
+        return 0
     if campaign_id is None:
         golden_id = store.next_id(con, "scripts", "script_id")
         golden_run = _tasks([(golden_id, golden.render())], golden_id, config)[0]  # on the first variant
@@ -311,13 +363,7 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
         session.progress.close()
     print(summary(con, campaign_id, session))
     _warn_of_a_default_target(con, campaign_id, mission, config)
-    if not analyzer.judges_every_trace(con):  # new traces, or a session stopped while judging
-        epsilon = last_epsilon(con)  # a resumed campaign keeps the epsilon its verdicts were made with
-        analyzer.materialise(con, properties, epsilon, interface, mission / "properties.toml")
-        print(f"verdicts  materialised for every trace of {args.db} (epsilon {epsilon:g} s)\n")
-        for failure in analyzer.failed_oracles(con):
-            print(failure + "\n")
-        print(analyzer.summary(con, epsilon))
+    _judged(con, args.db, properties, interface, mission)
     if args.shrink:
         print("\nshrunk reproducers, one per distinct bad behaviour (view bad_behaviours):")
         for line in shrink.representatives(con, properties, shrink.default_out(args.db), setup.external,

@@ -70,6 +70,7 @@ class Original:
     mission: Path
     max_delay: float
     external: dict  # the campaign's external SUTs (name -> ExternalSut fields)
+    slot: int = 0  # the slot its re-runs take (shrinks running side by side take different ones)
 
     @cached_property
     def interface(self) -> Interface:
@@ -79,7 +80,7 @@ class Original:
         """Run a script on the trace's variant with its seed, as the campaign's workers do."""
         setup = Setup(runner, self.mission / "interface.toml", self.mission / "world.toml", self.max_delay,
                       {name: ExternalSut(**spec) for name, spec in self.external.items()})
-        return setup.run(Task(self.trace_id, self.script_id, self.sut, self.seed, body), self.interface, 0)
+        return setup.run(Task(self.trace_id, self.script_id, self.sut, self.seed, body), self.interface, self.slot)
 
 
 def original(con, trace_id: int, mission: str | None = None) -> Original:

@@ -4,7 +4,10 @@
 what random perturbations of the mission meet, as in the paper's Tables III-IV. `targeted` aims
 every mutant at the least-covered property's P-condition (harness.mutator.targeted): far more
 cases per property and more bad behaviours found, but its rates describe aimed cases, so they
-are not comparable with the paper's.
+are not comparable with the paper's. `focused` (harness.mutator.focused) makes short tests, one
+per way to falsify each property's condition, then repeats of the timing-sensitive ones, as the
+campaign goes: it answers "what is wrong with this layer", in the fewest mission seconds, and
+stops by itself (harness.campaign.budgeted); its rates describe its tests only.
 """
 from __future__ import annotations
 
@@ -13,26 +16,37 @@ from typing import Callable
 from harness.errors import UntimelyError
 from harness.target.interface import Interface, Property
 from harness.analysis.judge import Judge
-from harness.mutator import operators, targeted
+from harness.mutator import focused, operators, targeted
 from harness.mutator.operators import Mutant
+from harness.mutator.timeline import Timeline
 from harness.target.script import Script
 from harness.trace import Trace
 
-STRATEGIES = ("random", "targeted")
-DEFAULT_OPERATIONS = {"random": 1, "targeted": targeted.SITES_PER_MUTANT}
+STRATEGIES = ("random", "targeted", "focused")
+DEFAULT_OPERATIONS = {"random": 1, "targeted": targeted.SITES_PER_MUTANT, "focused": 1}
 
 
 def operations(strategy: str, given: int | None, time_mutations: bool, named_operators: str | None = None) -> int:
     """Operations per mutant: the one given, or the strategy's default; refuses what does not apply."""
     if strategy not in STRATEGIES:
         raise UntimelyError(f"--strategy {strategy!r}: choose one of {', '.join(STRATEGIES)}")
-    if strategy == "targeted" and time_mutations:
-        raise UntimelyError("--time-mutations applies to --strategy random only; targeted mutants "
+    if strategy != "random" and time_mutations:
+        raise UntimelyError(f"--time-mutations applies to --strategy random only; {strategy} mutants "
                             "choose their own sleeps")
     if strategy == "targeted" and named_operators is not None:
         raise UntimelyError("--operators applies to --strategy random only; targeted mutants insert "
                             "the requests that falsify conditions")
+    if strategy == "focused" and given not in (None, 1):
+        raise UntimelyError(f"--ops-per-mutant {given}: a focused test makes one perturbation; "
+                            "leave the option out")
     return DEFAULT_OPERATIONS[strategy] if given is None else given
+
+
+def plan(config: dict, golden: Script, interface: Interface, properties: list[Property],
+         golden_trace: Trace) -> focused.Plan:
+    """A focused campaign's tests, made as the campaign goes (harness.campaign.budgeted)."""
+    timeline = Timeline(golden, golden_trace, interface.replies)
+    return focused.Plan(golden, timeline, interface, properties, config["seed"])
 
 
 def generate(config: dict, golden: Script, interface: Interface, properties: list[Property],

@@ -166,6 +166,8 @@ def _write_rest(con, out: Path, page_ids: set[int]) -> dict[str, int]:
     def page_link(trace_id):
         return html.trace_href(trace_id) if trace_id in page_ids else None
     tables = {
+        "findings": queries.view(con, "findings").link_column("reproducer", pages.shrunk_href)
+                                                 .link_column("first_trace", page_link),
         "trace_outcomes": queries.trace_counts(con),
         "invalid_mutants": queries.invalid_mutants(con),
         "crash_reasons": queries.crash_reasons(con),
@@ -179,7 +181,7 @@ def _write_rest(con, out: Path, page_ids: set[int]) -> dict[str, int]:
     }
     tables["verdict_transitions"], tables["table_changes"] = queries.changes(con)
     pages.write_shrunk(con, out, tables["shrunk"])
-    csv_tables = [table2, tp, fp, tables["properties"], tables["suspicious"], tables["invalid_mutants"],
+    csv_tables = [tables["findings"], table2, tp, fp, tables["properties"], tables["suspicious"], tables["invalid_mutants"],
                   tables["trace_outcomes"], bad, queries.bad_verdicts(con), tables["inversions"],
                   tables["verdict_transitions"], tables["table_changes"], tables["shrunk"], family_traces]
 

@@ -34,8 +34,14 @@ def exists(con, name: str) -> bool:
 
 
 def read_older_analysis(con) -> None:
-    """A store analysed before views trace_scope or trace_badness existed gets them as temporary
-    views (sql/older_analysis.sql): the report reads it as it is."""
-    missing = {"trace_scope", "trace_badness"} - relations(con)
+    """A store analysed before views trace_scope, trace_badness or findings existed gets them as
+    temporary views (sql/older_analysis.sql): the report reads it as it is."""
+    missing = {"trace_scope", "trace_badness", "trace_findings", "findings"} - relations(con)
     if missing:
         con.execute(ENV.get_template("older_analysis.sql").render(missing=missing, verdict_names=list(VERDICTS)))
+
+
+def observed_events(con, trace_id: int) -> list[tuple]:
+    """A stored trace's observed events as a Trace holds them (EVENT_COLUMNS order)."""
+    return con.execute("select seq, t, kind, rqst_id, module, service, args, reply from events "
+                       "where trace_id = ? order by seq", [trace_id]).fetchall()

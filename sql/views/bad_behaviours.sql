@@ -5,11 +5,9 @@
 -- every stored trace may show one, counted in Tables II-IV or not.
 create or replace view bad_behaviours as
 with shown as (
-    select distinct v.trace_id, t.sut, v.property_id, v.verdict
-    from verdicts v join traces t using (trace_id)
-    where v.verdict in ('FN', 'FP')
-    union all
-    select trace_id, sut, null, 'hung' from traces where outcome = 'hung'
+    select trace_id, sut, property_id, kind as verdict
+    from trace_findings
+    where kind <> 'crashed'
 ),
 sized as (
     select s.*, length(coalesce(sc.body, '')) as script_size

@@ -1,0 +1,224 @@
+"""A focused campaign's runs (`campaign --strategy focused [--budget D] [--shrink]`): tests made,
+run and judged ROUND_TESTS at a time, in the plan's order (harness.mutator.focused), on every
+variant the stopping rule has not ended yet, within the budget (harness.campaign.budget). With
+--shrink, each new finding's first trace is shrunk as soon as it shows, its runs within the
+budget too.
+
+Resumable and a function of the arguments only: rounds are fixed (not a function of --jobs), a
+variant's rule is applied to its tests in order, and a resumed campaign replays its stored
+traces' findings (view trace_findings) through the same rounds before it runs anything new.
+The table campaign_budgets records the budget, the rule, the mission seconds of the shrink runs
+(which are not stored as traces) and why the campaign stopped.
+"""
+from __future__ import annotations
+
+import json
+import queue
+import time
+import threading
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+from harness import store
+from harness.campaign import shrink
+from harness.campaign.budget import RULE, Budget, VariantState
+from harness.analysis.judge import Judge
+from harness.errors import UntimelyError
+from harness.mutator.focused import Plan, bound_s
+from harness.target.script import parse
+from harness.run.workers import Task
+from harness.textable import format_table
+
+ROUND_TESTS = 8
+PATIENCE = 40  # tests per variant without anything new, once every aim was exercised (budget.RULE)
+
+
+class BudgetSpent(Exception):
+    """A shrink run that would not fit in the budget."""
+
+
+@dataclass
+class MeteredOriginal(shrink.Original):
+    """A trace to shrink whose re-runs are counted against the campaign's budget (shrinks run
+    side by side: one lock keeps the budget's account)."""
+    budget: Budget | None = None
+    bound: float = 0.0  # no candidate outlasts the original script's bound
+    spent_s: float = 0.0
+    account: threading.Lock = field(default_factory=threading.Lock)  # shared by the shrinks of a campaign
+
+    def run(self, body: str, runner=None):
+        with self.account:
+            if not self.budget.fits(self.bound):
+                raise BudgetSpent()
+            self.budget.spent_s += self.bound  # reserved until the run says what it took
+        trace = super().run(body, runner) if runner else super().run(body)
+        with self.account:
+            self.budget.spent_s += trace.sim_s - self.bound
+            self.spent_s += trace.sim_s
+        return trace
+
+
+def record(con, campaign_id: int, budget: Budget, shrink_s: float, tests: int, stopped: str | None) -> None:
+    con.execute("insert or replace into campaign_budgets (campaign_id, budget_s, rule, shrink_s, tests, stopped) "
+                "values (?, ?, ?, ?, ?, ?)",
+                [campaign_id, budget.limit_s, RULE.format(patience=PATIENCE), shrink_s, tests, stopped])
+
+
+class FocusedRun:
+    def __init__(self, con, campaign_id: int, config: dict, plan: Plan, golden_id: int, tasks_of,
+                 run_tasks, batches, properties, interface, shrink_to: Path | None, say, jobs: int = 1):
+        self.con, self.campaign_id, self.config, self.plan = con, campaign_id, config, plan
+        self.golden_id, self.tasks_of, self.run_tasks, self.batches = golden_id, tasks_of, run_tasks, batches
+        self.properties, self.interface, self.shrink_to, self.say = properties, interface, shrink_to, say
+        self.judge = Judge(interface, properties)
+        # shrinks side by side only on external SUTs: in process, threads would share one core
+        self.shrinkers, self.account = (max(1, jobs) if config["external"] else 1), threading.Lock()
+        self.state = {sut: VariantState() for sut in config["sut"]}
+        stored = con.execute("select sum(sim_s) from traces where campaign_id = ?", [campaign_id]).fetchone()[0]
+        self.shrink_s, self.stopped = con.execute("select shrink_s, stopped from campaign_budgets where "
+                                                  "campaign_id = ?", [campaign_id]).fetchone() or (0.0, None)
+        self.budget = Budget(config.get("budget_s"), (stored or 0.0) + self.shrink_s)
+        self.scripts = {json.loads(m)[0]["test"]: (script_id, body) for script_id, m, body in con.execute(
+            "select script_id, mutations, body from scripts where campaign_id = ? and kind = 'mutant'",
+            [campaign_id]).fetchall()}
+        self.shown = {}  # trace_id -> findings, of the traces stored before this session
+        for trace_id, property_id, kind in con.execute(
+                "select trace_id, property_id, kind from trace_findings join traces using (trace_id) "
+                "where campaign_id = ?", [campaign_id]).fetchall():
+            self.shown.setdefault(trace_id, set()).add((property_id, kind))
+        self.stored = {t for (t,) in con.execute("select trace_id from traces where campaign_id = ?",
+                                                 [campaign_id]).fetchall()}
+        self.shrunk = {(r["sut"], r["verdict"], r["property"]) for (text,) in con.execute(
+            "select mutations from scripts where kind = 'shrunk'").fetchall() for r in json.loads(text)}
+
+    def script(self, n: int) -> tuple[int, str]:
+        """Test n's (script_id, body), made and stored the first time (shrunk scripts take ids too)."""
+        if n not in self.scripts:
+            script_id = store.next_id(self.con, "scripts", "script_id")
+            test = self.plan.test(n, f"script {script_id}")
+            if not test.valid:
+                raise UntimelyError(f"focused test {n} is not a valid script ({test.invalid_reason}); "
+                                    "the golden script or the properties name services the interface lacks")
+            with store.transaction(self.con):
+                self.con.execute("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
+                                 "invalid_reason) values (?, ?, 'mutant', ?, ?, ?, true, null)",
+                                 [script_id, self.campaign_id, self.golden_id, json.dumps(test.operations), test.body])
+            self.scripts[n] = (script_id, test.body)
+        return self.scripts[n]
+
+    def run(self) -> str:
+        """Runs rounds until the campaign stops; returns why (rule, budget or tests)."""
+        if self.stopped:
+            self.say(f"campaign {self.campaign_id} is complete; nothing to run")
+            return self.stopped
+        n, cap = 0, self.config["mutants"]
+        while True:
+            active = [s for s in self.config["sut"] if not self.state[s].done]
+            if not active:
+                return self._stop("rule", n)
+            if n >= cap:
+                return self._stop("tests", n)
+            tests = [(k, [t for t in self.tasks_of(*self.script(k)) if t.sut in active])
+                     for k in range(n, min(n + ROUND_TESTS, cap))]
+            admitted, reserved, cut = [], 0.0, None
+            for k, tasks in tests:
+                for task in tasks:
+                    if task.trace_id in self.stored:
+                        continue
+                    bound = bound_s(parse(task.body))
+                    if not self.budget.fits(reserved + bound):
+                        cut = k
+                        break
+                    reserved += bound
+                    admitted.append(task)
+                if cut is not None:
+                    break
+            fresh = {}
+            if admitted:
+                self.run_tasks(admitted, lambda task, trace: (fresh.__setitem__(task.trace_id, trace),
+                                                              self.batches.add(task, trace)))
+                self.batches.commit()
+                traces = sorted(fresh.items())
+                for (trace_id, trace), found in zip(traces, self.judge.findings([t for _, t in traces])):
+                    self.shown[trace_id] = found
+                    self.budget.spent_s += trace.sim_s
+                self.stored |= set(fresh)
+            found = []
+            for k, tasks in tests:
+                if k == cut:
+                    break
+                for task in tasks:
+                    new = self.state[task.sut].record(self.shown.get(task.trace_id, set()), len(self.plan.aims),
+                                                      PATIENCE)
+                    found += [(task, property_id, kind) for property_id, kind in sorted(new, key=str)]
+                n = k + 1
+            self._shrink(found)
+            record(self.con, self.campaign_id, self.budget, self.shrink_s, n, None)
+            if cut is not None:
+                return self._stop("budget", n)
+
+    def _shrink(self, found: list[tuple[Task, str | None, str]]) -> None:
+        """Says what a round found; shrinks each new finding from the trace that showed it, side by
+        side on an external SUT (each shrink on a slot of its own), and stores them in order."""
+        todo = []
+        for task, property_id, kind in found:
+            what = f"{kind} on {property_id}" if property_id else kind
+            self.say(f"found     {task.sut}: {what} (trace {task.trace_id}, script {task.script_id})")
+            if self.shrink_to is None or kind == "crashed" or (task.sut, kind, property_id) in self.shrunk:
+                continue
+            orig = shrink.original(self.con, task.trace_id)
+            metered = MeteredOriginal(**{f.name: getattr(orig, f.name) for f in fields(orig)}, budget=self.budget,
+                                      bound=bound_s(parse(orig.body)), account=self.account)
+            todo.append((orig, metered, shrink.Behaviour(task.sut, kind, property_id)))
+        slots = queue.SimpleQueue()
+        for slot in range(self.shrinkers):
+            slots.put(slot)
+
+        def shrunk(metered: MeteredOriginal, behaviour: shrink.Behaviour):
+            metered.slot = slots.get()
+            started = time.perf_counter()
+            try:
+                script, runs = shrink.shrink(metered, behaviour, self.properties)
+                return script, runs, time.perf_counter() - started
+            except BudgetSpent:
+                return "the budget is spent"
+            except UntimelyError as e:
+                return str(e)
+            finally:
+                slots.put(metered.slot)
+        with ThreadPoolExecutor(self.shrinkers) as pool:
+            futures = [(orig, metered, behaviour, pool.submit(shrunk, metered, behaviour))
+                       for orig, metered, behaviour in todo]
+            for orig, metered, behaviour, future in futures:
+                result = future.result()
+                self.shrink_s += metered.spent_s
+                if isinstance(result, str):
+                    self.say(f"          {behaviour}: not shrunk: {result}")
+                    continue
+                self.shrunk.add((behaviour.sut, behaviour.verdict, behaviour.property_id))
+                line = shrink.stored(self.con, orig, behaviour, result, self.shrink_to)
+                self.say(f"          shrunk in {metered.spent_s:,.0f} mission s: " + line.split(": ", 1)[1])
+
+    def _stop(self, reason: str, tests: int) -> str:
+        record(self.con, self.campaign_id, self.budget, self.shrink_s, tests, reason)
+        return reason
+
+
+def stopped_line(run: FocusedRun, reason: str) -> str:
+    why = {"rule": "its stopping rule says nothing new is expected: "
+                   + RULE.format(patience=PATIENCE),
+           "budget": "the next test does not fit in the budget",
+           "tests": f"it made --mutants {run.config['mutants']} tests"}[reason]
+    limit = "no budget" if run.budget.limit_s is None else f"budget {run.budget.limit_s:,.0f}"
+    return (f"stopped   ({reason}) {why}; spent {run.budget.spent_s:,.0f} mission s ({limit}), "
+            f"of which shrinking {run.shrink_s:,.0f}")
+
+
+def findings_table(con) -> str:
+    rows = con.execute("select sut, coalesce(property_id, '-'), kind, first_trace, traces, reproducer, "
+                       "reproducer_steps from findings").fetchall()
+    if not rows:
+        return "nothing went wrong"
+    return format_table(["variant", "property", "kind", "first trace", "traces", "reproducer", "steps"], rows,
+                        null="-")
