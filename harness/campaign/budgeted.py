@@ -23,6 +23,8 @@ from pathlib import Path
 from harness import store
 from harness.campaign import shrink
 from harness.campaign.budget import RULE, Budget, VariantState
+from harness.store.budgets import record_budget
+from harness.store.scripts import ScriptRow, add_scripts
 from harness.analysis.judge import Judge
 from harness.errors import UntimelyError
 from harness.mutator.focused import Plan, bound_s
@@ -60,9 +62,7 @@ class MeteredOriginal(shrink.Original):
 
 
 def record(con, campaign_id: int, budget: Budget, shrink_s: float, tests: int, stopped: str | None) -> None:
-    con.execute("insert or replace into campaign_budgets (campaign_id, budget_s, rule, shrink_s, tests, stopped) "
-                "values (?, ?, ?, ?, ?, ?)",
-                [campaign_id, budget.limit_s, RULE.format(patience=PATIENCE), shrink_s, tests, stopped])
+    record_budget(con, campaign_id, budget.limit_s, RULE.format(patience=PATIENCE), shrink_s, tests, stopped)
 
 
 class FocusedRun:
@@ -101,9 +101,8 @@ class FocusedRun:
                 raise UntimelyError(f"focused test {n} is not a valid script ({test.invalid_reason}); "
                                     "the golden script or the properties name services the interface lacks")
             with store.transaction(self.con):
-                self.con.execute("insert into scripts (script_id, campaign_id, kind, parent, mutations, body, valid, "
-                                 "invalid_reason) values (?, ?, 'mutant', ?, ?, ?, true, null)",
-                                 [script_id, self.campaign_id, self.golden_id, json.dumps(test.operations), test.body])
+                add_scripts(self.con, [ScriptRow(script_id, self.campaign_id, "mutant", test.body, self.golden_id,
+                                                 test.operations)])
             self.scripts[n] = (script_id, test.body)
         return self.scripts[n]
 

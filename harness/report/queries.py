@@ -38,8 +38,8 @@ def check_analysed(con, db: str) -> None:
     if "traces" in missing:
         raise StoreError(f"{db!r} is not an Untimely store (no traces table); pass the campaign's --db")
     # an analysis with no verdict (every run crashed before a final reply) is still reported
-    if missing or not con.execute("select (select count(*) from verdicts) + "
-                                  "(select count(*) from analyses)").fetchone()[0]:
+    analyses = "(select count(*) from analyses)" if "analyses" in have else "0"  # older stores lack it
+    if missing or not con.execute(f"select (select count(*) from verdicts) + {analyses}").fetchone()[0]:
         lacking = ", ".join(missing) or "any analysis"
         raise StoreError(f"{db!r} has no verdicts yet (lacks {lacking}); "
                          f"run python -m harness analyze --db {db} first")
