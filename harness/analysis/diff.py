@@ -6,10 +6,7 @@ new ones. This module prints both, after `analyze` and at any time with `diff`.
 """
 from __future__ import annotations
 
-import duckdb
-
-from harness.store.reads import analyses_made, ordered
-from harness.errors import StoreError
+from harness.store.reads import analyses_made, ordered, require_analysis
 from harness.store.database import connect
 from harness.textable import counted, format_table, percent
 
@@ -49,10 +46,6 @@ def changes(con) -> str:
 
 def main(args) -> int:
     con = connect(args.db, read_only=True)
-    try:
-        con.execute("select 1 from verdict_transitions, table_changes limit 0")
-    except duckdb.Error:
-        raise StoreError(f"{args.db} has no analysis to compare; run python -m harness analyze --db "
-                         f"{args.db} first") from None
+    require_analysis(con, args.db, ("verdict_transitions", "table_changes"), "analysis to compare")
     print(changes(con))
     return 0

@@ -17,7 +17,7 @@ import duckdb
 from harness.errors import StoreError, UntimelyError
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.analysis.oracles import render_property
-from harness.store.reads import exists
+from harness.store.reads import exists, require_analysis
 from harness.store.sql import sql_id_list
 from harness.analysis.provenance import default_properties
 from harness.store.database import connect
@@ -170,11 +170,7 @@ def explanations(con, verdicts: list[dict]) -> dict[Key, str]:
 
 def main(args) -> int:
     con = connect(args.db, read_only=True)
-    try:
-        con.execute("select 1 from verdicts limit 0")
-    except duckdb.Error:
-        raise StoreError(f"{args.db} has no verdicts to explain; run python -m harness analyze --db "
-                         f"{args.db} first") from None
+    require_analysis(con, args.db, ("verdicts",), "verdicts to explain")
     interface, properties = judged_properties(con)
     if args.property not in properties:
         raise StoreError(f"no property {args.property!r} in the properties the verdicts were made from; "

@@ -2,6 +2,7 @@
 facts about the store's history that several commands state."""
 from __future__ import annotations
 
+from harness.errors import StoreError
 from harness.store.sql import ENV, VERDICTS
 
 POSITIONS = {"sut": "variant_positions", "family": "family_positions", "property_id": "property_positions"}
@@ -31,6 +32,12 @@ def relations(con, base_tables_only: bool = False) -> set[str]:
 
 def exists(con, name: str) -> bool:
     return name in relations(con)
+
+
+def require_analysis(con, db, needed: tuple[str, ...], what: str) -> None:
+    """Refuse a store that lacks the relations an analysis makes (`needed`), saying it has no `what`."""
+    if not all(exists(con, name) for name in needed):
+        raise StoreError(f"{db} has no {what}; run python -m harness analyze --db {db} first")
 
 
 def read_older_analysis(con) -> None:
