@@ -206,7 +206,8 @@ def snapshot(con):
 
 
 def next_id(con, table: str, column: str) -> int:
-    return con.execute(f"select coalesce(max({column}), 0) + 1 from {table}").fetchone()[0]
+    # fetchall: fetchone leaves the result open, and DuckDB 2 then refuses the next con.sql
+    return con.execute(f"select coalesce(max({column}), 0) + 1 from {table}").fetchall()[0][0]
 
 
 def add_campaign(con, campaign_id: int, mission: str, seed: int, config: dict) -> None:
