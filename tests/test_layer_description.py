@@ -74,7 +74,7 @@ def test_a_behaviour_module_that_builds_nothing_is_refused_before_any_run(folder
     with pytest.raises(UntimelyError, match=message):
         load_layer(folder).behaviour_module()
     with pytest.raises(UntimelyError, match=message):  # a campaign checks it before it runs anything
-        campaign_config(SimpleNamespace(mission=str(folder), mutants=1, strategy="random", ops_per_mutant=None,
+        campaign_config(SimpleNamespace(mission=str(folder), mutants=1, strategy="random", ops_per_mutant=None, operators=None,
                                         time_mutations=False, jobs=1, max_delay=0.0, sut=None, time_scale=None,
                                         seed=1))
 
