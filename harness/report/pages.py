@@ -12,8 +12,9 @@ from harness.report.tables import Table
 from harness.campaign.shrink import Behaviour, mission_file, original, write_mission
 
 
-def shrunk_href(script_id: int) -> str:
-    return "shrunk/" + mission_file(Path(), script_id).name
+def shrunk_href(script_id: int | None) -> str | None:
+    """The link to a shrunk reproducer's page; none where a finding has no reproducer yet."""
+    return None if script_id is None else "shrunk/" + mission_file(Path(), script_id).name
 
 
 def _rates(view: Table, rate: str) -> dict[tuple[str, str], float | None]:
