@@ -98,7 +98,7 @@ def test_a_confirmed_stored_command_runs_and_a_wrong_sut_is_refused(tmp_path, ca
 def test_a_command_with_an_unclosed_quote_is_named(tmp_path, capsys, command):
     mission = target(tmp_path, EAGER, f"[x]\ncommand = '''{command}'''\n")
     assert cli(["run", str(mission), "--sut", "x", "--db", str(tmp_path / "x.duckdb")]) == 2
-    assert re.search(r"suts.toml:\[x\] command: command = .*: No closing quotation; close the quote",
+    assert re.search(r"suts.toml:1: x: command = .*: No closing quotation; close the quote",
                      capsys.readouterr().err)
 
 
