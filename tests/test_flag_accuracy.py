@@ -67,12 +67,11 @@ def test_most_flagged_verdicts_are_inversions(campaign):
     assert caught / flagged >= 0.8, f"{name}: precision {caught / flagged:.1%} ({caught} of {flagged})"
 
 
+@pytest.mark.parametrize("campaign", [n for n in CAMPAIGNS if n.startswith("dala")], indirect=True)
 def test_bad_verdicts_are_certain_only_where_a_protection_is_missing(campaign):
     """reference has every protection: each FN and FP it shows may be a false observation. genom lacks
     PRE and EXC, bip-a PRE (and leaks PEX): those still show certain FNs."""
     name, con = campaign
-    if not name.startswith("dala"):
-        pytest.skip("the Dala variants' protections")
     certain = dict(con.execute("""select t.sut || ' ' || v.family, count(*) from verdicts v join traces t using (trace_id)
                                   where v.verdict in ('FN', 'FP') and v.certain group by all""").fetchall())
     assert not any(k.startswith("reference ") for k in certain)
@@ -84,13 +83,12 @@ def test_bad_verdicts_are_certain_only_where_a_protection_is_missing(campaign):
             assert certain.get(f"{sut} {family}", 0) > 0, f"{sut} {family}: no certain FN"
 
 
+@pytest.mark.parametrize("campaign", ["dala-random"], indirect=True)  # the paper's campaign is the default one
 def test_make_paper_writes_the_committed_comparison_from_a_fresh_default_campaign(campaign, tmp_path):
     """docs/paper.md is what `make paper` writes from the default campaign (seed 2012, 300 mutants):
     the same run gives the same text, every differing cell has its reason, and the page names no
     file outside the repository."""
     name, con = campaign
-    if name != "dala-random":
-        pytest.skip("the paper's campaign is the default one")
     db = con.execute("select path from duckdb_databases() where database_name = current_database()").fetchone()[0]
     out = tmp_path / "paper.md"
     assert paper.write(db, out) == []
