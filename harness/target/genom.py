@@ -27,7 +27,7 @@ COMPONENT = re.compile(rf"\bcomponent\s+({IDENT})\s*\{{")
 SERVICE = re.compile(rf"\b(attribute|function|activity)\s+({IDENT})\s*\(")
 EXCEPTION = re.compile(r"\bexception\s+([^;]*);")
 MEMBERS = re.compile(r"\{[^{}]*\}")  # an exception's members: `e_limits { double v; }`
-CLAUSE = re.compile(rf"\b(interrupts?|after)\s+([^;{{}}]*);")
+CLAUSE = re.compile(r"\b(interrupts?|after)\s+([^;{}]*);")
 
 
 @dataclass
