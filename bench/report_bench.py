@@ -51,7 +51,7 @@ def build(db: Path, traces: int, mutants: int) -> None:
         con.execute(f"insert into {table} by name select {offset} as trace_id, t.* exclude (trace_id) "
                     f"from {table} t, copies")
     interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
-    materialise(con, load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface), 0.01)
+    materialise(con, load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface), 0.01, interface)
     con.close()
 
 

@@ -22,14 +22,16 @@ TABLES = {
 BATCH_ROWS = 50_000
 
 
+def table_digest(con, table: str, condition: str = "true") -> str:
+    """Hex SHA-256 of the rows of `table` (one of TABLES) that meet the SQL `condition`."""
+    columns, order = TABLES[table]
+    digest = hashlib.sha256()
+    cursor = con.execute(f"select {columns} from {table} where {condition} order by {order}")
+    while rows := cursor.fetchmany(BATCH_ROWS):
+        digest.update("".join(f"{row!r}\n" for row in rows).encode())
+    return digest.hexdigest()
+
+
 def fingerprint(con, tables=tuple(TABLES)) -> dict[str, str]:
     """Table name -> hex SHA-256 of its rows (floats by their exact repr), for `tables`."""
-    digests = {}
-    for table in tables:
-        columns, order = TABLES[table]
-        digest = hashlib.sha256()
-        cursor = con.execute(f"select {columns} from {table} order by {order}")
-        while rows := cursor.fetchmany(BATCH_ROWS):
-            digest.update("".join(f"{row!r}\n" for row in rows).encode())
-        digests[table] = digest.hexdigest()
-    return digests
+    return {table: table_digest(con, table) for table in tables}

@@ -103,9 +103,9 @@ def test_coverage_counts_conditions_and_cells_per_property_and_variant(con):
     assert con.execute("select sum(c_false), sum(c_true) from coverage").fetchone() == judged
 
 
-def test_coverage_lists_every_property_even_without_relevant_requests(properties):
+def test_coverage_lists_every_property_even_without_relevant_requests(interface, properties):
     store = judged_store(load(HERE / "tables.trace"), EPSILON)
-    materialise(store, properties, EPSILON)  # all 21, most of which no request of the fixture concerns
+    materialise(store, properties, EPSILON, interface)  # all 25, most of which no request of the fixture concerns
     rows = store.execute("select property_id, c_false + c_true, tp_rate from coverage where sut = 'A'").fetchall()
     assert [r[0] for r in rows] == [p.id for p in properties]  # in the properties file's order
     assert ("PRE(sick.OneShot)", 0, None) in rows

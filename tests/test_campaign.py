@@ -78,7 +78,8 @@ def mission(tmp_path):
 def arguments(mission, db, **changes):
     values = dict(mission=str(mission), mutants=6, sut="genom,bip-a", seed=11, jobs=2, ops_per_mutant=1,
                   strategy="random", shrink=False,
-                  time_mutations=False, operators=None, max_delay=0.003, time_scale=None, cluster=None, db=str(db))
+                  time_mutations=False, value_mutations=False, operators=None, max_delay=0.003, time_scale=None,
+                  cluster=None, db=str(db))
     values.update(changes)
     return argparse.Namespace(**values)
 

@@ -57,6 +57,21 @@ def test_explain_refuses_an_unknown_property_or_request(tmp_path, capsys):
         capsys.readouterr().err
 
 
+def test_a_value_domain_verdict_shows_the_arguments_their_values_and_domains(tmp_path, capsys):
+    db, ids = _store(tmp_path, "val.trace")
+    trace = ids["val_false_rp"]
+    assert main(["explain", str(trace), "VAL(ndd)", "2", "--db", str(db)]) == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[:3] == [
+        f"VAL(ndd) on request 2 of trace {trace}: TP",
+        '  x(i) ndd.GotoPosition {"x": "nan", "y": 4.0} sent at 0.200000 s; final reply bad_params (class R) '
+        'at 0.300000 s',
+        "  C is false; margin - s; not suspicious (epsilon 0.01 s)"]
+    assert 'argument x  "nan"; domain float 0..20  yes' in out and "argument y  4.0; domain float 0..20    no" in out
+    assert main(["explain", str(ids["val_false_rp"]), "VAL(ndd)", "5", "--db", str(db)]) == 0
+    assert "argument y  missing; domain float 0..20" in capsys.readouterr().out
+
+
 def test_a_property_whose_oracle_fails_is_not_explained_and_the_others_are(tmp_path, monkeypatch):
     db, ids = _store(tmp_path, "flag.trace")
     con = connect(db, read_only=True)

@@ -73,7 +73,7 @@ def test_exported_events_import_back_and_judge_the_same(campaign_store, tmp_path
     con.close()
     again = store.connect(tmp_path / "again.duckdb")
     import_file(again, out / f"events.{fmt}", interface)
-    materialise(again, properties, 0.01)
+    materialise(again, properties, 0.01, interface)
     events = again.sql("select t.label::integer as trace_id, e.* exclude (trace_id) from events e "
                        "join traces t using (trace_id) order by t.label::integer, e.seq").to_arrow_table()
     assert events.to_pylist() == original["events"]

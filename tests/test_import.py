@@ -67,7 +67,7 @@ def test_a_second_import_gets_new_ids_and_is_judged_like_any_trace(tmp_path, int
     con = connect(":memory:")
     import_file(con, write(tmp_path / "robot.csv", ROWS), interface)
     assert import_file(con, write(tmp_path / "robot.jsonl", ROWS), interface) == (2, 3, 2)
-    materialise(con, properties, 0.01)
+    materialise(con, properties, 0.01, interface)
     assert con.execute("select trace_id, property_id, verdict from verdicts where module = 'rflex' "
                        "and trace_id = 3 order by property_id").fetchall() == [
         (3, "AIB(rflex.TrackSpeedStart)", "TN"), (3, "PEX(rflex)", "TN"), (3, "PRE(rflex.TrackSpeedStart)", "FN")]

@@ -20,16 +20,16 @@ def write(tmp_path, name, text):
     return path
 
 
-def test_dala_interface_and_21_properties(interface, properties):
+def test_dala_interface_and_25_properties(interface, properties):
     assert interface.modules == ["rflex", "sick", "aspect", "ndd", "antenna"]
     assert interface.services["ndd.GotoPosition"].kind == "exec"
     assert interface.replies["interrupted_excl"] == "Z"
-    assert len(properties) == 21
+    assert len(properties) == 25
     families = {}
     for p in properties:
         families[p.family] = families.get(p.family, 0) + 1
-    assert families == {"PEX": 5, "AIB": 7, "PRE": 6, "EXC": 3}
-    assert {p.type for p in properties} == {"PC", "EE", "MX_I"}
+    assert families == {"PEX": 5, "AIB": 7, "PRE": 6, "EXC": 3, "VAL": 4}
+    assert {p.type for p in properties} == {"PC", "EE", "MX_I", "VAL"}
     assert interface.until_stopped == ["rflex.TrackSpeedStart", "sick.ContinuousShot", "aspect.Fuse"]
     assert interface.of_kind("control") == ["rflex.SetMode", "sick.SetParams", "ndd.SetParams", "antenna.SetChannel"]
 
@@ -45,8 +45,15 @@ def test_dala_interface_and_21_properties(interface, properties):
     (GOOD.replace("[modules.m]", "[modules.m]\nposter = \"P\"\nposters = \"Q\""),
      ":8: unknown key 'posters'; a module takes doc, poster, services"),
     (GOOD.replace("max = 1.0", "max = 1.0, choices = [\"a\"]"),
-     ":8: unknown key 'choices'; a float argument takes type, min, max, doc"),
+     ":8: unknown key 'choices'; a float argument takes type, min, max, required, doc"),
     (GOOD + "[reply]\nok = \"T\"\n", ":9: unknown key 'reply'; the top level takes replies, modules"),
+    (GOOD.replace("max = 1.0", "max = 1.0, required = \"yes\""), ":8: modules.m.services.Go.args.v.required = 'yes'; "
+                                                              "give true or false"),
+    (GOOD.replace("max = 1.0", "max = inf"), ":8: modules.m.services.Go.args.v.max = inf; give a finite number"),
+    (GOOD.replace('type = "float", min = 0.0, max = 1.0', 'type = "str", pattern = "[a-z"'),
+     ":8: modules.m.services.Go.args.v: pattern = '[a-z' is not a regular expression"),
+    (GOOD.replace('type = "float", min = 0.0, max = 1.0', 'type = "str", choices = "a"'),
+     ":8: modules.m.services.Go.args.v.choices = 'a'; give a list of string choices"),
     ("[replies\n", "not valid TOML"),
     (GOOD.replace('kind = "exec"', 'kind = "exec", until_stopped = "yes"'),
      ":8: modules.m.services.Go.until_stopped = 'yes'; give true or false"),
@@ -72,10 +79,11 @@ def test_malformed_interface_names_file_entry_and_value(tmp_path, text, message)
 
 
 PROP = '[[property]]\nid = "P"\nfamily = "F"\ntype = "PC"\nx = ["m.Go"]\nq = ["m.Init"]\nr_p = "wait_init"\n'
+VAL = '[[property]]\nid = "V"\nfamily = "VAL"\ntype = "VAL"\nx = ["m.Go"]\n'
 
 
 @pytest.mark.parametrize("text, message", [
-    (PROP.replace('"PC"', '"XX"'), ":1: property[1]: type 'XX' is not one of EE, ES, EX, MX_I, MX_R, PC (the templates of sql/oracles/)"),
+    (PROP.replace('"PC"', '"XX"'), ":1: property[1]: type 'XX' is not one of EE, ES, EX, MX_I, MX_R, PC, VAL (the templates of sql/oracles/)"),
     (PROP.replace('q = ["m.Init"]\n', ""), ":1: property[1]: type PC needs 'q', which is missing"),
     (PROP.replace('["m.Go"]', '["m.Fly"]'), ":5: property 'P': x names 'm.Fly', which the interface"),
     (PROP.replace('"wait_init"', '"interrupted"'), ":7: property 'P': r_p = 'interrupted' is not a class-R reply code"),
@@ -84,6 +92,15 @@ PROP = '[[property]]\nid = "P"\nfamily = "F"\ntype = "PC"\nx = ["m.Go"]\nq = ["m
     ("property = [1, 2]\n", ":1: property[1] = 1; give a table"),
     (PROP.replace('"wait_init"', '["wait_init"]'), ":7: property[1].r_p = ['wait_init']; give the rejection code"),
     ("", "props.toml: property is missing; add [[property]] entries"),
+    (VAL + 'y = ["m.Init"]\n', ":1: property[1]: a state-dependent VAL property needs both y (the activities during "
+                                "which it holds) and domain (what it allows then); give both or neither"),
+    (VAL + 'y = ["m.Init"]\ndomain = { w = { max = 0.5 } }\n',
+     ":7: property 'V': domain names argument 'w', which none of its services takes; they take v"),
+    (VAL + 'y = ["m.Init"]\ndomain = { v = { most = 0.5 } }\n',
+     ":7: unknown key 'most'; a narrowed domain takes min, max, choices, pattern"),
+    (VAL + 'y = ["m.Init"]\ndomain = { v = { choices = ["a"] } }\n',
+     ":7: property 'V': domain.v sets choices, which do not apply to a float argument"),
+    (VAL + 'r_p = "interrupted"\n', "property 'V': r_p = 'interrupted' is not a class-R reply code"),
 ])
 def test_malformed_properties_name_file_entry_and_value(tmp_path, text, message):
     iface = load_interface(write(tmp_path, "iface.toml", GOOD))
@@ -91,6 +108,17 @@ def test_malformed_properties_name_file_entry_and_value(tmp_path, text, message)
     with pytest.raises(InputFileError) as e:
         load_properties(path, iface)
     assert str(path) in str(e.value) and message in str(e.value)
+
+
+def test_a_domain_defaults_to_any_value_of_its_type(tmp_path):
+    text = GOOD.replace("min = 0.0, max = 1.0", "required = false") + \
+        'services.Say = { kind = "control", args = { w = { type = "str" } } }\n'
+    services = load_interface(write(tmp_path, "iface.toml", text)).services
+    v, w = services["m.Go"].args["v"], services["m.Say"].args["w"]
+    assert (v.min, v.max, v.required, w.choices, w.pattern, w.required) == (None, None, False, (), None, True)
+    assert (v.describe(), w.describe()) == ("optional float", "str")
+    assert services["m.Go"].typed({"v": "-1e6"}) == {"v": -1e6}
+    assert services["m.Say"].typed({"w": '""'}) == {"w": ""}
 
 
 def test_the_keys_a_table_accepts_are_those_its_refusal_lists(tmp_path):

@@ -18,7 +18,9 @@ from harness.sim.layer import FunctionalLayer
 def test_dalas_variants_and_their_protections_in_checking_order():
     layer = load_layer(DEFAULT_MISSION_DIR)
     assert list(layer.variants) == ["genom", "bip-a", "bip-b", "bare", "reference"]
-    assert [p.name for p in layer.variant("bip-b").protections] == ["PEX", "AIB", "PRE", "EXC"]
+    assert [p.name for p in layer.variant("bip-b").protections] == ["RANGE", "PEX", "AIB", "PRE", "EXC"]
+    assert layer.variant("genom").protections[0].checks == ("range",)
+    assert layer.variant("bare").protections == ()
     assert layer.default_suts == ("genom", "bip-a", "bip-b")
     assert load_mission(DEFAULT_MISSION_DIR).default_suts() == "genom,bip-a,bip-b"
 
@@ -31,12 +33,15 @@ def folder(tmp_path):
 
 
 @pytest.mark.parametrize("old,new,message", [
-    ('kind = "excludes"', 'kind = "forbids"', r"layer.toml:49: protections.EXC.kind = 'forbids'; use one of "
-                                              r"requires_init, requires, rejects_while, interrupts, excludes"),
-    ('protections = ["PEX", "AIB"]\n', 'protections = ["PEX", "AIB", "XYZ"]\n',
-     r"layer.toml:75: variants.genom.protections names 'XYZ'; use one of PEX, AIB, PRE, EXC"),
-    ('protection = "AIB"', 'protection = "ZZZ"', r"layer.toml:63: defects.deadlock_on_dominated_start: "
-                                                 r"protection = 'ZZZ'; name one of PEX"),
+    ('kind = "excludes"', 'kind = "forbids"', r"layer.toml:\d+: protections.EXC.kind = 'forbids'; use one of "
+                                              r"checks_args, narrows_while, requires_init, requires, rejects_while, "
+                                              r"interrupts, excludes"),
+    ('protections = ["RANGE", "PEX", "AIB"]\n', 'protections = ["PEX", "AIB", "XYZ"]\n',
+     r"layer.toml:\d+: variants.genom.protections names 'XYZ'; use one of VAL, RANGE, PEX, AIB, PRE, EXC"),
+    ('checks = ["range"]', 'checks = ["size"]',
+     r"layer.toml:\d+: protections.RANGE.checks\[1\] = 'size'; give 'missing', 'type', 'nan', 'range'"),
+    ('protection = "AIB"', 'protection = "ZZZ"', r"layer.toml:\d+: defects.deadlock_on_dominated_start: "
+                                                 r"protection = 'ZZZ'; name one of VAL, RANGE, PEX"),
     ('default_suts = ["genom", "bip-a", "bip-b"]', 'default_suts = ["genom", "bip-z"]',
      r"layer.toml:12: layer.default_suts names 'bip-z'; use one of genom, bip-a"),
     ('slots = 3 ', 'slots = 0 ', r"layer.toml:8: layer.slots = 0; give a whole number of activities >= 1"),
@@ -98,3 +103,14 @@ def test_a_folder_without_a_layer_has_no_default_variants(folder):
     with pytest.raises(UntimelyError, match=r"layer.toml: file not found; a folder without a simulated layer "
                                             r"needs --sut NAME=cmd:COMMAND"):
         load_mission(folder).default_suts()
+
+
+def test_a_state_dependent_domain_naming_an_unknown_argument_is_refused(tmp_path):
+    copy = tmp_path / "manipulator"
+    shutil.copytree(DEFAULT_MISSION_DIR.parent / "manipulator", copy)
+    path = copy / "layer.toml"
+    path.write_text(path.read_text().replace("domain = { speed = { max = 0.3 } }", "domain = { sped = { max = 0.3 } }"))
+    mission = load_mission(copy)
+    with pytest.raises(UntimelyError, match=r"layer.toml:\[protections.SLOW\]: domain names argument 'sped', "
+                                            r"which none of its services takes; they take speed"):
+        FunctionalLayer(Environment(), "safe", mission.interface, copy / "world.toml")

@@ -3,8 +3,9 @@ variant's pattern as its layer.toml predicts.
 
 - safe (every protection, no defect): no hung trace; every family detects (TP rate >= 90%); an FN or
   FP is only ever a false observation, flagged suspicious.
-- careless (PEX, AIB, EXC only): SPEED (ES), BLUR (EX) and GRASP (MX_R) are never enforced: TP rate 0;
-  the families it protects still detect.
+- careless (PEX, AIB, EXC and the static argument checks only): SPEED (ES), BLUR (EX) and GRASP
+  (MX_R) are never enforced: TP rate 0; nor is SLOW (VAL's state-dependent domain): FN; the families
+  it protects still detect.
 - quirky (every protection; an Init interrupts its module's activities): unexplained interruptions,
   FPs in AIB (EE) and nowhere else.
 - stuck (every protection; a preemption in a start phase deadlocks): hung traces.
@@ -37,9 +38,9 @@ def rows(con, query):
     return con.execute(query).fetchall()
 
 
-def test_the_properties_use_all_six_basic_types():
+def test_the_properties_use_all_seven_basic_types():
     from harness.target.mission import load_mission
-    assert {p.type for p in load_mission(MISSION).properties()} == {"PC", "ES", "EE", "EX", "MX_R", "MX_I"}
+    assert {p.type for p in load_mission(MISSION).properties()} == {"PC", "ES", "EE", "EX", "MX_R", "MX_I", "VAL"}
 
 
 def test_table_ii_only_the_deadlocking_variant_hangs(tables):
@@ -66,4 +67,5 @@ def test_table_iv_only_quirky_raises_false_alarms_and_only_in_aib(tables):
     unflagged = rows(tables, """select distinct t.sut, v.family, v.verdict from verdicts v join traces t
                                 using (trace_id) where v.verdict in ('FN', 'FP') and not v.suspicious""")
     expected = {("careless", f, "FN") for f in FAMILIES - PROTECTED_BY_CARELESS} | {("quirky", "AIB", "FP")}
+    expected.add(("careless", "VAL", "FN"))  # SLOW(base.Move): careless lets fast moves with the arm out through
     assert set(unflagged) == expected

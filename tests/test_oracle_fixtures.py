@@ -14,7 +14,7 @@ PC_CELLS = {(c, v) for c in (True, False) for v in ("op", "omega")} | {
 EE_CELLS = PC_CELLS | {(False, "na"), (None, "op")}
 MX_CELLS = {(True, "TN"), (True, "FP"), (False, "FN"), (False, "TP"), (False, "na"), (False, "omega")}
 CELLS = {"PC": PC_CELLS, "ES": PC_CELLS | {(False, "na")}, "EE": EE_CELLS, "EX": EE_CELLS,
-         "MX_R": MX_CELLS | {(True, "omega")}, "MX_I": MX_CELLS}
+         "MX_R": MX_CELLS | {(True, "omega")}, "MX_I": MX_CELLS, "VAL": PC_CELLS | {(False, "na")}}
 
 
 @functools.cache
@@ -34,8 +34,8 @@ def test_trace_gets_the_expected_verdicts(index, case):
     assert {(p, r) for p, r, *_, suspicious in rows if suspicious} == case.flagged
 
 
-def test_the_second_targets_fixtures_cover_every_cell_of_es_ex_and_mx_r():
-    seen = {t: set() for t in ("ES", "EX", "MX_R")}
+def test_the_second_targets_fixtures_cover_every_cell_of_es_ex_mx_r_and_val():
+    seen = {t: set() for t in ("ES", "EX", "MX_R", "VAL")}
     for fixture in FIXTURES:
         if not fixture.path.name.startswith("manipulator_"):
             continue
@@ -61,6 +61,18 @@ def test_fixtures_cover_every_cell_of_every_verdict_table():
     assert {t: CELLS[t] - seen[t] for t in CELLS} == {t: set() for t in CELLS}
     assert suspicious == set(CELLS), "every type needs a near-coincident (suspicious) verdict"
     assert {("MX_R", "y"), ("MX_I", "y")} <= roles, "mutual properties judge y requests too"
+
+
+def test_each_form_of_the_value_domain_type_has_every_cell():
+    """The static form (no y) on Dala, the state-dependent form (y and domain) on the manipulator."""
+    seen = {"static": set(), "state-dependent": set()}
+    for fixture in FIXTURES:
+        forms = {p.id: "state-dependent" if p.y else "static" for p in fixture.properties if p.type == "VAL"}
+        for case in fixture.cases:
+            for (property_id, _), (verdict, c_holds, _) in case.expected.items():
+                if property_id in forms:
+                    seen[forms[property_id]].add((c_holds, verdict))
+    assert seen == {"static": PC_CELLS, "state-dependent": PC_CELLS | {(False, "na")}}
 
 
 # What each verdict could be instead, by reordering the events closer than epsilon (one case per

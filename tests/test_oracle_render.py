@@ -16,10 +16,10 @@ ES = Property(id="ES(ndd.GotoPosition)", family="ES", type="ES", x=("ndd.GotoPos
 
 
 @pytest.mark.parametrize("events", ["events", "internal_events"])
-def test_every_dala_property_renders_to_a_query_with_the_contract_columns(properties, events):
+def test_every_dala_property_renders_to_a_query_with_the_contract_columns(interface, properties, events):
     con = connect(":memory:")
     for prop in properties:
-        sql = render_property(prop, events, 0.01)
+        sql = render_property(prop, events, 0.01, interface)
         assert f"from {events}\n" in sql
         cursor = con.execute(sql)
         assert [d[0] for d in cursor.description] == CONTRACT, prop.id
@@ -74,3 +74,10 @@ def test_composed_types_reuse_the_basic_chains():
     assert "p_es_judged as (" in ex and "p_ee_judged as (" in ex
     mx = render_property(replace(ES, id="MX", type="MX_I", r_p=None, z_p="interrupted_excl"))
     assert "p_xy_judged as (" in mx and "p_yx_judged as (" in mx
+
+
+def test_a_value_domain_property_without_the_interface_is_refused_saying_what_it_needs(properties):
+    val = next(p for p in properties if p.type == "VAL")
+    with pytest.raises(PropertyError, match=r"property 'VAL\(rflex\)' of type VAL reads the argument domains "
+                                            r"of the interface; pass the interface"):
+        render_property(val)

@@ -67,7 +67,7 @@ def test_analyze_judges_with_the_campaigns_mission_and_keeps_the_last_epsilon(tm
     con.execute("update campaigns set mission = ?", [str(mission)])
     con.close()
     assert main(["analyze", "--db", str(db), "--epsilon", "0.05"]) == 0
-    assert f"21 properties of {mission / 'properties.toml'}" in capsys.readouterr().out
+    assert f"25 properties of {mission / 'properties.toml'}" in capsys.readouterr().out
     assert main(["analyze", "--db", str(db)]) == 0
     assert "epsilon 0.05 s" in capsys.readouterr().out
     con = connect(db, read_only=True)

@@ -14,7 +14,7 @@ from harness.target.interface import INTERFACE_KEYS, SERVICE_KINDS
 from harness.target.property_types import property_types
 
 PROPERTY_TYPES = list(property_types())
-from harness.target.layer_description import DEFECT_KINDS, INTERRUPTING, LAYER_KEYS, REJECTING
+from harness.target.layer_description import CHECKING, DEFECT_KINDS, INTERRUPTING, LAYER_KEYS, REJECTING
 
 REFERENCE = ROOT / "docs" / "reference"
 
@@ -34,7 +34,8 @@ def named(text: str, word: str) -> bool:
     ("interface.md", sorted({k for keys in INTERFACE_KEYS.values() for k in keys} | set(SERVICE_KINDS))),
     ("properties.md", ["id", "family", "type", "x", *sorted({p for ps in property_types().values() for p in ps}),
                        *PROPERTY_TYPES]),
-    ("layer.md", [*sorted(LAYER_KEYS), *REJECTING, *INTERRUPTING, *DEFECT_KINDS, "after", "while", "by", "pairs",
+    ("layer.md", [*sorted(LAYER_KEYS), *CHECKING, *REJECTING, *INTERRUPTING, *DEFECT_KINDS, "after", "while", "by",
+                  "pairs", "checks", "domain",
                   "start_s", "run_s", "bounds", "rover", "rock", "heading_deg", "radius"]),
     ("suts.md", [*SUT_KEYS, "{python}", "{mission}", "{root}", "UNTIMELY_SLOT", "action", "services", "status_codes",
                  "heartbeat_stale_s", "world_topic", "internal_topic", "ping_topic", "pong_topic",

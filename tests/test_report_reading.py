@@ -152,11 +152,11 @@ def test_tables_count_judged_traces_and_keep_ad_hoc_runs_apart(tmp_path):
     con = connect(db)
     interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
     properties = load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface)
-    materialise(con, properties, 0.01)
+    materialise(con, properties, 0.01, interface)
     before = con.execute("select * from trace_robustness order by sut").fetchall()
     add_campaign(con, 2, "golden.mission", 0, {"kind": "run", "sut": "genom"})
     _add_trace(con, 20, 2, TRACES[2][3])  # an ad-hoc run with an FN, on a campaign's variant
-    materialise(con, properties, 0.01)
+    materialise(con, properties, 0.01, interface)
     assert con.execute("select count(*) from verdicts where trace_id = 20 and verdict = 'FN'").fetchone()[0] == 1
     assert con.execute("select * from trace_robustness order by sut").fetchall() == before
     _add_trace(con, 21, 1, TRACES[2][3])  # stored after the analysis: no verdicts yet
@@ -178,7 +178,7 @@ def test_a_store_of_ad_hoc_runs_alone_counts_them(tmp_path):
     add_campaign(con, 1, "golden.mission", 0, {"kind": "run", "sut": "genom"})
     add_reply_codes(con, interface)
     _add_trace(con, 1, 1, TRACES[2][3])
-    materialise(con, load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface), 0.01)
+    materialise(con, load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface), 0.01, interface)
     assert con.execute("select sut, total, with_fn, t_rob from trace_robustness").fetchall() == [("genom", 1, 1, 0.0)]
     con.close()
 

@@ -160,4 +160,4 @@ def test_reprs_show_variant_modules_and_activities(interface):
     assert repr(rflex.activities[0]) == "<Activity rflex.TrackSpeedStart #3 starting>"
     assert repr(d.layer).startswith("<FunctionalLayer reference t=1.200 <Module rflex initialised")
     assert "<Module sick uninitialised []>" in repr(d.layer)
-    assert repr(d.layer.variant) == "<Variant reference protections=PEX,AIB,PRE,EXC defects=->"
+    assert repr(d.layer.variant) == "<Variant reference protections=VAL,PEX,AIB,PRE,EXC defects=->"

@@ -166,7 +166,7 @@ def test_analyze_says_which_interface_the_properties_need(tmp_path, capsys):
     assert f"{tmp_path / 'interface.toml'}: file not found; the properties {properties} name services" in err
     assert "pass --interface FILE" in err
     assert main(["analyze", "--db", str(db), "--properties", str(properties), "--interface", INTERFACE]) == 0
-    assert "against 21 properties" in capsys.readouterr().out
+    assert "against 25 properties" in capsys.readouterr().out
 
 
 def test_a_huge_mutant_count_is_refused_at_once(tmp_path, capsys):

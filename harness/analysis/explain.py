@@ -2,13 +2,15 @@
 
 For each judged request it prints the request and its final reply (with the reply's class),
 the verdict, C and its margin, and every item that could decide C: the y(j) requests (ES, EE
-and their compositions) or the services q of Q (PC) with their events, whether each makes C
+and their compositions, VAL's running activities), the services q of Q (PC) with their events,
+or the arguments of x(i) (VAL) with their values and domains, whether each makes C
 false, and how far it would have to move to change that. The pairs come from the property's
 own oracle query (render_property(..., explain=...)), so the explanation cannot drift from
 the verdict. The report's trace pages show the same text for their FN, FP and suspicious verdicts.
 """
 from __future__ import annotations
 
+import json
 from collections import defaultdict
 from pathlib import Path
 
@@ -24,6 +26,7 @@ from harness.store.database import connect
 from harness.textable import format_table
 
 Key = tuple[int, str, int]  # (trace_id, property_id, rqst_id): one verdict row
+ARGUMENT_ITEM = "arg "  # how a value-domain oracle names an argument among its items (sql/oracles/val.sql)
 
 
 def judged_files(con, properties: str | None = None) -> tuple[Path, Path]:
@@ -73,8 +76,10 @@ class Explainer:
         if not keys:
             return {}
         traces = sql_id_list({t for t, _, _ in keys})
-        cursor = self.con.execute(f"""select trace_id, rqst_id, module || '.' || service as service, t, final_t,
-                                             reply, class from requests where trace_id in ({traces})""")
+        cursor = self.con.execute(f"""select r.trace_id, r.rqst_id, r.module || '.' || r.service as service, r.t,
+                                             r.final_t, r.reply, r.class, e.args
+                                      from requests r left join events e on e.trace_id = r.trace_id and e.seq = r.seq
+                                      where r.trace_id in ({traces})""")
         requests = {(r[0], r[1]): r[2:] for r in cursor.fetchall()}
         verdicts = {(t, p, r): rest for t, p, r, *rest in self.con.execute(
             """select trace_id, property_id, rqst_id, verdict, c_holds, margin_s, suspicious from verdicts
@@ -99,7 +104,7 @@ class Explainer:
         for found in pairs.values():
             found.sort(key=_item_order)
         oks = defaultdict(list)  # (trace, service) -> the instants of its ok final replies
-        for (trace_id, _), (service, _, final_t, reply, _) in requests.items():
+        for (trace_id, _), (service, _, final_t, reply, _, _) in requests.items():
             if reply == "ok":
                 oks[(trace_id, service)].append(final_t)
         return {k: self._failed(k, verdicts[k], failed[k[1]]) if k[1] in failed
@@ -111,15 +116,23 @@ class Explainer:
         return (f"{property_id} on request {rqst_id} of trace {trace_id}: {verdict_row[0]}\n"
                 f"  not explained: the property's oracle failed ({error}); fix its template, then analyze again")
 
-    def _items(self, trace_id: int, prop: Property, pairs: list[dict], requests: dict,
+    def _items(self, key: Key, prop: Property, pairs: list[dict], requests: dict,
                oks: dict) -> list[tuple]:
+        trace_id, rqst_id = key[0], key[2]
         rows = []
         for pair in pairs:
             if prop.type == "PC":
                 found = sorted(oks.get((trace_id, pair["item"]), []))
                 what, events = f"q {pair['item']}", "ok at " + (", ".join(map(_seconds, found)) or "never")
+            elif pair["item"].startswith(ARGUMENT_ITEM):  # a value-domain oracle's argument of x(i)
+                service, *_, args = requests[(trace_id, rqst_id)]
+                name = pair["item"][len(ARGUMENT_ITEM):]
+                given = json.loads(args) if args else {}
+                what = f"argument {name}"
+                events = (json.dumps(given[name]) if name in given else "missing") + \
+                    f"; domain {self.interface.services[service].args[name].describe()}"
             else:
-                service, t, final_t, reply, cls = requests[(trace_id, int(pair["item"]))]
+                service, t, final_t, reply, cls, _ = requests[(trace_id, int(pair["item"]))]
                 what = f"y {service} #{pair['item']}"
                 events = f"sent {_seconds(t)}, {reply or 'no final'} ({cls or '-'}) at {_seconds(final_t)}"
             shift = None if pair["shift"] == float("inf") else pair["shift"]
@@ -133,14 +146,14 @@ class Explainer:
         trace_id, property_id, rqst_id = key
         verdict, c_holds, margin, suspicious = verdict_row
         prop = self.properties[property_id]
-        service, t, final_t, reply, cls = requests[(trace_id, rqst_id)]
+        service, t, final_t, reply, cls, args = requests[(trace_id, rqst_id)]
         condition = {True: "true", False: "false", None: "undefined (x(i) was rejected)"}[c_holds]
         lines = [f"{property_id} on request {rqst_id} of trace {trace_id}: {verdict}",
-                 f"  x(i) {service} sent at {_seconds(t)} s; final reply "
+                 f"  x(i) {service}{f' {args}' if args and args != '{}' else ''} sent at {_seconds(t)} s; final reply "
                  + (f"{reply} (class {cls or 'not in the catalogue'}) at {_seconds(final_t)} s" if reply else "none"),
                  f"  C is {condition}; margin {_seconds(margin)} s; "
                  + ("suspicious" if suspicious else "not suspicious") + f" (epsilon {self.epsilon:g} s)"]
-        rows = self._items(trace_id, prop, pairs, requests, oks)
+        rows = self._items(key, prop, pairs, requests, oks)
         if rows:
             head = (["part"] if "part" in pairs[0] else []) + ["item", "events", "makes C false", "rejected",
                                                                "shift s", "near"]

@@ -16,9 +16,8 @@ from harness import DEFAULT_EPSILON_S
 from harness.errors import PropertyError
 from harness.store.sql import ENV
 from harness.target.interface import Interface, Property
-from harness.target.property_types import REPLY_CODES, SERVICE_LISTS, property_types
+from harness.target.property_types import PARAMETERS, property_types
 
-PARAMETERS = (*SERVICE_LISTS, *REPLY_CODES)
 _TABLE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _SERVICE = re.compile(r"[^.\s']+\.[^.\s']+")
 
@@ -34,6 +33,8 @@ def _parameters(prop: Property) -> dict:
                 raise PropertyError(f"property {prop.id!r}: {name} names {bad[0]!r}; "
                                     "write request types as \"module.Service\"")
             value = list(value)
+        elif isinstance(value, dict):  # a state-dependent domain: argument -> its bounds
+            value = {name: domain.spec() for name, domain in value.items()}
         if value:
             given[name] = value
     return given
@@ -87,6 +88,8 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
             modules=sorted(own | {service.split(".")[0] for *_, service in enders}),
             until_stopped=interface.until_stopped if interface else [],
             control=interface.of_kind("control") if interface else [],
+            **({"domains": {name: {a.name: a.spec() for a in s.args.values()}
+                            for name, s in interface.services.items()}} if interface else {}),
             explain=dict(traces=sorted({int(t) for t, _ in explain}),
                          requests=[f"({int(t)}, {int(r)})" for t, r in explain]) if explain else None)
     except jinja2.TemplateNotFound as e:
@@ -95,6 +98,9 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
         raise PropertyError(f"property {prop.id!r}: type {prop.type!r} has no oracle template "
                             f"{template}; use one of {', '.join(property_types())}") from None
     except jinja2.UndefinedError as e:
+        if "'domains'" in str(e):
+            raise PropertyError(f"property {prop.id!r} of type {prop.type} reads the argument domains of "
+                                "the interface; pass the interface (analyze --interface FILE)") from None
         raise PropertyError(f"property {prop.id!r} of type {prop.type}: {e}; "
                             "add it to the property's entry") from None
     except TypeError as e:

@@ -45,9 +45,10 @@ from harness.run.workers import Pool, Setup, Task, script_label
 
 # Arguments that decide what is run; --jobs, --cluster and --db do not.
 COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "operators",
-            "max_delay", "budget_s", "files", "shard")
+            "value_mutations", "max_delay", "budget_s", "files", "shard")
 # What a config stored before a key existed means by its absence.
-ABSENT = {"external": {}, "strategy": "random", "shard": None, "operators": None, "budget_s": None}
+ABSENT = {"external": {}, "strategy": "random", "shard": None, "operators": None, "budget_s": None,
+          "value_mutations": False}
 RUN_WALL_LIMIT_S = 600.0  # of a simulated run; a real-time one has the executive's watchdogs
 REALTIME_WALL_LIMIT_S = 3 * 3600.0
 # A transaction per simulated run cost a quarter of a campaign; a killed campaign re-runs at most
@@ -65,7 +66,8 @@ def campaign_config(args) -> dict:
         raise UntimelyError(f"--mutants {args.mutants}: give a number of mutants from 0 to {MAX_MUTANTS:,}; "
                             "split a larger study into campaigns of other --seed values")
     ops_per_mutant = strategies.operations(args.strategy, args.ops_per_mutant, args.time_mutations, args.operators)
-    named = None if args.operators is None else list(chosen_operators(args.operators, args.time_mutations))
+    named = None if args.operators is None else list(chosen_operators(args.operators, args.time_mutations,
+                                                                          getattr(args, "value_mutations", False)))
     if ops_per_mutant < 1:
         raise UntimelyError(f"--ops-per-mutant {ops_per_mutant}: give at least 1 operation per mutant")
     if args.jobs < 0:
@@ -81,10 +83,14 @@ def campaign_config(args) -> dict:
         raise UntimelyError(f"--budget {given} applies to --strategy focused, whose tests are made as "
                             f"the campaign goes; a {args.strategy} campaign runs its --mutants")
     budget = {} if given is None else {"budget_s": parse_duration(given)}
+    if getattr(args, "value_mutations", False) and args.strategy == "focused":
+        raise UntimelyError("--value-mutations applies to --strategy random and targeted; focused tests "
+                            "replay the golden's values")
     return {**budget, "kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
             "external": {name: sut.config() for name, sut in external.items()},
             "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,
             "time_mutations": args.time_mutations, "operators": named,
+            "value_mutations": getattr(args, "value_mutations", False),
             "max_delay": args.max_delay, "jobs": args.jobs,
             "files": mission.hashes(), "shard": sharding.parse(getattr(args, "shard", None))}
 

@@ -2,8 +2,9 @@
 
 The paper's three operators act on module requests (`send` steps): delete one, insert
 an additional one, swap a pair. Two time-domain operators are opt-in: drop a `wait`,
-change a `sleep`. A new operator is a function (steps, rng, interface) -> record or None
-(None: it does not apply) added to the registry OPERATORS; `campaign --operators` picks by name. An operator may produce a script the validator rejects (a `wait` on a
+change a `sleep`; so is the value operator replace_value (harness/mutator/values.py). A new
+operator is a function (steps, rng, interface) -> record or None (None: it does not apply) added
+to the registry OPERATORS; `campaign --operators` picks by name. An operator may produce a script the validator rejects (a `wait` on a
 deleted handle, a `wait` moved before its `send`): such a mutant is kept, marked invalid.
 
 Each operation is recorded as a JSON-able dict: `op`, the involved step(s) as text, and
@@ -19,7 +20,8 @@ from typing import Callable
 
 from harness.errors import ScriptError, UntimelyError
 from harness.target.interface import Interface, Service
-from harness.target.script import Script, Step, validate
+from harness.mutator.values import replace_value
+from harness.target.script import Script, Step, step_text, validate
 
 INSERTED_HANDLE_PREFIX = "extra"
 # A changed sleep lasts between a tenth and ten times the original (log-uniform).
@@ -39,11 +41,6 @@ class Mutant:
     @property
     def body(self) -> str:
         return self.script.render()
-
-
-def step_text(step: Step) -> str:
-    """A step as an operation records it: its text without the comment."""
-    return replace(step, comment="").render()
 
 
 def _line(step: Step) -> int | None:
@@ -71,13 +68,25 @@ def delete_request(steps, rng, interface):
     return _delete_one(steps, rng, "send", "delete_request")
 
 
+# What an inserted request writes for an argument whose domain offers no value to draw: a number
+# without bounds is drawn from UNBOUNDED, a required text without choices is PLAIN_TEXT (an
+# optional one is left out).
+UNBOUNDED = (-10.0, 10.0)
+PLAIN_TEXT = "value"
+
+
 def random_request(service: Service, rng: random.Random, handle: str | None) -> Step:
+    """A request of `service` with values drawn from its arguments' domains."""
     args = []
     for arg in service.args.values():
         if arg.type == "float":
-            args.append((arg.name, f"{plausible(rng.uniform(arg.min, arg.max)):g}"))
-        else:
+            low = arg.min if arg.min is not None else min(UNBOUNDED[0], arg.max if arg.max is not None else 0.0)
+            high = arg.max if arg.max is not None else max(UNBOUNDED[1], low)
+            args.append((arg.name, f"{plausible(rng.uniform(low, high)):g}"))
+        elif arg.choices:
             args.append((arg.name, rng.choice(arg.choices)))
+        elif arg.required:
+            args.append((arg.name, PLAIN_TEXT))
     return Step(0, "send", service=service.qualified, args=tuple(args), handle=handle)
 
 
@@ -124,24 +133,29 @@ def change_sleep(steps, rng, interface):
 
 
 # The registry: every operator by name, in the order a mutant draws among those it may use.
-OPERATORS = {op.__name__: op for op in (delete_request, insert_request, swap_requests, drop_wait, change_sleep)}
+OPERATORS = {op.__name__: op for op in (delete_request, insert_request, swap_requests, drop_wait, change_sleep,
+                                         replace_value)}
 REQUEST_OPERATORS = ("delete_request", "insert_request", "swap_requests")  # the paper's, the default
 TIME_OPERATORS = ("drop_wait", "change_sleep")  # added by --time-mutations
+VALUE_OPERATORS = ("replace_value",)  # added by --value-mutations
 
 
-def chosen(names: str | None, time_mutations: bool = False) -> tuple[str, ...]:
+def chosen(names: str | None, time_mutations: bool = False, value_mutations: bool = False) -> tuple[str, ...]:
     """The operators a campaign draws among: those named (`campaign --operators a,b`), in the
-    registry's order, or the paper's, with the time-domain ones for --time-mutations."""
+    registry's order, or the paper's, with the time-domain ones for --time-mutations and the
+    value one for --value-mutations."""
     if names is None:
-        return REQUEST_OPERATORS + (TIME_OPERATORS if time_mutations else ())
+        return REQUEST_OPERATORS + (TIME_OPERATORS if time_mutations else ()) + \
+            (VALUE_OPERATORS if value_mutations else ())
     given = [n.strip() for n in names.split(",") if n.strip()]
     unknown = [n for n in given if n not in OPERATORS]
     if unknown or not given:
         raise UntimelyError(f"--operators {names!r}: {'no operator ' + repr(unknown[0]) if unknown else 'none named'}; "
                             f"give a comma-separated list of {', '.join(OPERATORS)}")
-    if time_mutations:
-        raise UntimelyError("--time-mutations adds drop_wait and change_sleep to the default operators; "
-                            "with --operators, name them in its list instead")
+    if time_mutations or value_mutations:
+        raise UntimelyError(f"--{'time' if time_mutations else 'value'}-mutations adds "
+                            f"{' and '.join(TIME_OPERATORS if time_mutations else VALUE_OPERATORS)} to the default "
+                            "operators; with --operators, name them in its list instead")
     return tuple(n for n in OPERATORS if n in given)
 
 

@@ -1,6 +1,7 @@
 """How a campaign makes its mutants: the paper's random operators, or targeted ones.
 
-`random` (the default) draws the paper's operators uniformly: the verdict rates then describe
+`random` (the default) draws the paper's operators uniformly (with --time-mutations and
+--value-mutations, those operators too): the verdict rates then describe
 what random perturbations of the mission meet, as in the paper's Tables III-IV. `targeted` aims
 every mutant at the least-covered property's P-condition (harness.mutator.targeted): far more
 cases per property and more bad behaviours found, but its rates describe aimed cases, so they
@@ -44,8 +45,10 @@ def operations(strategy: str, given: int | None, time_mutations: bool, named_ope
 
 def plan(config: dict, golden: Script, interface: Interface, properties: list[Property],
          golden_trace: Trace) -> focused.Plan:
-    """A focused campaign's tests, made as the campaign goes (harness.campaign.budgeted)."""
+    """A focused campaign's tests, made as the campaign goes (harness.campaign.budgeted). Its tests
+    replay golden values: a value-domain property is no aim of theirs (--value-mutations is refused)."""
     timeline = Timeline(golden, golden_trace, interface.replies)
+    properties = [p for p in properties if p.type not in targeted.VALUE_TYPES]
     return focused.Plan(golden, timeline, interface, properties, config["seed"])
 
 
@@ -56,10 +59,14 @@ def generate(config: dict, golden: Script, interface: Interface, properties: lis
     that run's seed (targeted generation reads its timeline and verdicts); random generation
     calls `on_mutant()` after each mutant (progress)."""
     count, seed, ops = config["mutants"], config["seed"], config["ops_per_mutant"]
+    value_mutations = config.get("value_mutations", False)
     if config["strategy"] == "random":
         named = config.get("operators")
         return operators.generate(golden, interface, count, seed, ops, config["time_mutations"], name=name,
-                                  on_mutant=on_mutant, operators=tuple(named) if named else None)
+                                  on_mutant=on_mutant, operators=tuple(named) if named else
+                                  operators.chosen(None, config["time_mutations"], value_mutations))
+    if not value_mutations:  # value-domain properties are aimed at only when value mutations are asked for
+        properties = [p for p in properties if p.type not in targeted.VALUE_TYPES]
     trace = run_golden()
     verdicts = Judge(interface, properties).verdicts([trace])[0]
     return targeted.generate(golden, trace, verdicts, interface, properties, count, seed, ops, name=name)

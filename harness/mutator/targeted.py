@@ -6,7 +6,10 @@ basic type says what falsifies its condition (DESIGN §6):
 
 - PC[x, Q]: an x sent before every q in Q has ended ok (before q is sent, or while it runs);
 - ES[x, y]: an x sent while a y runs;  EE[x, y]: a y sent while an accepted x runs;
-- EX = ES and EE; MX_R = ES both ways; MX_I = EE both ways.
+- EX = ES and EE; MX_R = ES both ways; MX_I = EE both ways;
+- VAL[x]: an x whose argument lies outside its domain, anywhere its preconditions hold; with y and
+  a narrowed domain, an x legal at rest but outside the narrowed domain, while a y runs
+  (harness/mutator/values.py makes the value). Aimed at only with --value-mutations.
 
 "While r runs" is either a place where the golden run had r running (after an optional sleep,
 so the activity is past its start), or a fresh r followed, after an optional sleep, by the
@@ -30,6 +33,7 @@ from harness.target.interface import Interface, Property
 from harness.mutator.operators import Mutant, plausible, random_request, step_text, validated
 from harness.target.script import Script, Step
 from harness.mutator.timeline import Timeline
+from harness.mutator.values import falsifying_request
 from harness.trace import Trace
 
 SITES_PER_MUTANT = 3  # default falsifying insertions per mutant (--ops-per-mutant), at distinct places
@@ -38,6 +42,7 @@ START_PHASE_SHARE = 1 / 3  # of the "while r runs" insertions: no sleep, r is st
 # A sleep before the falsifying request, drawn log-uniformly, and shorter than the shortest
 # run the golden showed of the activity it must land in.
 SLEEP_RANGE_S = (0.01, 1.0)
+VALUE_TYPES = ("VAL",)  # property types whose conditions depend on argument values
 
 
 @dataclass(frozen=True)
@@ -49,6 +54,7 @@ class Falsifier:
     need: tuple[str, ...] = ()
     running: tuple[str, ...] = ()
     disturb: bool = False
+    values: dict | None = None  # the request's values must break: {} its own domain, else these narrowed ones
 
 
 def _ee(x, y) -> Falsifier:
@@ -74,7 +80,9 @@ AIMS = {"PC": lambda p: [Falsifier("before_ok", send=p.x, need=p.q)],
         "EE": lambda p: [_ee(p.x, p.y)],
         "EX": lambda p: [_es(p.x, p.y), _ee(p.x, p.y)],
         "MX_R": lambda p: [_es(p.x, p.y), _es(p.y, p.x)],
-        "MX_I": lambda p: [_ee(p.x, p.y), _ee(p.y, p.x)]}
+        "MX_I": lambda p: [_ee(p.x, p.y), _ee(p.y, p.x)],
+        "VAL": lambda p: [Falsifier("during", send=p.x, running=p.y, values=p.domain) if p.y
+                          else Falsifier("anywhere", send=p.x, values={})]}
 
 
 def falsifiers(prop: Property) -> list[Falsifier]:
@@ -107,8 +115,14 @@ class Planner:
                 for x in p.x:
                     self.needs.setdefault(x, set()).update(p.q)
 
-    def _request(self, service: str) -> Step:
-        return random_request(self.interface.services[service], self.rng, None)
+    def _request(self, service: str, f: Falsifier | None = None) -> Step:
+        """A request of `service`, its values legal, or illegal as `f` wants them."""
+        spec = self.interface.services[service]
+        step = random_request(spec, self.rng, None)
+        if f is None or f.values is None:
+            return step
+        falsified = falsifying_request(step, spec, self.rng, f.values or None)
+        return falsified[0] if falsified else step
 
     def _ready(self, p: int, service: str) -> bool:
         return self.needs.get(service, set()) <= self.timeline.ended_ok(p)
@@ -126,6 +140,9 @@ class Planner:
         """(position in the golden, steps to insert there, what it does), or None if impossible."""
         positions, rng = self.timeline.positions, self.rng
         send = rng.choice(f.send)
+        if f.kind == "anywhere":
+            places = [p for p in positions if self._ready(p, send)] or positions
+            return rng.choice(places), [self._request(send, f)], f"{send} with a value outside its domain"
         if f.kind == "before_ok":
             places = [p for p in positions if not set(f.need) <= self.timeline.ended_ok(p)]
             return (rng.choice(places), [self._request(send)],
@@ -135,12 +152,12 @@ class Planner:
         if running and rng.random() < 0.5:
             p = rng.choice(running)
             names = sorted({a.service for a in self.timeline.running(p, f.running)})
-            return p, self._sleep(names[0]) + [self._request(send)], f"{send} while {', '.join(names)} runs"
+            return p, self._sleep(names[0]) + [self._request(send, f)], f"{send} while {', '.join(names)} runs"
         fresh = rng.choice(f.running)
         places = [p for p in positions if self._ready(p, fresh)]
         if not places:
             return None
-        steps = [self._request(fresh)] + self._sleep(fresh) + [self._request(send)]
+        steps = [self._request(fresh)] + self._sleep(fresh) + [self._request(send, f)]
         phase = " in its start phase" if len(steps) == 2 else ""
         return rng.choice(places), steps, f"{send} while a new {fresh} runs{phase}"
 

@@ -4,42 +4,35 @@ What the layer is made of comes from its mission folder: the modules from the be
 that layer.toml names (or timed modules built from the interface and [timing]), what it enforces
 from layer.toml's protections, defects and variants (harness/target/layer_description.py).
 
-A request reaches its module's control task, which checks it (bad arguments, then the variant's
-rejecting protections in their declared order, then a free activity slot), applies the
+A request reaches its module's control task, which checks it (the variant's argument checks, then
+its rejecting protections in their declared order, then a free activity slot), applies the
 interruptions it causes (the interrupting protections, the layer's stop service, the variant's
 defects), then starts it. Replies go back through the `reply` callable given with each request.
 """
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Callable
 
 from harness.errors import UntimelyError
+from harness.target.domains import carried, number, violation
 from harness.target.interface import Interface, Service
 from harness.target.layer_description import Protection, load_layer
 from harness.sim.kernel import Environment
 from harness.sim.module import CONTROL_LATENCY_S, Activity, Module
 
 
-def parse_args(service: Service, raw: dict[str, str]) -> dict | None:
-    """Typed argument values, or None when any is missing, unknown or outside its domain."""
-    if set(raw) != set(service.args):
-        return None
+def read_args(service: Service, raw: dict[str, str]) -> dict:
+    """The argument values a module gets, unchecked: numbers as read (nan and infinities too), a
+    word that is no number as 0 (C's atof), a missing number as 0 and a missing text as ""."""
     values = {}
-    for name, text in raw.items():
-        spec = service.args[name]
-        if spec.type == "str":
-            if text not in spec.choices:
-                return None
-            values[name] = text
-            continue
-        try:
-            value = float(text)
-        except ValueError:
-            return None
-        if not spec.min <= value <= spec.max:  # also refuses nan
-            return None
-        values[name] = value
+    for name, arg in service.args.items():
+        word = raw.get(name)
+        if arg.type == "str":
+            values[name] = "" if word is None else carried(arg, word)
+        else:
+            values[name] = 0.0 if word is None or number(word) is None else number(word)
     return values
 
 
@@ -93,17 +86,43 @@ class FunctionalLayer:
         module.enqueue(take)
 
     def _handle(self, module: Module, rqst_id: int, service: Service, raw: dict, answer) -> None:
-        values = parse_args(service, raw)
-        rejection = self.description.invalid_args if values is None else self._rejection(module, service)
+        rejection = self._bad_args(service, raw) or self._rejection(module, service)
         if rejection:
             answer("final", rejection)
-        elif service.kind == "control":
+            return
+        self._note_unchecked(rqst_id, service, raw)
+        values = read_args(service, raw)
+        if service.kind == "control":
             module.configure(values)
             answer("final", "ok")
         else:
             self._interrupt_for(module, service)
             if not module.deadlocked:
                 module.start(rqst_id, service.name, service.kind, values, answer)
+
+    def _bad_args(self, service: Service, raw: dict) -> str | None:
+        """The reply of the variant's first argument check the request fails, if any."""
+        for p in self.variant.protections:
+            if p.kind == "checks_args":
+                if any(violation(arg, raw.get(name)) in p.checks for name, arg in service.args.items()):
+                    return p.reply
+            elif p.kind == "narrows_while" and self._running(p.services.get(service.qualified, frozenset())):
+                narrowed = self.description.narrowed(p, service.args)
+                if any(violation(service.args[n], raw.get(n), domain) for n, domain in narrowed.items()):
+                    return p.reply
+        return None
+
+    def _note_unchecked(self, rqst_id: int, service: Service, raw: dict) -> None:
+        """Ground truth: a value outside its interface domain that the layer let through."""
+        for name, arg in service.args.items():
+            broken = violation(arg, raw.get(name))
+            if broken:
+                self.world_events.append((self.env.now, "unchecked_value", json.dumps(
+                    {"rqst_id": rqst_id, "service": service.qualified, "argument": name,
+                     "value": raw.get(name), "violation": broken})))
+
+    def _running(self, services: frozenset[str]) -> bool:
+        return any(a.qualified in services for m in self.modules.values() for a in m.running())
 
     def _rejects(self, protection: Protection, module: Module, request: str) -> bool:
         if protection.kind == "requires_init":
@@ -112,8 +131,7 @@ class FunctionalLayer:
         if protection.kind == "requires":
             return not protection.services.get(request, frozenset()) <= self.succeeded
         if protection.kind == "rejects_while":
-            blocking = protection.services.get(request, frozenset())
-            return any(a.qualified in blocking for m in self.modules.values() for a in m.running())
+            return self._running(protection.services.get(request, frozenset()))
         return False
 
     def _rejection(self, module: Module, service: Service) -> str | None:

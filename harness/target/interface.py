@@ -10,20 +10,14 @@ from pydantic import ConfigDict, Field, model_validator
 from harness.errors import InputFileError
 from harness.files import read_toml
 from harness.schema import Strict, accepted, cut, validated, where
-from harness.target.property_types import REPLY_CODES, property_types
+from harness.target.domains import (ARGUMENT_HINT, Argument, Bounds, Domain, FloatArgumentFile, StrArgumentFile,
+                                    argument, carried, narrowing)
+from harness.target.property_types import REPLY_CODES, optional_parameters, property_types
 
 SERVICE_KINDS = ("init", "control", "exec")
 REPLY_CLASSES = ("T", "Z", "R")
 NAMES_HINT = 'give a non-empty list of "module.Service"'
 
-
-@dataclass(frozen=True)
-class Argument:
-    name: str
-    type: str  # "float" or "str"
-    min: float | None = None
-    max: float | None = None
-    choices: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -39,8 +33,8 @@ class Service:
         return f"{self.module}.{self.name}"
 
     def typed(self, raw: dict[str, str]) -> dict:
-        """A request's argument values as JSON types: numbers for float arguments."""
-        return {k: float(v) if self.args[k].type == "float" else v for k, v in raw.items()}
+        """A request's argument values as carried in JSON (harness/target/domains.py)."""
+        return {k: carried(self.args[k], v) for k, v in raw.items()}
 
 
 @dataclass(frozen=True)
@@ -84,30 +78,7 @@ class Property:
     q: tuple[str, ...] = ()
     r_p: str | None = None
     z_p: str | None = None
-
-
-class FloatArgumentFile(Strict):
-    model_config = ConfigDict(title="a float argument")
-    type: Literal["float"]
-    min: float = Field(description="give a finite number, at most max")
-    max: float = Field(description="give a finite number, at least min")
-    doc: str = ""
-
-    @model_validator(mode="after")
-    def _ordered(self):
-        if self.min > self.max:
-            raise ValueError(f"needs min <= max, got min={self.min!r} max={self.max!r}")
-        return self
-
-
-class StrArgumentFile(Strict):
-    model_config = ConfigDict(title="a str argument")
-    type: Literal["str"]
-    choices: list[str] = Field(min_length=1, description="give a non-empty list of string choices")
-    doc: str = ""
-
-
-ARGUMENT_HINT = 'give { type = "float", min = .., max = .. } or { type = "str", choices = [..] }'
+    domain: dict[str, Domain] | None = None  # VAL: argument -> bounds that also hold while a y runs
 
 
 class ServiceFile(Strict):
@@ -153,17 +124,11 @@ INTERFACE_KEYS = {m.model_config["title"]: accepted(m)
                   for m in (InterfaceFile, ModuleFile, ServiceFile, FloatArgumentFile, StrArgumentFile)}
 
 
-def _argument(name: str, spec) -> Argument:
-    if spec.type == "float":
-        return Argument(name, "float", float(spec.min), float(spec.max))
-    return Argument(name, "str", choices=tuple(spec.choices))
-
-
 def load_interface(path: str | Path) -> Interface:
     path = Path(path)
     data, text = read_toml(path)
     spec = validated(InterfaceFile, data, path, text)
-    services = {f"{module}.{name}": Service(module, name, s.kind, {a: _argument(a, v) for a, v in s.args.items()},
+    services = {f"{module}.{name}": Service(module, name, s.kind, {a: argument(a, v) for a, v in s.args.items()},
                                             s.until_stopped)
                 for module, m in spec.modules.items() for name, s in m.services.items()}
     return Interface(str(path), dict(spec.replies), services)
@@ -173,12 +138,14 @@ class PropertyFile(Strict):
     model_config = ConfigDict(title="a property")
     id: str = Field(min_length=1, description="give every property a string id")
     family: str = Field(min_length=1, description='give a family name such as "PEX"')
-    type: str = Field(description="give a type that has a template in sql/oracles/ (PC, ES, EE, EX, MX_R, MX_I)")
+    type: str = Field(description="give a type that has a template in sql/oracles/ (PC, ES, EE, EX, MX_R, MX_I, VAL)")
     x: list[str] = Field(min_length=1, description=NAMES_HINT)
     y: list[str] | None = Field(None, min_length=1, description=NAMES_HINT)
     q: list[str] | None = Field(None, min_length=1, description=NAMES_HINT)
     r_p: str | None = Field(None, description="give the rejection code the property calls for")
     z_p: str | None = Field(None, description="give the interruption code the property calls for")
+    domain: dict[str, Bounds] | None = Field(None, min_length=1, description="give the bounds that hold while a y "
+                                             "runs, such as { speed = { max = 0.3 } }")
 
     @model_validator(mode="after")
     def _parameters_of_its_type(self):
@@ -191,8 +158,11 @@ class PropertyFile(Strict):
             raise ValueError(f"key(s) {sorted(given - set(needed))} do not apply to type "
                              f"{self.type}; it takes {', '.join(needed)}")
         for key in needed:
-            if key not in given:
+            if key not in given and key not in optional_parameters()[self.type]:
                 raise ValueError(f"type {self.type} needs {key!r}, which is missing")
+        if "domain" in needed and (self.y is None) != (self.domain is None):
+            raise ValueError(f"a state-dependent {self.type} property needs both y (the activities during which "
+                             "it holds) and domain (what it allows then); give both or neither")
         return self
 
 
@@ -225,5 +195,12 @@ def load_properties(path: str | Path, interface: Interface) -> list[Property]:
                                      f"property {e.id!r}: {key} = {cut(code)} is not a class-{expected} reply "
                                      f"code of the interface {interface.path}")
             fields[key] = code
+        if e.domain is not None:
+            arguments = {a.name: a for x in fields["x"] for a in interface.services[x].args.values()}
+            try:
+                fields["domain"] = narrowing(arguments, e.domain)
+            except ValueError as error:
+                raise InputFileError(path, where(text, ("property", n, "domain")),
+                                     f"property {e.id!r}: {error}") from None
         props.append(Property(id=e.id, family=e.family, type=e.type, **fields))
     return props

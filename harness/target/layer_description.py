@@ -12,6 +12,12 @@ Protection kinds (each with its `reply` code):
   layer's stop service interrupts every other activity of its module.
 - excludes: `pairs` of services that never run together; an accepted request interrupts the
   running other one (priority to the latest request).
+- checks_args: a request (of any kind) with an argument outside its interface domain is rejected
+  when the way it breaks it is among `checks` (harness/target/domains.py VIOLATIONS: missing, type,
+  nan, range, choices, pattern); `reply` defaults to [layer] invalid_args. An unchecked value
+  reaches the module as read (a word that is no number as 0, a missing number as 0).
+- narrows_while: `while` maps a service to those whose running activity narrows its arguments'
+  domain to `domain` (argument -> min, max, choices, pattern); `reply` defaults to invalid_args.
 
 Defect kinds:
 - interrupts_on_init: every init request interrupts all running activities of its module (`reply`).
@@ -32,10 +38,12 @@ from pydantic import ConfigDict, Field, model_validator
 from harness.errors import InputFileError, UntimelyError
 from harness.files import read_toml
 from harness.schema import Strict, accepted, cut, dotted, validated, where
+from harness.target.domains import VIOLATIONS, Bounds, Domain, narrowing
 from harness.target.interface import Interface
 
 LAYER_FILE = "layer.toml"
 REJECTING = ("requires_init", "requires", "rejects_while")
+CHECKING = ("checks_args", "narrows_while")  # argument checks, made before the rejecting ones
 INTERRUPTING = ("interrupts", "excludes")
 DEFECT_KINDS = {"interrupts_on_init": "reply", "deadlock_on_start": "protection", "leak_during_init": "protection"}
 
@@ -47,6 +55,8 @@ class Protection:
     reply: str
     services: dict[str, frozenset[str]] = field(default_factory=dict)  # after / while / interrupted by
     stop: bool = False
+    checks: tuple[str, ...] = ()  # checks_args: the violations it detects
+    domain: dict = field(default_factory=dict)  # narrows_while: argument -> its Bounds table
 
     def names(self) -> set[str]:
         return set(self.services) | {s for group in self.services.values() for s in group}
@@ -125,6 +135,15 @@ class LayerDescription:
             if unknown:
                 raise InputFileError(self.path, f"[protections.{p.name}]", f"names {unknown[0]!r}, which the "
                                      f"interface {interface.path} does not declare")
+            for service in p.services if p.kind == "narrows_while" else ():
+                self.narrowed(p, interface.services[service].args)
+
+    def narrowed(self, protection: Protection, arguments: dict) -> dict[str, Domain]:
+        """A narrows_while protection's domain over a service's `arguments` (refused if it names others)."""
+        try:
+            return narrowing(arguments, protection.domain)
+        except ValueError as e:
+            raise InputFileError(self.path, f"[protections.{protection.name}]", str(e)) from None
 
 
 SERVICES_HINT = 'give a table of "module.Service" = ["module.Service", ...]'
@@ -156,10 +175,16 @@ class TimingTable(Strict):
         return self
 
 
+PROTECTION_KINDS = CHECKING + REJECTING + INTERRUPTING
+
+
 class ProtectionTable(Strict):
     model_config = ConfigDict(title="a protection")
-    kind: Literal[REJECTING + INTERRUPTING] = Field(description=f"use one of {', '.join(REJECTING + INTERRUPTING)}")
-    reply: str = Field(description="give the reply code it answers with")
+    kind: Literal[PROTECTION_KINDS] = Field(description=f"use one of {', '.join(PROTECTION_KINDS)}")
+    reply: str | None = Field(None, description="give the reply code it answers with")
+    checks: list[Literal[VIOLATIONS]] = Field(list(VIOLATIONS), description=f"give some of {', '.join(VIOLATIONS)}")
+    domain: dict[str, Bounds] = Field(default_factory=dict, description="give argument = { min, max, choices, "
+                                                                        "pattern } tables")
     after: dict[str, Names] = Field(default_factory=dict, description=SERVICES_HINT)
     while_: dict[str, Names] = Field(default_factory=dict, alias="while", description=SERVICES_HINT)
     by: dict[str, Names] = Field(default_factory=dict, description=SERVICES_HINT)
@@ -197,7 +222,7 @@ class LayerFile(Strict):
 LAYER_KEYS = set(accepted(LayerTable))  # the keys of [layer] (docs/reference names every one)
 
 
-def _protection(name: str, spec: ProtectionTable) -> Protection:
+def _protection(path, text, name: str, spec: ProtectionTable, invalid_args: str) -> Protection:
     services: dict[str, set[str]] = {}
     for table in (spec.after, spec.while_, spec.by):
         for service, others in table.items():
@@ -205,7 +230,12 @@ def _protection(name: str, spec: ProtectionTable) -> Protection:
     for a, b in spec.pairs:
         services.setdefault(a, set()).add(b)
         services.setdefault(b, set()).add(a)
-    return Protection(name, spec.kind, spec.reply, {k: frozenset(v) for k, v in services.items()}, spec.stop)
+    if spec.reply is None and spec.kind not in CHECKING:
+        raise InputFileError(path, where(text, ("protections", name)),
+                             f"protections.{name}: reply is missing; give the reply code it answers with")
+    return Protection(name, spec.kind, spec.reply or invalid_args, {k: frozenset(v) for k, v in services.items()},
+                      spec.stop, tuple(spec.checks) if spec.kind == "checks_args" else (),
+                      spec.domain if spec.kind == "narrows_while" else {})
 
 
 def _defect(path, text, name, spec: DefectTable, protections) -> Defect:
@@ -246,7 +276,7 @@ def _behaviour(path: Path, at: str, name: str):
 def _load(path: Path, _stamp: tuple) -> LayerDescription:
     data, text = read_toml(path, f"file not found; a simulated target describes its layer in {LAYER_FILE}")
     spec = validated(LayerFile, data, path, text)
-    protections = {n: _protection(n, s) for n, s in spec.protections.items()}
+    protections = {n: _protection(path, text, n, s, spec.layer.invalid_args) for n, s in spec.protections.items()}
     defects = {n: _defect(path, text, n, s, protections) for n, s in spec.defects.items()}
     variants = {}
     for name, v in spec.variants.items():

@@ -18,9 +18,13 @@ TEMPLATES = SQL_DIR / "oracles"
 # reply codes of class R (r_p) or Z (z_p). A template may take any of them.
 SERVICE_LISTS = ("x", "y", "q")
 REPLY_CODES = {"r_p": "R", "z_p": "Z"}
+# ... and a state-dependent domain: argument -> the bounds that hold while a y runs (docs/targets.md).
+DOMAIN = "domain"
+PARAMETERS = (*SERVICE_LISTS, *REPLY_CODES, DOMAIN)
 
 
-def _parameters(path: Path) -> tuple[str, ...]:
+def _parameters(path: Path) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The parameters the template's ctes macro declares, and those of them it gives a default."""
     try:
         tree = jinja2.Environment().parse(path.read_text())
     except (OSError, jinja2.TemplateSyntaxError) as e:
@@ -30,19 +34,24 @@ def _parameters(path: Path) -> tuple[str, ...]:
         raise PropertyError(f"the oracle template {path} defines no macro ctes(name, ...); a type's template "
                             "defines its CTE chain as {% macro ctes(name, x, ...) %} (see sql/oracles/pc.sql)")
     declared = tuple(a.name for a in macro.args[1:])
-    unknown = [p for p in declared if p not in (*SERVICE_LISTS, *REPLY_CODES)]
+    unknown = [p for p in declared if p not in PARAMETERS]
     if unknown or "x" not in declared:
         raise PropertyError(f"the oracle template {path} declares ctes{('name', *declared)}: "
                             f"{'parameter ' + repr(unknown[0]) if unknown else 'no x'}; a type takes x and any "
-                            f"of {', '.join(p for p in (*SERVICE_LISTS, *REPLY_CODES) if p != 'x')}")
-    return declared
+                            f"of {', '.join(p for p in PARAMETERS if p != 'x')}")
+    return declared, tuple(a.name for a in macro.args[len(macro.args) - len(macro.defaults):])
 
 
 def property_types(folder: Path | None = None) -> dict[str, tuple[str, ...]]:
     """Type name (PC, ES, ...) -> the parameters its properties give, x first."""
-    found = {}
-    for path in sorted((folder or TEMPLATES).glob("*.sql")):
-        if not path.name.startswith("_"):
-            declared = _parameters(path)
-            found[path.stem.upper()] = ("x",) + tuple(p for p in declared if p != "x")
-    return found
+    return {name: ("x",) + tuple(p for p in declared if p != "x") for name, (declared, _) in _templates(folder).items()}
+
+
+def optional_parameters(folder: Path | None = None) -> dict[str, tuple[str, ...]]:
+    """Type name -> the parameters its properties may leave out (a default in its ctes macro)."""
+    return {name: optional for name, (_, optional) in _templates(folder).items()}
+
+
+def _templates(folder: Path | None) -> dict[str, tuple[tuple[str, ...], tuple[str, ...]]]:
+    return {path.stem.upper(): _parameters(path) for path in sorted((folder or TEMPLATES).glob("*.sql"))
+            if not path.name.startswith("_")}

@@ -24,11 +24,12 @@
 ({{ a }}t < {{ b }}t or ({{ a }}t = {{ b }}t and {{ a }}seq < {{ b }}seq))
 {%- endmacro %}
 
-{% macro requests(events, modules=none, traces=none) -%}
+{% macro requests(events, modules=none, traces=none, args=false) -%}
 -- request and final-reply events (intermediate replies decide nothing) of `modules`: those of
--- the property's services, and those that may interrupt its activities (see ee.sql)
+-- the property's services, and those that may interrupt its activities (see ee.sql); `args`:
+-- with the requests' arguments (only a value-domain oracle reads them)
 logged as (
-    select trace_id, rqst_id, module, service, kind, t, seq, reply
+    select trace_id, rqst_id, module, service, kind, t, seq, reply{{ ', args' if args }}
     from {{ events }}
     where kind in ('request', 'final'){% if modules %} and module in ({{ modules | map('lit') | join(', ') }}){% endif %}{% if traces %} and trace_id in ({{ traces | join(', ') }}){% endif %}
 
@@ -41,7 +42,8 @@ paired as (
            min(seq) filter (where kind = 'request') as seq,
            arg_min(t, seq) filter (where kind = 'final') as final_t,
            min(seq) filter (where kind = 'final') as final_seq,
-           arg_min(reply, seq) filter (where kind = 'final') as reply
+           arg_min(reply, seq) filter (where kind = 'final') as reply{% if args %},
+           arg_min(args, seq) filter (where kind = 'request') as args{% endif %}
     from logged
     group by trace_id, rqst_id
 ),

@@ -5,6 +5,7 @@
     trace pc_true_accepted sut=genom outcome=hung   # a trace: label, optional sut and outcome
     0.0 request 1 rflex.Init                    # t kind rqst_id module.Service
     0.5 final   1 ok                            # t final rqst_id reply (service from the request)
+    2.5 request 3 ndd.GotoPosition x=9 y=nan    # arguments as a mission script writes them
     1.5 request 2 rflex.TrackSpeedStart  => PEX(rflex) TN true 1.0
     2.0 final   2 ok
 
@@ -16,6 +17,8 @@ Properties come from missions/dala/properties.toml and tests/traces/properties.t
 properties.toml of the file's `mission` folder (whose interface then gives the reply classes).
 """
 from __future__ import annotations
+
+import json
 
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -79,15 +82,17 @@ def load(path: Path) -> Fixture:
             cases.append(Case(words[1], Trace(sut=options.get("sut", "fixture"), seed=0,
                                               outcome=options.get("outcome", "completed"))))
         else:
-            case, (t, kind, rqst_id, what) = cases[-1], words
-            rqst_id = int(rqst_id)
+            case, (t, kind, rqst_id, what), written = cases[-1], words[:4], words[4:]
+            rqst_id, args = int(rqst_id), None
             if kind == "request":
                 case.services[rqst_id] = what
                 module, service, reply = *what.split("."), None
+                if written:
+                    args = json.dumps(interface.services[what].typed(dict(w.split("=", 1) for w in written)))
             else:
                 module, service, reply = *case.services[rqst_id].split("."), None if what == "-" else what
             case.trace.events.append((len(case.trace.events) + 1, float(t), kind, rqst_id,
-                                      module, service, None, reply))
+                                      module, service, args, reply))
             if expect.strip():
                 _expect(case, expect, rqst_id, where, known)
     return Fixture(path, properties, cases, interface)

@@ -35,6 +35,11 @@ class Posters:
     ref: tuple[float, float] = (0.0, 0.0)  # linear (m/s), angular (rad/s)
 
 
+def _json(values) -> list:
+    """Numbers for a world event's detail: JSON has no nan or infinity, so those as text."""
+    return [v if math.isfinite(v) else repr(v) for v in values]
+
+
 class DalaModule(Module):
     def __init__(self, env: Environment, world: World, posters: Posters):
         super().__init__(env)
@@ -80,6 +85,7 @@ class Sick(DalaModule):
         super().__init__(env, world, posters)
         self.settings = {"fov": 90.0, "range": 4.0}  # until SetParams says otherwise
         self._last_scan = None  # (pose, fov, range)
+        self._blind_since = None  # the setting the laser was last found blind with
         self.bodies.update(ContinuousShot=self._continuous, OneShot=self._one_shot)
 
     def _scan(self) -> None:
@@ -87,6 +93,12 @@ class Sick(DalaModule):
         if (pose, fov, reach) == self._last_scan:
             return  # a still rover in a static world: the last scan stands
         self._last_scan = (pose, fov, reach)
+        if not (0.0 < fov <= 360.0 and 0.0 < reach < math.inf):  # also false for nan
+            if self._blind_since != (fov, reach):  # once per setting
+                self.world.record("laser_sees_nothing", {"fov": repr(fov), "range": repr(reach)})
+                self._blind_since = (fov, reach)
+            self.posters.scart = Scan(self.posters.scart.seq + 1, pose, ())
+            return
         hits = self.world.scan(fov, reach, self.RAY_STEP_DEG)
         self.posters.scart = Scan(self.posters.scart.seq + 1, pose, hits)
 
@@ -142,7 +154,12 @@ class Ndd(DalaModule):
     def _goto(self, activity: Activity):
         goal = (activity.args["x"], activity.args["y"])
         if not any(a.phase == "running" for a in self.aspect.running("Fuse")):
-            self.world.record("navigation_without_map", {"rqst_id": activity.rqst_id, "goal": list(goal)})
+            self.world.record("navigation_without_map", {"rqst_id": activity.rqst_id, "goal": _json(goal)})
+        if not self.world.inside(*goal):
+            self.world.record("goal_outside_world", {"rqst_id": activity.rqst_id, "goal": _json(goal)})
+        if not all(map(math.isfinite, goal)):  # nowhere to steer to: the rover stays, then gives up
+            yield self.env.timeout(self.STALL_S)
+            return "goal_unreachable"
         best, progressed_at, side = math.inf, self.env.now, 0
         cart = self.posters.cart_a
         while True:
@@ -154,7 +171,11 @@ class Ndd(DalaModule):
                 best, progressed_at = distance, self.env.now
             if cart.clearance(*goal) < CLEARANCE_M or self.env.now - progressed_at > self.STALL_S:
                 return "goal_unreachable"
-            speed, turn, side = steer(pose, goal, cart, self.settings["speed"], side)
+            speed = self.settings["speed"]
+            if not math.isfinite(speed):  # no speed to steer by: the rover stays
+                yield self.env.timeout(self.PERIOD_S)
+                continue
+            speed, turn, side = steer(pose, goal, cart, speed, side)
             self.posters.ref = (speed, turn)
             yield self.env.timeout(self.PERIOD_S)
 
@@ -182,6 +203,10 @@ class Antenna(DalaModule):
 
     def _point(self, activity: Activity):
         self.pointed_at = None
+        if not math.isfinite(activity.args["az"]):  # the antenna slews to nowhere
+            self.world.record("antenna_lost", {"rqst_id": activity.rqst_id, "az": repr(activity.args["az"])})
+            yield self.env.timeout(self.PERIOD_S)
+            return "ok"
         target, start, noted = activity.args["az"] % 360.0, self.world.odometer, False
         stride = self.SLEW_DEG_S * self.PERIOD_S
         while (gap := (target - self.azimuth + 180.0) % 360.0 - 180.0) != 0.0:

@@ -181,6 +181,11 @@ class World:
     def record(self, kind: str, detail: dict) -> None:
         self.events.append((self.env.now, kind, json.dumps(detail)))
 
+    def inside(self, x: float, y: float) -> bool:
+        """Whether (x, y) lies within the arena's bounds (false for nan)."""
+        (x0, x1), (y0, y1) = self.spec.x_range, self.spec.y_range
+        return x0 <= x <= x1 and y0 <= y <= y1
+
     @property
     def still(self) -> bool:
         return self.wheels == (0.0, 0.0)
