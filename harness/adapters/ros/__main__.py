@@ -4,8 +4,9 @@
 
 Order: the master starts on a free loopback port; the bench's hello gives the time scale, passed
 to the node as $UNTIMELY_TIME_SCALE (with $ROS_MASTER_URI); once every mapped action server
-answers, the hello is answered and requests flow. On `bye`, end of input or SIGTERM, the node and
-the master are stopped and the ROS log folder removed. A failure before that is an `error` line.
+answers (and, with --rosbag, every publisher has accepted the recorder), the hello is answered and
+requests flow. On `bye`, end of input or SIGTERM, the node and the master are stopped and the ROS
+log folder removed. A failure before that is an `error` line.
 """
 from __future__ import annotations
 
@@ -19,7 +20,8 @@ import threading
 
 from harness.adapters.ros.mapping import interface_services, load_mapping
 from harness.adapters.ros.processes import Child, ros_home, start_master, stop_all
-from harness.adapters.ros.recorder import recorded_topics, recording_folder, start_recorder, stop_recorder
+from harness.adapters.ros.recorder import (recorded_topics, recording_folder, start_recorder, stop_recorder,
+                                          wait_connected)
 from harness.errors import UntimelyError
 from harness.run.external.protocol import BENCH_MESSAGES, PROTO, ProtocolViolation, decode, encode
 
@@ -83,7 +85,7 @@ def run(args, out: LineWriter) -> None:
         time_scale = hello["time_scale"]
         if recording_folder():
             topics = recorded_topics(mapping, interface_services(hello["interface"]))
-            recorder = start_recorder(recording_folder(), hello["run"], topics, env, args.startup_timeout)
+            recorder = start_recorder(recording_folder(), hello["run"], topics, env)
         node = Child("node", args.node, {**env, **node_environment(mapping, hello)})
         children.append(node)
         os.environ.update(env)
@@ -94,6 +96,8 @@ def run(args, out: LineWriter) -> None:
         ros_up = True
         adapter = Adapter(mapping, hello["interface"], time_scale, out.write)
         adapter.wait_for_servers(args.startup_timeout, node.failure)
+        if recorder:
+            wait_connected(recorder, topics, env, args.startup_timeout)
         adapter.hello(PROTO, f"ROS 1 actionlib adapter (master {env['ROS_MASTER_URI']}; node: {' '.join(args.node)})")
         serve(adapter, sys.stdin)
     finally:
