@@ -6,7 +6,7 @@ import xmlrpc.client
 
 from harness.adapters.ros import processes
 
-from tests.ros_driver import Launcher, descendants, request, requires_ros, wait_gone
+from tests.ros_driver import MAPPING, Launcher, descendants, request, requires_ros, wait_gone
 
 pytestmark = requires_ros
 
@@ -193,3 +193,23 @@ def test_a_master_whose_port_was_taken_meanwhile_is_replaced(monkeypatch, tmp_pa
         assert xmlrpc.client.ServerProxy(env2["ROS_MASTER_URI"]).getPid("/test")[2] == second.process.pid
     finally:
         processes.stop_all([first] + ([second] if second else []))
+
+
+def test_a_ros_service_of_a_package_debian_lacks_is_generated_from_its_srv_file(tmp_path):
+    """ndd.SetParams as a call of made_srvs/SetParams, which no package has: the adapter and the node
+    both generate it from SetParams.srv beside the mapping, and their MD5 sums agree on the wire."""
+    (tmp_path / "SetParams.srv").write_text("float64 speed\n---\nstring code\nbool success\n")
+    mapping = tmp_path / "ros.toml"
+    mapping.write_text(MAPPING.read_text() + '[services."ndd.SetParams"]\nservice = "/ndd/set_params"\n'
+                       'type = "made_srvs/SetParams"\ndefinition = "SetParams.srv"\nfields = { speed = "speed" }\n'
+                       'code = "code"\nsuccess = "success"\n')
+    launcher = Launcher("reference", mapping)
+    try:
+        assert launcher.start(time_scale=10.0)["op"] == "hello", "".join(launcher.stderr[-20:])
+        launcher.send(request(1, "ndd.SetParams", speed=0.6))
+        launcher.send(request(2, "ndd.SetParams", speed=5.0))
+        assert (launcher.final(1), launcher.final(2)) == ("ok", "bad_params")
+        assert [m["kind"] for m in launcher.replies(1)] == ["final"]  # a ROS service: no intermediate
+        assert finished(launcher) == set()
+    finally:
+        launcher.kill()

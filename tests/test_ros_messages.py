@@ -40,3 +40,38 @@ def test_an_action_debian_lacks_is_generated_from_its_text_and_filled(tmp_path):
     assert found["problems"] == [
         "argument y=1 has no field in dock_msgs/Dock; add it to the route's fields in ros.toml",
         "'abc' cannot fill dock_msgs/Dock field pose.position.x, a float64"]
+
+
+SERVICE_PROBE = """
+import json, sys
+from pathlib import Path
+import roscpp.srv, std_srvs.srv
+from harness.adapters.ros.messages import fill, service_class
+from harness.adapters.ros.routes import Route
+folder = Path(sys.argv[1])
+made = {name: service_class(Route("service", "/s", f"made_srvs/{name}", definition=f"{name}.srv"), folder)
+        for name in ("Trigger", "SetBool", "GetLoggers", "Dock")}
+debian = {"Trigger": std_srvs.srv.Trigger, "SetBool": std_srvs.srv.SetBool, "GetLoggers": roscpp.srv.GetLoggers}
+dock = Route("service", "/dock", "made_srvs/Dock", {"x": "pose.position.x"}, definition="Dock.srv")
+request = fill(made["Dock"]._request_class(), dock, {"x": "2.5"})
+response = made["Dock"]._response_class(code="ok", success=True)
+print(json.dumps({"md5": {name: [made[name]._md5sum, kind._md5sum] for name, kind in debian.items()},
+                  "type": made["Dock"]._type, "x": request.pose.position.x,
+                  "response": [made["Dock"]._response_class._type, response.code, response.success]}))
+"""
+
+
+def test_a_service_debian_lacks_is_generated_from_its_srv_text(tmp_path):
+    """A .srv file gives the request and response classes and the service's MD5 sum, which is what
+    catkin would build: the same text as Debian's std_srvs and roscpp services gives their sums
+    (GetLoggers' response holds roscpp/Logger[], a type of another package)."""
+    for name, text in (("Trigger", "---\nbool success\nstring message\n"), ("SetBool", "bool data\n---\nbool success\n"
+                       "string message\n"), ("GetLoggers", "---\nroscpp/Logger[] loggers\n"),
+                       ("Dock", "geometry_msgs/Pose pose\n---\nstring code\nbool success\n")):
+        (tmp_path / f"{name}.srv").write_text(text)
+    python = ensure_ros_venv()
+    out = subprocess.run([str(python), "-c", SERVICE_PROBE, str(tmp_path)], capture_output=True, text=True, check=True)
+    found = json.loads(out.stdout)
+    assert all(made == debian for made, debian in found["md5"].values()), found["md5"]
+    assert found["type"] == "made_srvs/Dock" and found["x"] == 2.5
+    assert found["response"] == ["made_srvs/DockResponse", "ok", True]

@@ -48,7 +48,7 @@ class Adapter:
         actions = {route.name: route for route in self.routes.values() if route.kind == "action"}
         self.classes = {name: action_classes(route, mapping.folder) for name, route in actions.items()}
         self.clients = {name: actionlib.ActionClient(name, classes.Action) for name, classes in self.classes.items()}
-        self.services = {route.name: service_class(route) for route in self.routes.values() if route.kind == "service"}
+        self.services = {route.name: service_class(route, mapping.folder) for route in self.routes.values() if route.kind == "service"}
         self.heartbeats: dict[str, float] = {}  # action -> monotonic time of its last status
         self.pending_pings: dict[int, bool] = {}  # ping id -> echoed through ROS (or no ping topic)
         self.goals: dict[int, actionlib.ClientGoalHandle] = {}  # kept: actionlib holds only weak references

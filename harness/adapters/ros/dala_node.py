@@ -126,7 +126,7 @@ class DalaNode:
         self.servers, self.services = {}, []
         for qualified, route in routes.items():
             if route.kind == "service":
-                kind = service_class(route)
+                kind = service_class(route, self.mapping.folder)
                 self.services.append((route.name, kind, self._call_for(qualified, route, kind._response_class)))
             elif route.name not in self.servers:
                 classes = action_classes(route, self.mapping.folder)

@@ -1,12 +1,14 @@
-"""Message classes of the routes' types: from Debian's packages, or generated from .action text.
+"""Message classes of the routes' types: from Debian's packages, or generated from .action or .srv text.
 
 Debian ships ROS 1's Python libraries and some message packages (`python3-move-base-msgs`,
 `python3-std-srvs`...) but no catkin workspace to build others in. A type whose package imports
-is taken from it; an action whose package is missing is generated when it is first needed, from
-its `.action` text (a route's `definition` file, or untimely_msgs/Request.action beside this
-module), by genpy's dynamic generator (the one rosbag uses for types it has no package for). The
-seven messages are what `genaction.py` derives from an .action file; both ends generate them
-from the same text, so their MD5 sums agree on the wire.
+is taken from it; an action or service whose package is missing is generated when it is first
+needed, from its text (a route's `definition` file, or untimely_msgs/Request.action beside this
+module), by genpy's dynamic generator (the one rosbag uses for types it has no package for). An
+action's seven messages are what `genaction.py` derives from an .action file; a service's request
+and response are the two halves of its .srv file, and its MD5 sum is genmsg's, as gensrv computes
+it. Both ends generate them from the same text, so their MD5 sums agree on the wire (and agree
+with a package built by catkin from that text).
 """
 from __future__ import annotations
 
@@ -16,6 +18,8 @@ import re
 from pathlib import Path
 from types import SimpleNamespace
 
+import genmsg
+import genmsg.msg_loader
 import genpy.dynamic
 
 from harness.adapters.ros.routes import GENERIC_TYPE, Route
@@ -74,13 +78,17 @@ def dependencies(package: str, texts) -> dict[str, str]:
     return sections
 
 
+def _definition(full_type: str, definition: Path) -> str:
+    try:
+        return definition.read_text()
+    except OSError as e:
+        raise UntimelyError(f"cannot read the definition of {full_type} ({definition}): {e}") from None
+
+
 @functools.cache
 def generated_action(full_type: str, definition: Path):
     """The action classes generated from an .action file."""
-    try:
-        text = definition.read_text()
-    except OSError as e:
-        raise UntimelyError(f"cannot read the definition of {full_type} ({definition}): {e}") from None
+    text = _definition(full_type, definition)
     package, name = full_type.split("/")
     own = action_sections(full_type, text)
     sections = [own[f"{name}Action"]] + [f"MSG: {package}/{n}\n{t}" for n, t in own.items() if n != f"{name}Action"]
@@ -89,6 +97,35 @@ def generated_action(full_type: str, definition: Path):
     return SimpleNamespace(**{part: classes[f"{package}/{name}{part}"]
                               for part in ("Action", "Goal", "Result", "Feedback", "ActionGoal", "ActionResult",
                                            "ActionFeedback")})
+
+
+@functools.cache
+def generated_service(full_type: str, definition: Path):
+    """The service class generated from a .srv file: its _request_class, _response_class and
+    the service's MD5 sum, which covers both halves."""
+    text = _definition(full_type, definition)
+    package, name = full_type.split("/")
+    parts = re.split(r"^---\s*$", text, flags=re.MULTILINE)
+    if len(parts) != 2:
+        raise UntimelyError(f"the definition of {full_type} ({definition}) has {len(parts)} parts; a .srv file "
+                            "has a request and a response separated by one line of ---")
+    used = dependencies(package, parts)
+    sections = [parts[0]] + [f"MSG: {package}/{name}Response\n{parts[1]}"]
+    sections += [f"MSG: {t}\n{body}" for t, body in used.items()]
+    classes = genpy.dynamic.generate_dynamic(f"{package}/{name}Request", SEPARATOR.join(sections))
+    context = genmsg.MsgContext.create_default()
+    for used_type, body in used.items():
+        context.register(used_type, genmsg.msg_loader.load_msg_from_string(context, body, used_type))
+    spec = genmsg.msg_loader.load_srv_from_string(context, text, full_type)
+    return type(name, (), {"_type": full_type, "_md5sum": genmsg.compute_md5(context, spec),
+                           "_request_class": classes[f"{package}/{name}Request"],
+                           "_response_class": classes[f"{package}/{name}Response"]})
+
+
+def _package_hint(full_type: str, kind: str) -> str:
+    return (f"no message package has the {kind} {full_type}; install its Debian package "
+            f"(python3-{full_type.split('/')[0].replace('_', '-')}) or give its .{'srv' if kind == 'service' else kind} "
+            "file as the route's definition")
 
 
 def action_classes(route: Route, mapping_dir: Path | None = None):
@@ -101,17 +138,17 @@ def action_classes(route: Route, mapping_dir: Path | None = None):
         return SimpleNamespace(**package_classes)
     if route.definition and mapping_dir is not None:
         return generated_action(route.type, (mapping_dir / route.definition).resolve())
-    raise UntimelyError(f"no message package has the action {route.type}; install its Debian package "
-                        f"(python3-{route.type.split('/')[0].replace('_', '-')}) or give its .action file "
-                        "as the route's definition")
+    raise UntimelyError(_package_hint(route.type, "action"))
 
 
-def service_class(route: Route):
+def service_class(route: Route, mapping_dir: Path | None = None):
+    """The service class (with _request_class and _response_class) of a ROS service route."""
     found = _class(route.type, "srv")
-    if found is None:
-        raise UntimelyError(f"no message package has the service {route.type}; install its Debian package "
-                            f"(python3-{route.type.split('/')[0].replace('_', '-')})")
-    return found
+    if found is not None:
+        return found
+    if route.definition and mapping_dir is not None:
+        return generated_service(route.type, (mapping_dir / route.definition).resolve())
+    raise UntimelyError(_package_hint(route.type, "service"))
 
 
 INTEGERS = {"byte", "char", "int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64"}

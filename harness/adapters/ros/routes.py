@@ -33,7 +33,7 @@ class Route:
     code: str | None = None  # result or response field carrying the reply code
     success: str | None = None  # ROS service: bool response field, true -> ok
     failure: str = "failure"  # ROS service: the code of a response that is neither
-    definition: str | None = None  # .action file (beside the mapping) for a type no package has
+    definition: str | None = None  # .action or .srv file (beside the mapping) for a type no package has
 
     @property
     def generic(self) -> bool:
@@ -92,7 +92,4 @@ def parse_route(path, service: str, value) -> Route:
     options = {name: _text(path, f"{key}.{name}", value[name]) for name in ("code", "success", "failure", "definition") if name in value}
     if kind == "action" and ({"success", "failure"} & set(options)):
         raise InputFileError(path, key, "success and failure are for ROS services; an action ends with its goal status")
-    if kind == "service" and "definition" in options:
-        raise InputFileError(path, f"{key}.definition", "only actions can be generated from text; install the "
-                             "service's message package")
     return Route(kind, _text(path, f"{key}.{kind}", value[kind]), type_, dict(fields), dict(defaults), **options)
