@@ -70,6 +70,12 @@ class Bag:
             result=self.types["untimely_msgs/msg/RequestResult"](code=code))
         self.write("/dala/ndd/result", "RequestActionResult", at, message)
 
+    def status(self, at, stamp, *goals):
+        """A status list stamped `stamp` by the server: (goal, status, text) each."""
+        message = self.types["actionlib_msgs/msg/GoalStatusArray"](
+            header=self._header(stamp), status_list=[self._status(goal, status, text, at) for goal, status, text in goals])
+        self.write("/dala/ndd/status", "actionlib_msgs/msg/GoalStatusArray", at, message)
+
     def close(self):
         self.writer.close()
 
@@ -147,3 +153,26 @@ def test_a_file_that_is_no_bag_is_refused_naming_it(tmp_path, interface):
     with pytest.raises(InputFileError, match=r"broken.bag:+ cannot read the bag \(AnyReaderError: File magic is "
                                              r"invalid.\); is it whole\?"):
         imported(tmp_path / "broken.bag", interface)
+
+
+def test_the_servers_header_stamps_are_the_suts_clock_in_internal_events(tmp_path, interface):
+    """The receive stamps are `events`; the server's stamps on status, feedback and result are
+    `internal_events`, from the same origin: a request at the first status naming it, a final at
+    its result's stamp or, without a result, its terminal status's; a goal never stamped is left out."""
+    bag = Bag(tmp_path / "clock.bag")
+    bag.goal(10.0, "g1", "Init")
+    bag.status(10.2, 10.05, ("g1", ACTIVE, ""))
+    bag.feedback(10.3, "g1", stamp=10.1)
+    bag.result(10.6, "g1", SUCCEEDED, "ok", stamp=10.4)
+    bag.goal(11.0, "g2", "Stop")  # nothing from the server: no SUT instant
+    bag.goal(12.0, "g3", "GotoPosition", x=1.0, y=1.0)
+    bag.status(12.3, 12.25, ("g3", REJECTED, "wait_init"))  # its result is not in the bag
+    bag.close()
+    con = connect(":memory:")
+    import_file(con, tmp_path / "clock.bag", interface)
+    assert con.execute("select rqst_id, kind, round(t, 3), reply, args::varchar from internal_events "
+                       "order by seq").fetchall() == [
+        (1, "request", 0.05, None, "{}"), (1, "intermediate", 0.1, None, None), (1, "final", 0.4, "ok", None),
+        (3, "request", 2.25, None, '{"x": 1.0, "y": 1.0}'), (3, "final", 2.25, "wait_init", None)]
+    assert con.execute("select rqst_id, kind, round(t, 3) from events where kind = 'final' order by seq").fetchall() \
+        == [(1, "final", 0.6), (3, "final", 2.3)]

@@ -33,6 +33,10 @@ def test_a_recorded_bag_judges_like_the_live_trace_of_its_run(tmp_path, capsys):
     events = "select rqst_id, module, service, kind, args, reply from events where trace_id = ? order by all"
     live, bag = (con.execute(events, [trace]).fetchall() for trace in (1, 2))
     assert bag == live and len(live) > 40  # every request, reply and argument, numbered alike
+    # The server's header stamps (the bag's SUT clock) stand for the ground truth the node published.
+    sut = "select rqst_id, kind, reply from internal_events where trace_id = ? and kind <> 'request' order by all"
+    live_sut, bag_sut = (con.execute(sut, [trace]).fetchall() for trace in (1, 2))
+    assert bag_sut == live_sut and len(bag_sut) > 20
     pairs, unflagged = con.execute("""
         select count(*), count(*) filter (where l.verdict <> b.verdict and not (l.suspicious or b.suspicious))
         from verdicts l join verdicts b using (property_id, rqst_id)

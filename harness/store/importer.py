@@ -5,7 +5,8 @@ optionally `outcome` and `sut` per trace. Every row is checked against the inter
 bad rows are reported with their line and value and nothing is written. Then one transaction
 adds a campaign (mission = the file, seed 0), the traces (integer ids; the file's own trace
 name kept as traces.label) and their events. ROS bags become the same rows first
-(harness/store/bags: one trace per bag) and are checked alike.
+(harness/store/bags: one trace per bag) and are checked alike; their header stamps, the SUT's own
+clock, go to internal_events.
 """
 from __future__ import annotations
 
@@ -232,9 +233,10 @@ def _digest(path: Path) -> str:
     return sha.hexdigest()
 
 
-def load(con, path: Path, interface: Interface) -> tuple[int, int, int]:
-    """Campaign, traces and events in one transaction: (campaign_id, first trace id, traces).
-    A file whose contents the store already holds is refused (the campaign records its SHA-256)."""
+def load(con, path: Path, interface: Interface, sut_clock: bool = False) -> tuple[int, int, int]:
+    """Campaign, traces and events in one transaction: (campaign_id, first trace id, traces); with
+    `sut_clock`, the registered `sut_clock` rows too, as internal_events. A file whose contents
+    the store already holds is refused (the campaign records its SHA-256)."""
     digest = _digest(path)
     with transaction(con):
         _refuse_a_second_import(con, path, digest)
@@ -256,6 +258,11 @@ def load(con, path: Path, interface: Interface) -> tuple[int, int, int]:
                        select i.id, s.seq::integer, s.t::double, s.kind, s.rqst_id::integer, s.module, s.service,
                               s.args::json, s.reply
                        from staged s join imported_ids i on i.label = s.trace_id order by i.id, s.line""")
+        if sut_clock:
+            con.execute("""insert into internal_events (trace_id, seq, t, kind, rqst_id, module, service, args, reply)
+                           select i.id, s.seq::integer, s.t::double, s.kind, s.rqst_id::integer, s.module, s.service,
+                                  s.args::json, s.reply
+                           from sut_clock s join imported_ids i on i.label = s.trace_id order by i.id, s.line""")
         count = con.execute("select count(*) from imported_ids").fetchone()[0]
         con.execute("drop table imported_ids")
     return campaign_id, first, count
@@ -264,8 +271,12 @@ def load(con, path: Path, interface: Interface) -> tuple[int, int, int]:
 def import_file(con, path: str | Path, interface: Interface, ros: str | None = None) -> tuple[int, int, int]:
     """Events from a file of events, or from bags (`ros`: their mapping file, else ros.toml beside the interface)."""
     path = Path(path)
-    table, unit = read_bags(path, interface, ros) if is_bag(path) else read(path)
-    known = {"staged": table,
+    sut_clock = None
+    if is_bag(path):
+        table, unit, sut_clock = read_bags(path, interface, ros)
+    else:
+        table, unit = read(path)
+    known = {"staged": table, **({"sut_clock": sut_clock} if sut_clock is not None else {}),
              "known_services": pa.table({"module": [s.module for s in interface.services.values()],
                                          "service": [s.name for s in interface.services.values()]}),
              "known_replies": pa.table({"reply": list(interface.replies)})}
@@ -276,7 +287,7 @@ def import_file(con, path: str | Path, interface: Interface, ros: str | None = N
         found = problems(cursor)
         if found:
             _refuse(path, unit, found, interface)
-        return load(cursor, path, interface)
+        return load(cursor, path, interface, sut_clock is not None)
     except duckdb.Error as e:
         raise InputFileError(path, "", f"cannot import: {e}") from None
     finally:

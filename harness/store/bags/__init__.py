@@ -1,7 +1,9 @@
 """Bags as traces (docs/ros.md, "Judging a bag"): a ROS 1 .bag, a ROS 2 rosbag2 folder (MCAP or
 SQLite3), or a folder of them, read with the `rosbags` library (no ROS needed). One bag is one
 trace, labelled with its file name; the mapping file (ros.toml) says which topics carry which
-service. The bag's receive stamps are the observed timeline.
+service. The bag's receive stamps are the observed timeline (`events`); the SUT's own header stamps,
+where the bag has them (ROS 1), the SUT's clock (`internal_events`, as an external SUT's `internal`
+messages; timeline.sut_rows).
 """
 from __future__ import annotations
 
@@ -79,10 +81,11 @@ def _read_one(bag: Path, routes: Routes):
                              "(`rosbag reindex` repairs a ROS 1 bag left .active)") from None
 
 
-def read_bags(path: Path, interface: Interface, ros: str | None = None) -> tuple[pa.Table, str]:
-    """Every bag's events as the importer's text columns, plus `line` (the event's number)."""
+def read_bags(path: Path, interface: Interface, ros: str | None = None) -> tuple[pa.Table, str, pa.Table]:
+    """Every bag's events as the importer's text columns, plus `line` (the event's number); and the
+    events on the SUT's clock, in the same columns (without outcome and sut)."""
     routes = Routes(interface, mapping_for(interface, ros))
-    rows = []
+    rows, sut_rows = [], []
     for bag in bags(path):
         timeline, notes = _read_one(bag, routes)
         for note in notes:
@@ -95,6 +98,11 @@ def read_bags(path: Path, interface: Interface, ros: str | None = None) -> tuple
             raise InputFileError(bag, "", f"no request of the interface in this bag; the mapping "
                                  f"{routes.mapping.path} names {', '.join(sorted({r.name for r in routes.by_service.values()}))}")
         rows += [{**event, "outcome": "completed", "sut": bag.name} for event in events]
+        sut_rows += timeline.sut_rows(bag.name)
+    return _table(rows, COLUMNS), "event", _table(sut_rows, COLUMNS[:-2])
+
+
+def _table(rows: list[dict], columns: tuple[str, ...]) -> pa.Table:
     table = {name: pa.array([None if row[name] is None else str(row[name]) for row in rows], pa.string())
-             for name in COLUMNS}
-    return pa.table({"line": pa.array(range(1, len(rows) + 1), pa.int64()), **table}), "event"
+             for name in columns}
+    return pa.table({"line": pa.array(range(1, len(rows) + 1), pa.int64()), **table})

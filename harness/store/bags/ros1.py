@@ -5,7 +5,8 @@ instant, which numbers the requests), NS/feedback (the first the server sent bef
 by their header stamps, is the intermediate reply), NS/result (the final: GoalStatus and the
 result's text mapped to a catalogue code as the live adapter does), NS/status (the final of a
 goal whose result the bag lost). Goals are paired by goal_id.id; NS/cancel changes nothing by
-itself (the preempted goal's result says how it ended). ROS 1 services are not topics: a bag
+itself (the preempted goal's result says how it ended). The server's header stamps on status,
+feedback and result give the SUT's own clock (timeline.sut_rows). ROS 1 services are not topics: a bag
 cannot hold them.
 """
 from __future__ import annotations
@@ -46,17 +47,24 @@ def read_ros1(path: Path, routes: Routes) -> tuple[Timeline, list[str]]:
                 if target is not None:
                     timeline.request(message.goal_id.id, received, *target, sent_s=seconds(message.goal_id.stamp))
             elif leaf == "feedback":
-                timeline.intermediate(message.status.goal_id.id, received, seconds(message.header.stamp))
+                timeline.intermediate(message.status.goal_id.id, received, _stamp(message))
             elif leaf == "result":
                 status = message.status
                 route = carried[0][1]
                 code = routes.final_code(route, STATUS[status.status], message.result, status.text)
-                timeline.final(status.goal_id.id, received, code, seconds(message.header.stamp))
+                timeline.final(status.goal_id.id, received, code, _stamp(message))
             else:
                 for status in message.status_list:
+                    timeline.held(status.goal_id.id, _stamp(message))
                     if STATUS[status.status] in TERMINAL:
                         code = routes.final_code(carried[0][1], STATUS[status.status], None, status.text)
-                        timeline.status_final(status.goal_id.id, received, code)
+                        timeline.status_final(status.goal_id.id, received, code, _stamp(message))
     services = routes.named("service")
     notes = [f"ROS 1 services are no topics, so a bag holds no call of {', '.join(sorted(services))}"] if services else []
     return timeline, notes
+
+
+def _stamp(message) -> float | None:
+    """The header stamp the server (the SUT) gave a message, in seconds; None if it left it zero."""
+    stamp = message.header.stamp
+    return seconds(stamp) if stamp.sec or stamp.nanosec else None

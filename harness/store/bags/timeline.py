@@ -9,6 +9,12 @@ result; where the SUT stamped both (ROS 1 headers), its own clock says which cam
 intermediate reply it sent first is kept, no later than the final.
 Requests are numbered in the order their clients sent them (the client's own stamp), as the
 bench numbers a script's requests.
+
+The SUT's own stamps (ROS 1 headers) give the same requests on the SUT's clock, for
+`internal_events` (sut_rows): a request at the first stamp showing that the server held the goal
+(a status list naming it, its feedback or its result), its first feedback at that feedback's
+stamp, its final at its result's (or terminal status's) stamp. A request the SUT never stamped is
+left out of them.
 """
 from __future__ import annotations
 
@@ -27,6 +33,13 @@ class Request:
     final: tuple[float, str] | None = None
     final_stamp: float | None = None
     status_final: tuple[float, str] | None = None  # a terminal status, for a goal whose result is not in the bag
+    status_stamp: float | None = None  # that status list's stamp
+    held_stamp: float | None = None  # the SUT's earliest stamp on a status list naming the goal
+
+    def settle(self) -> None:
+        """A goal whose result the bag lacks ends with its terminal status."""
+        if self.final is None and self.status_final is not None:
+            self.final, self.final_stamp = self.status_final, self.status_stamp
 
 
 class Timeline:
@@ -54,18 +67,27 @@ class Timeline:
         elif request.final is None and code is not None:
             request.final, request.final_stamp = (received_s - self.origin_s, code), stamp_s
 
-    def status_final(self, key, received_s: float, code: str | None) -> None:
+    def status_final(self, key, received_s: float, code: str | None, stamp_s: float | None = None) -> None:
         """A terminal status seen in a status list: the final only if the bag holds no result."""
         request = self.requests.get(key)
         if request is not None and request.status_final is None and code is not None:
-            request.status_final = (received_s - self.origin_s, code)
+            request.status_final, request.status_stamp = (received_s - self.origin_s, code), stamp_s
+
+    def held(self, key, stamp_s: float | None) -> None:
+        """A status list stamped `stamp_s` by the SUT names the goal."""
+        request = self.requests.get(key)
+        if request is not None and stamp_s is not None:
+            request.held_stamp = stamp_s if request.held_stamp is None else min(stamp_s, request.held_stamp)
+
+    def _numbered(self):
+        for number, request in enumerate(sorted(self.requests.values(), key=lambda r: r.order), 1):
+            request.settle()
+            yield number, request, *request.qualified.split(".")
 
     def rows(self, label: str) -> list[dict]:
         """The events of the trace `label`, in time order (a request before its replies)."""
         events = []
-        for number, request in enumerate(sorted(self.requests.values(), key=lambda r: r.order), 1):
-            request.final = request.final or request.status_final
-            module, service = request.qualified.split(".")
+        for number, request, module, service in self._numbered():
             args = json.dumps(request.args) if request.args is not None else None
             events.append((request.t, 0, number, "request", module, service, args, None))
             final_t = request.final[0] if request.final else None
@@ -75,10 +97,33 @@ class Timeline:
                 events.append((max(t, request.t), 1, number, "intermediate", module, service, None, None))
             if request.final:
                 events.append((max(final_t, request.t), 2, number, "final", module, service, None, request.final[1]))
-        events.sort(key=lambda e: (e[0], e[2], e[1]))
-        return [{"trace_id": label, "seq": seq, "t": round(t, 9), "kind": kind, "rqst_id": number, "module": module,
-                 "service": service, "args": args, "reply": reply}
-                for seq, (t, _, number, kind, module, service, args, reply) in enumerate(events, 1)]
+        return _trace(label, events)
+
+    def sut_rows(self, label: str) -> list[dict]:
+        """The events of the trace `label` on the SUT's own clock (module doc), from the same origin."""
+        events = []
+        for number, request, module, service in self._numbered():
+            stamps = [s for s in (request.held_stamp, request.intermediate_stamp, request.final_stamp) if s is not None]
+            if not stamps:
+                continue
+            args = json.dumps(request.args) if request.args is not None else None
+            events.append((min(stamps) - self.origin_s, 0, number, "request", module, service, args, None))
+            if request.intermediate_stamp is not None and (request.final_stamp is None or _sent_before(
+                    request.intermediate_stamp, request.final_stamp)):
+                events.append((request.intermediate_stamp - self.origin_s, 1, number, "intermediate", module,
+                               service, None, None))
+            if request.final is not None and request.final_stamp is not None:
+                events.append((request.final_stamp - self.origin_s, 2, number, "final", module, service, None,
+                               request.final[1]))
+        return _trace(label, events)
+
+
+def _trace(label: str, events: list[tuple]) -> list[dict]:
+    """Rows of (t, order in the request, number, kind, module, service, args, reply), in time order."""
+    events.sort(key=lambda e: (e[0], e[2], e[1]))
+    return [{"trace_id": label, "seq": seq, "t": round(t, 9), "kind": kind, "rqst_id": number, "module": module,
+             "service": service, "args": args, "reply": reply}
+            for seq, (t, _, number, kind, module, service, args, reply) in enumerate(events, 1)]
 
 
 def _sent_before(first: float | None, second: float | None) -> bool:
