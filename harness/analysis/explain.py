@@ -136,7 +136,9 @@ class Explainer:
                 what = f"y {service} #{pair['item']}"
                 events = f"sent {_seconds(t)}, {reply or 'no final'} ({cls or '-'}) at {_seconds(final_t)}"
             shift = None if pair["shift"] == float("inf") else pair["shift"]
-            near = shift is not None and round(shift, 6) < self.epsilon
+            # the distance whose order is not sure (rule 7): a pair may say an order is sure whatever its shift
+            movable = pair.get("movable", pair["shift"])
+            near = movable is not None and movable != float("inf") and round(movable, 6) < self.epsilon
             rows.append((*([pair["part"]] if "part" in pair else []), what, events,
                          "yes" if pair["conflicts"] else "no", "yes" if pair["conflict_rejected"] else "no",
                          shift, "yes" if near else "no"))

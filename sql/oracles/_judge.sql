@@ -7,13 +7,14 @@
 coalesce(round({{ seconds }}, 6) < coalesce({{ trace_epsilon }}, {{ epsilon }}), false)
 {%- endmacro %}
 
-{% macro condition(name, defined='true', caused='false') -%}
+{% macro condition(name, defined='true', caused='false', movable='p.shift') -%}
 -- C per request: false iff some pair conflicts. To flip C, every conflict would have to go
 -- (the largest conflicting shift) or any one non-conflict would have to start (the smallest).
 -- A pair is `near` when its shift is below epsilon, both rounded to microseconds (a 10 ms gap
 -- is never on either side of 10 ms by float rounding); the order of the others is sure.
 -- `caused`: a pair that says C is false with a conflict that was not rejected (x(i)'s end had a
--- cause, see ee.sql).
+-- cause, see ee.sql). `movable`: the distance of the pair's events whose order is not sure (a
+-- template's pairs may say, rule 7, that an order is sure whatever its shift: 'infinity').
 {{ name }}_agg as (
     select trace_id, rqst_id,
            bool_or(conflicts) as any_conflict,
@@ -27,7 +28,7 @@ coalesce(round({{ seconds }}, 6) < coalesce({{ trace_epsilon }}, {{ epsilon }}),
                and coalesce(bool_or((conflicts or near) and conflict_rejected), false)
                and not coalesce(bool_or({{ caused }}), false) as may_be_na,
            coalesce(bool_or((conflicts or near) and not conflict_rejected), false) as may_fail
-    from (select p.*, {{ near('p.shift') }} as near from {{ name }}_pairs p left join epsilons e using (trace_id))
+    from (select p.*, {{ near(movable) }} as near from {{ name }}_pairs p left join epsilons e using (trace_id))
     group by trace_id, rqst_id
 ),
 {{ name }}_cond as (

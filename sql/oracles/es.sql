@@ -3,29 +3,44 @@
     every y(j) that makes C false was itself rejected. -#}
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/_judge.sql' as judge with context %}
+{% import 'oracles/_causes.sql' as causes with context %}
 
 {% macro ctes(name, x, y, r_p) -%}
 {{ base.relevant(name, 'x', x) }},
 {{ base.relevant(name, 'y', y) }},
--- each x(i) with every other y(j) of its trace, placed relative to x(i)
+{{ name }}_xy as (
+    select * from {{ name }}_x union select * from {{ name }}_y
+),
+{{ causes.ctes(name, name ~ '_xy', (x + y) | modules) }},
+-- each x(i) with every other y(j) of its trace, placed relative to x(i); whether y(j) is the
+-- sole cause of x(i)'s end, or x(i) of y(j)'s (_causes.sql)
 {{ name }}_met as (
     select x.trace_id, x.rqst_id, x.t, y.rqst_id as y_rqst_id, y.t as y_t, y.final_t as y_final_t, y.class as y_class,
            {{ base.before('y.', 'x.') }} as y_first,
-           coalesce({{ base.before('y.final_', 'x.') }}, false) as y_ended
+           coalesce({{ base.before('y.final_', 'x.') }}, false) as y_ended,
+           sx.cause_id is not null as y_ended_x, sy.cause_id is not null as x_ended_y
     from {{ name }}_x x
     left join {{ name }}_y y on y.trace_id = x.trace_id and y.rqst_id <> x.rqst_id
+    left join {{ name }}_sole sx on sx.trace_id = x.trace_id and sx.rqst_id = x.rqst_id and sx.cause_id = y.rqst_id
+    left join {{ name }}_sole sy on sy.trace_id = x.trace_id and sy.rqst_id = y.rqst_id and sy.cause_id = x.rqst_id
 ),
 -- y(j) conflicts if sent before x(i) and not ended before it; its shift is how far its request
--- or its final reply would have to move to the other side of x(i)
+-- or its final reply would have to move to the other side of x(i). `movable`: the same unless
+-- the order is sure (rule 7): a y(j) whose reply was observed before x(i) was sent, a y(j) that
+-- x(i) ended as its sole cause (x(i) came while it ran), or one that ended x(i) (it came after)
 {{ name }}_pairs as (
     select trace_id, rqst_id, y_rqst_id::varchar as item,
            y_first and not y_ended as conflicts,
            case when y_first and not y_ended then least(t - y_t, y_final_t - t)
                 when y_ended then t - y_final_t
                 else y_t - t end as shift,
+           case when y_first and not y_ended then (case when x_ended_y then 'infinity'::double else least(t - y_t, y_final_t - t) end)
+                when y_ended then 'infinity'::double
+                when y_ended_x then 'infinity'::double
+                else y_t - t end as movable,
            y_class is not distinct from 'R' as conflict_rejected
     from {{ name }}_met
 ),
-{{ judge.condition(name) }},
+{{ judge.condition(name, movable='p.movable') }},
 {{ judge.judged(name, r_p, ['T', 'Z']) }}
 {%- endmacro %}

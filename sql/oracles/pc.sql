@@ -20,12 +20,15 @@
            not coalesce(bool_or({{ base.before('o.', 'x.') }}), false) as conflicts,
            coalesce(max(x.t - o.t) filter (where {{ base.before('o.', 'x.') }}),
                     min(o.t - x.t), 'infinity') as shift,
+           -- rule 7: an ok observed before x(i) was sent came before it whatever the delays
+           case when bool_or({{ base.before('o.', 'x.') }}) then 'infinity'::double
+                else coalesce(min(o.t - x.t), 'infinity') end as movable,
            false as conflict_rejected
     from {{ name }}_x x
     cross join {{ name }}_needed n
     left join {{ name }}_oks o on o.trace_id = x.trace_id and o.module = n.module and o.service = n.service
     group by x.trace_id, x.rqst_id, n.position
 ),
-{{ judge.condition(name) }},
+{{ judge.condition(name, movable='p.movable') }},
 {{ judge.judged(name, r_p, ['T', 'Z']) }}
 {%- endmacro %}
