@@ -306,7 +306,8 @@ def representatives(con, properties: list[Property], out: Path, external: dict[s
                 result = future.result()
                 line = stored(con, behaviour, result, out)
             except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
-                result = Shrunk(orig, None, 0, 0.0, str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}")
+                why = str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}"
+                result = Shrunk(orig, None, 0, 0.0, why)
             if result.error:
                 store.record_shrink_failure(con, orig.trace_id, behaviour.sut, behaviour.verdict, behaviour.property_id,
                                             result.error)
