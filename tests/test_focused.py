@@ -73,6 +73,7 @@ def test_the_budget_bounds_every_run_and_says_it_stopped_the_campaign(tmp_path, 
     tables = con.execute("select sum(total) from trace_robustness").fetchone()[0]
     assert tables == con.execute("select count(*) from traces where campaign_id = 1").fetchone()[0]
     assert con.execute("select max(traces) from findings").fetchone()[0] <= tables
+    con.close()
     # run again: nothing fits, nothing runs, the same reason
     assert cli(["campaign", "--strategy", "focused", "--budget", "6m", "--shrink", "--sut", "genom",
                 "--db", str(db)]) == 0
