@@ -44,7 +44,8 @@ def first_exposures(con, wanted) -> tuple[float | None, int]:
     shown = [f for f in firsts if f is not None]
     if len(shown) < len(wanted):
         return None, len(shown)
-    return con.execute("select sum(sim_s) from traces where trace_id <= ?", [max(shown)]).fetchone()[0], len(shown)
+    return con.execute("select sum(sim_s) from traces anti join shrink_runs using (trace_id) where trace_id <= ?",
+                       [max(shown)]).fetchone()[0], len(shown)
 
 
 def shown_after(con, wanted) -> str:
@@ -53,9 +54,9 @@ def shown_after(con, wanted) -> str:
 
 
 def focused_spent(con) -> tuple[float, str]:
+    """Every run's mission seconds (shrink runs are traces too), and why the campaign stopped."""
     traces = con.execute("select sum(sim_s) from traces").fetchone()[0]
-    shrink_s, stopped = con.execute("select shrink_s, stopped from campaign_budgets").fetchone()
-    return traces + shrink_s, stopped
+    return traces, con.execute("select stopped from campaign_budgets").fetchone()[0]
 
 
 def compare(folder: Path, name: str, mission: Path, suts: str) -> None:

@@ -9,6 +9,13 @@ from traces;
 {% if 'trace_badness' in missing %}
 {% with temp = true %}{% include 'views/trace_badness.sql' %}{% endwith %};
 {% endif %}
+{% if 'shrink_runs' in missing %}
+-- written before shrink runs were stored: it holds none
+create temp view shrink_runs as
+select trace_id, trace_id as original, '' as body
+from traces
+where false;
+{% endif %}
 {% for name in ('trace_findings', 'findings') if name in missing %}
 {% with temp = true %}{% include 'views/' ~ name ~ '.sql' %}{% endwith %};
 {% endfor %}

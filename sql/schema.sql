@@ -166,3 +166,14 @@ create table if not exists campaign_budgets (
     tests        integer not null,
     stopped      varchar
 );
+
+-- The runs of shrinks (issue 21): every candidate script a shrink ran is a trace of its own
+-- (traces, events, ... with its mission seconds in traces.sim_s, in the shrink's campaign, of kind
+-- "shrink"), and this row says which trace's bad behaviour it was shrinking and what it ran.
+-- Tables II-IV, the findings and the rates leave these traces out (views trace_scope and
+-- trace_findings); they get verdicts like any trace.
+create table if not exists shrink_runs (
+    trace_id  integer primary key,
+    original  integer not null,          -- the trace whose script it shrinks
+    body      varchar not null           -- the candidate script it ran
+);

@@ -22,11 +22,11 @@ PUMP = Path(__file__).resolve().parent / "adapters" / "pump.py"
 
 
 def spent(db) -> tuple[float, str, float | None]:
-    """(mission seconds of every run, shrink runs included; why it stopped; its budget)."""
+    """(mission seconds of every run, shrink runs included: every stored trace; why it stopped; its budget)."""
     con = store.connect(db, read_only=True)
     traces = con.execute("select sum(sim_s) from traces").fetchone()[0]
-    shrink_s, stopped, budget = con.execute("select shrink_s, stopped, budget_s from campaign_budgets").fetchone()
-    return traces + shrink_s, stopped, budget
+    stopped, budget = con.execute("select stopped, budget_s from campaign_budgets").fetchone()
+    return traces, stopped, budget
 
 
 def assert_every_defect_exposed(db, mission: Path, suts: list[str]) -> None:
@@ -58,6 +58,22 @@ def test_the_budget_bounds_every_run_and_says_it_stopped_the_campaign(tmp_path, 
     total, stopped, budget = spent(db)
     assert stopped == "budget" and budget == 360 and 300 < total <= 360
     assert "stopped   (budget) the next test does not fit in the budget" in capsys.readouterr().out
+    # every shrink run is a stored trace of a shrink of one of the campaign's traces, out of the tables
+    con = store.connect(db, read_only=True)
+    shrink_s, runs, originals, counted, found = con.execute("""
+        select sum(t.sim_s), count(*), count(distinct r.original) filter (where o.campaign_id = 1),
+               count(*) filter (where s.counted),
+               count(*) filter (where r.trace_id in (select trace_id from trace_findings))
+        from shrink_runs r join traces t using (trace_id) join traces o on o.trace_id = r.original
+        join trace_scope s on s.trace_id = r.trace_id""").fetchone()
+    assert runs > 10 and originals >= 1 and counted == 0 and found == 0
+    assert con.execute("select shrink_s from campaign_budgets").fetchone()[0] == pytest.approx(shrink_s)
+    campaign_s = con.execute("select sum(sim_s) from traces where campaign_id = 1").fetchone()[0]
+    assert campaign_s + shrink_s == pytest.approx(total) and total <= 360
+    tables = con.execute("select sum(total) from trace_robustness").fetchone()[0]
+    assert tables == con.execute("select count(*) from traces where campaign_id = 1").fetchone()[0]
+    assert con.execute("select max(traces) from findings").fetchone()[0] <= tables
+    con.close()
     # run again: nothing fits, nothing runs, the same reason
     assert cli(["campaign", "--strategy", "focused", "--budget", "6m", "--shrink", "--sut", "genom",
                 "--db", str(db)]) == 0

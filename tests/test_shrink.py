@@ -12,7 +12,7 @@ from harness.cli import main
 from harness.errors import StoreError
 from harness.mutator.ddmin import ddmin
 from harness.target.script import parse
-from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, representatives, shorter_sleeps, store_shrunk
+from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, representatives, shorter_sleeps, store_shrink
 from harness.run.executive import run_script
 from harness.target.interface import load_interface, load_properties
 
@@ -84,6 +84,17 @@ def test_each_variants_defect_shrinks_to_a_replayable_reproducer(campaign, tmp_p
     record = json.loads(mutations)[0]
     assert (record["trace"], record["sut"], record["verdict"], record["property"]) == (trace_id, sut, verdict, prop)
     assert len(parse(body).steps) == record["steps_after"] <= MAX_STEPS < record["steps_before"]
+    # every run it made (the re-run that named the behaviour, then the shrink's) is a stored trace of the
+    # shrink's campaign, linked to the trace, left out of Tables II-IV and the findings
+    runs, originals, counted, findings = _query(campaign, """
+        select count(*), count(distinct r.original), count(*) filter (where s.counted),
+               count(*) filter (where r.trace_id in (select trace_id from trace_findings))
+        from traces t join shrink_runs r using (trace_id) left join trace_scope s using (trace_id)
+        where t.campaign_id = (select campaign_id from scripts where script_id = ?)""", [script_id])[0]
+    assert (runs, originals, counted, findings) == (record["runs"] + 1, 1, 0, 0)
+    assert _query(campaign, "select original from shrink_runs r join traces t using (trace_id) "
+                            "where t.campaign_id = (select campaign_id from scripts where script_id = ?) limit 1",
+                  [script_id]) == [(trace_id,)]
     # the file replays with the command its header gives, and shows the same behaviour
     replay = shlex.split(path.read_text().splitlines()[1].split("Replay: python -m harness ")[1])
     replay_db = tmp_path / "replay.duckdb"
@@ -181,5 +192,5 @@ def test_a_store_older_than_shrunk_scripts_is_refused_and_left_as_it_was(tmp_pat
                    mutations json not null, body varchar not null, valid boolean not null, invalid_reason varchar)""")
     orig = Original(1, 1, "genom", 7, "hung", "send rflex.Init\n", Path("missions/dala"), 0.003, {})
     with pytest.raises(StoreError, match="this store predates shrunk scripts"):
-        store_shrunk(con, orig, Behaviour("genom", "hung"), parse("send rflex.Init\n"), 3)
+        store_shrink(con, orig, Behaviour("genom", "hung"), parse("send rflex.Init\n"), 3)
     assert con.execute("select count(*) from campaigns").fetchone() == (0,)

@@ -7,14 +7,15 @@ budget too.
 Resumable and a function of the arguments only: rounds are fixed (not a function of --jobs), a
 variant's rule is applied to its tests in order, and a resumed campaign replays its stored
 traces' findings (view trace_findings) through the same rounds before it runs anything new.
-The table campaign_budgets records the budget, the rule, the mission seconds of the shrink runs
-(which are not stored as traces) and why the campaign stopped.
+Every run is a stored trace, shrink runs included (table shrink_runs): what the campaign has
+spent is the sum of their mission seconds, read from the store when it starts or resumes and
+after every round (sql/report/campaign_spent.sql). The table campaign_budgets records the budget,
+the rule, the shrink runs' share of that sum and why the campaign stopped.
 """
 from __future__ import annotations
 
 import json
 import queue
-import time
 import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, fields
@@ -25,6 +26,7 @@ from harness.campaign import shrink
 from harness.campaign.budget import RULE, Budget, VariantState
 from harness.store.budgets import record_budget
 from harness.store.scripts import ScriptRow, add_scripts
+from harness.store.sql import render_query
 from harness.analysis.judge import Judge
 from harness.errors import UntimelyError
 from harness.mutator.focused import Plan, bound_s
@@ -36,8 +38,11 @@ ROUND_TESTS = 8
 PATIENCE = 40  # tests per variant without anything new, once every aim was exercised (budget.RULE)
 
 
-class BudgetSpent(Exception):
+class BudgetSpent(UntimelyError):
     """A shrink run that would not fit in the budget."""
+
+    def __init__(self):
+        super().__init__("the budget is spent")
 
 
 @dataclass
@@ -46,7 +51,6 @@ class MeteredOriginal(shrink.Original):
     side by side: one lock keeps the budget's account)."""
     budget: Budget | None = None
     bound: float = 0.0  # no candidate outlasts the original script's bound
-    spent_s: float = 0.0
     account: threading.Lock = field(default_factory=threading.Lock)  # shared by the shrinks of a campaign
 
     def run(self, body: str, runner=None):
@@ -57,7 +61,6 @@ class MeteredOriginal(shrink.Original):
         trace = super().run(body, runner) if runner else super().run(body)
         with self.account:
             self.budget.spent_s += trace.sim_s - self.bound
-            self.spent_s += trace.sim_s
         return trace
 
 
@@ -75,10 +78,10 @@ class FocusedRun:
         # shrinks side by side only on external SUTs: in process, threads would share one core
         self.shrinkers, self.account = (max(1, jobs) if config["external"] else 1), threading.Lock()
         self.state = {sut: VariantState() for sut in config["sut"]}
-        stored = con.execute("select sum(sim_s) from traces where campaign_id = ?", [campaign_id]).fetchone()[0]
-        self.shrink_s, self.stopped = con.execute("select shrink_s, stopped from campaign_budgets where "
-                                                  "campaign_id = ?", [campaign_id]).fetchone() or (0.0, None)
-        self.budget = Budget(config.get("budget_s"), (stored or 0.0) + self.shrink_s)
+        (self.stopped,) = con.execute("select stopped from campaign_budgets where campaign_id = ?",
+                                      [campaign_id]).fetchone() or (None,)
+        self.budget, self.shrink_s = Budget(config.get("budget_s")), 0.0
+        self.account_from_store()
         self.scripts = {json.loads(m)[0]["test"]: (script_id, body) for script_id, m, body in con.execute(
             "select script_id, mutations, body from scripts where campaign_id = ? and kind = 'mutant'",
             [campaign_id]).fetchall()}
@@ -89,13 +92,21 @@ class FocusedRun:
             self.shown.setdefault(trace_id, set()).add((property_id, kind))
         self.stored = {t for (t,) in con.execute("select trace_id from traces where campaign_id = ?",
                                                  [campaign_id]).fetchall()}
-        self.shrunk = {(r["sut"], r["verdict"], r["property"]) for (text,) in con.execute(
-            "select mutations from scripts where kind = 'shrunk'").fetchall() for r in json.loads(text)}
+        # what was shrunk, or tried (its runs are stored): a resumed campaign does not try again
+        self.shrunk = {(c["sut"], c["verdict"], c["property"]) for c in (json.loads(text) for (text,) in con.execute(
+            "select config from campaigns where config->>'kind' = 'shrink'").fetchall())}
+
+    def account_from_store(self) -> None:
+        """What the campaign has spent: the mission seconds of its stored traces and shrink runs."""
+        traces_s, self.shrink_s = self.con.execute(render_query("campaign_spent"),
+                                                   {"campaign": self.campaign_id}).fetchone()
+        self.budget.spent_s = traces_s + self.shrink_s
 
     def script(self, n: int) -> tuple[int, str]:
-        """Test n's (script_id, body), made and stored the first time (shrunk scripts take ids too)."""
+        """Test n's (script_id, body), made and stored the first time (shrunk scripts and the
+        trace ids of shrink runs shift later tests' script ids)."""
         if n not in self.scripts:
-            script_id = store.next_id(self.con, "scripts", "script_id")
+            script_id = store.next_script_id(self.con, len(self.config["sut"]))
             test = self.plan.test(n, f"script {script_id}")
             if not test.valid:
                 raise UntimelyError(f"focused test {n} is not a valid script ({test.invalid_reason}); "
@@ -153,6 +164,7 @@ class FocusedRun:
                     found += [(task, property_id, kind) for property_id, kind in sorted(new, key=str)]
                 n = k + 1
             self._shrink(found)
+            self.account_from_store()
             record(self.con, self.campaign_id, self.budget, self.shrink_s, n, None)
             if cut is not None:
                 return self._stop("budget", n)
@@ -167,37 +179,30 @@ class FocusedRun:
             if self.shrink_to is None or kind == "crashed" or (task.sut, kind, property_id) in self.shrunk:
                 continue
             orig = shrink.original(self.con, task.trace_id)
-            metered = MeteredOriginal(**{f.name: getattr(orig, f.name) for f in fields(orig)}, budget=self.budget,
-                                      bound=bound_s(parse(orig.body)), account=self.account)
-            todo.append((orig, metered, shrink.Behaviour(task.sut, kind, property_id)))
+            metered = MeteredOriginal(**{f.name: getattr(orig, f.name) for f in fields(orig) if f.init},
+                                      budget=self.budget, bound=bound_s(parse(orig.body)), account=self.account)
+            todo.append((metered, shrink.Behaviour(task.sut, kind, property_id)))
         slots = queue.SimpleQueue()
         for slot in range(self.shrinkers):
             slots.put(slot)
 
-        def shrunk(metered: MeteredOriginal, behaviour: shrink.Behaviour):
+        def shrunk(metered: MeteredOriginal, behaviour: shrink.Behaviour) -> shrink.Shrunk:
             metered.slot = slots.get()
-            started = time.perf_counter()
             try:
-                script, runs = shrink.shrink(metered, behaviour, self.properties)
-                return script, runs, time.perf_counter() - started
-            except BudgetSpent:
-                return "the budget is spent"
-            except UntimelyError as e:
-                return str(e)
+                return shrink.shrunk(metered, behaviour, self.properties)
             finally:
                 slots.put(metered.slot)
         with ThreadPoolExecutor(self.shrinkers) as pool:
-            futures = [(orig, metered, behaviour, pool.submit(shrunk, metered, behaviour))
-                       for orig, metered, behaviour in todo]
-            for orig, metered, behaviour, future in futures:
+            futures = [(behaviour, pool.submit(shrunk, metered, behaviour)) for metered, behaviour in todo]
+            for behaviour, future in futures:
                 result = future.result()
-                self.shrink_s += metered.spent_s
-                if isinstance(result, str):
-                    self.say(f"          {behaviour}: not shrunk: {result}")
-                    continue
+                line = shrink.stored(self.con, behaviour, result, self.shrink_to)  # its runs, even if it failed
                 self.shrunk.add((behaviour.sut, behaviour.verdict, behaviour.property_id))
-                line = shrink.stored(self.con, orig, behaviour, result, self.shrink_to)
-                self.say(f"          shrunk in {metered.spent_s:,.0f} mission s: " + line.split(": ", 1)[1])
+                if result.error:
+                    self.say(f"          {line}")
+                    continue
+                spent = sum(trace.sim_s for _, trace in result.orig.made)
+                self.say(f"          shrunk in {spent:,.0f} mission s: " + line.split(": ", 1)[1])
 
     def _stop(self, reason: str, tests: int) -> str:
         record(self.con, self.campaign_id, self.budget, self.shrink_s, tests, reason)

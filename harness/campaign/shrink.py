@@ -5,10 +5,11 @@ A bad behaviour is a hang, or an FN or FP verdict on one property, of one varian
 script is re-run on the same variant with the same seed and observation delays, then reduced by
 delta debugging (ddmin) over its steps, then by halving each sleep, keeping a candidate only if
 its run still shows the same behaviour (judged by the analyzer's oracles, in memory). Each
-shrink is stored as a campaign of kind "shrink" holding the shrunk script (parent: the trace's
-script; mutations: what was shrunk, from what, in how many runs); its trace is not stored, so
-the campaign's tables stay as they were. The .mission file is written to --out, by default the
-folder `shrunk` beside the store; the report writes the same files from the store.
+shrink is stored as a campaign of kind "shrink" holding every run it made, each a trace linked to
+the trace it shrinks (table shrink_runs; Tables II-IV and the findings leave them out), and the
+shrunk script (parent: the trace's script; mutations: what was shrunk, from what, in how many
+runs); a shrink that fails keeps its runs too. The .mission file is written to --out, by default
+the folder `shrunk` beside the store; the report writes the same files from the store.
 
 A store may come from elsewhere: the command of an external SUT recorded in it is never run
 unless the user names that SUT again (--sut, or --mission whose suts.toml defines it) or
@@ -20,7 +21,7 @@ import json
 import multiprocessing
 import time
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
 from typing import Iterator
@@ -71,6 +72,7 @@ class Original:
     max_delay: float
     external: dict  # the campaign's external SUTs (name -> ExternalSut fields)
     slot: int = 0  # the slot its re-runs take (shrinks running side by side take different ones)
+    made: list = field(default_factory=list, init=False)  # every re-run: (body, Trace), to be stored
 
     @cached_property
     def interface(self) -> Interface:
@@ -80,7 +82,9 @@ class Original:
         """Run a script on the trace's variant with its seed, as the campaign's workers do."""
         setup = Setup(runner, self.mission / "interface.toml", self.mission / "world.toml", self.max_delay,
                       {name: ExternalSut(**spec) for name, spec in self.external.items()})
-        return setup.run(Task(self.trace_id, self.script_id, self.sut, self.seed, body), self.interface, self.slot)
+        trace = setup.run(Task(self.trace_id, self.script_id, self.sut, self.seed, body), self.interface, self.slot)
+        self.made.append((body, trace))
+        return trace
 
 
 def original(con, trace_id: int, mission: str | None = None) -> Original:
@@ -206,15 +210,22 @@ def mission_file(out: Path, script_id: int) -> Path:
     return out / f"script-{script_id}.mission"
 
 
-def store_shrunk(con, orig: Original, behaviour: Behaviour, script: Script, runs: int) -> int:
-    """Stores the shrunk script in a campaign of kind "shrink"; returns its script_id."""
+def store_shrink(con, orig: Original, behaviour: Behaviour, script: Script | None, runs: int) -> int | None:
+    """Stores a shrink as a campaign of kind "shrink": every run it made (orig.made, as traces linked
+    to the trace it shrinks) and the shrunk script if it came out; returns the script's id."""
     record = {"op": "shrink", "trace": orig.trace_id, "sut": orig.sut, "seed": orig.seed,
               "verdict": behaviour.verdict, "property": behaviour.property_id,
-              "steps_before": len(parse(orig.body).steps), "steps_after": len(script.steps), "runs": runs}
+              "steps_before": len(parse(orig.body).steps),
+              **({"steps_after": len(script.steps)} if script else {}), "runs": runs}
+    if script is None and not orig.made:
+        return None
     with store.transaction(con):
         campaign_id = store.next_id(con, "campaigns", "campaign_id")
         store.add_campaign(con, campaign_id, str(orig.mission), orig.seed,
                            {"kind": "shrink", "max_delay": orig.max_delay, **record})
+        store.add_shrink_runs(con, campaign_id, orig.trace_id, orig.made)
+        if script is None:
+            return None
         script_id = store.next_id(con, "scripts", "script_id")
         store.add_scripts(con, [store.ScriptRow(script_id, campaign_id, "shrunk", script.render(),
                                                 orig.script_id, [record])])
@@ -239,21 +250,35 @@ def write_mission(out: Path, orig: Original, behaviour: Behaviour, script_id: in
     return path
 
 
-def shrunk(orig: Original, behaviour: Behaviour, properties: list[Property],
-           runner=run_script) -> tuple[Script, int, float]:
-    """(the shrunk script, runs, seconds)."""
+@dataclass
+class Shrunk:
+    """What a shrink came to: the shrunk script and the runs it took, or why it failed; the trace it
+    shrank holds every run it made (orig.made)."""
+    orig: Original
+    script: Script | None
+    runs: int
+    seconds: float
+    error: str | None = None
+
+
+def shrunk(orig: Original, behaviour: Behaviour, properties: list[Property], runner=run_script) -> Shrunk:
     started = time.perf_counter()
-    script, runs = shrink(orig, behaviour, properties, runner)
-    return script, runs, time.perf_counter() - started
+    try:
+        script, runs = shrink(orig, behaviour, properties, runner)
+    except UntimelyError as e:
+        return Shrunk(orig, None, 0, time.perf_counter() - started, str(e))
+    return Shrunk(orig, script, runs, time.perf_counter() - started)
 
 
-def stored(con, orig: Original, behaviour: Behaviour, result: tuple[Script, int, float], out: Path) -> str:
-    """Store a shrunk script and write its .mission file; one line saying what came out."""
-    script, runs, seconds = result
-    script_id = store_shrunk(con, orig, behaviour, script, runs)
-    path = write_mission(out, orig, behaviour, script_id, script.render(), runs)
+def stored(con, behaviour: Behaviour, result: Shrunk, out: Path) -> str:
+    """Store a shrink (its runs, its script) and write its .mission file; one line saying what came out."""
+    orig, script = result.orig, result.script
+    script_id = store_shrink(con, orig, behaviour, script, result.runs)
+    if script is None:
+        return f"{behaviour}: not shrunk: {result.error}"
+    path = write_mission(out, orig, behaviour, script_id, script.render(), result.runs)
     return (f"{behaviour}: trace {orig.trace_id} shrunk from {len(parse(orig.body).steps)} to "
-            f"{len(script.steps)} steps in {runs} runs, {seconds:.1f} s -> {path}")
+            f"{len(script.steps)} steps in {result.runs} runs, {result.seconds:.1f} s -> {path}")
 
 
 def representatives(con, properties: list[Property], out: Path, external: dict[str, ExternalSut],
@@ -278,11 +303,16 @@ def representatives(con, properties: list[Property], out: Path, external: dict[s
                    for behaviour, orig in todo]
         for behaviour, orig, future in futures:
             try:
-                yield stored(con, orig, behaviour, future.result(), out)
+                result = future.result()
+                line = stored(con, behaviour, result, out)
             except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
                 why = str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}"
-                store.record_shrink_failure(con, orig.trace_id, behaviour.sut, behaviour.verdict, behaviour.property_id, why)
-                yield f"{behaviour}: not shrunk (table shrink_failures): {why}"
+                result = Shrunk(orig, None, 0, 0.0, why)
+            if result.error:
+                store.record_shrink_failure(con, orig.trace_id, behaviour.sut, behaviour.verdict, behaviour.property_id,
+                                            result.error)
+                line = f"{behaviour}: not shrunk (table shrink_failures): {result.error}"
+            yield line
 
 
 def default_out(db: str) -> Path:
@@ -299,5 +329,8 @@ def main(args) -> int:
         raise UntimelyError(f"--verdict {args.verdict} needs --property: the property whose verdict to keep")
     behaviour = behaviour_of(orig, properties, args.property, args.verdict)
     result = shrunk(orig, behaviour, properties)
-    print(stored(con, orig, behaviour, result, out))
+    line = stored(con, behaviour, result, out)  # its runs, even if it failed
+    if result.error:
+        raise UntimelyError(result.error)
+    print(line)
     return 0

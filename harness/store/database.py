@@ -210,6 +210,14 @@ def next_id(con, table: str, column: str) -> int:
     return con.execute(f"select coalesce(max({column}), 0) + 1 from {table}").fetchall()[0][0]
 
 
+def next_script_id(con, variants: int) -> int:
+    """The next script id of a campaign whose script s owns trace ids (s - 1) * variants + 1 ..
+    s * variants: past every stored script, and owning no stored trace (a shrink run, stored under
+    the next trace id, may lie beyond the scripts' trace ids)."""
+    traces = next_id(con, "traces", "trace_id") - 1
+    return max(next_id(con, "scripts", "script_id"), -(-traces // variants) + 1)
+
+
 def add_campaign(con, campaign_id: int, mission: str, seed: int, config: dict) -> None:
     con.execute("insert into campaigns (campaign_id, created_at, mission, seed, config) values (?, ?, ?, ?, ?)",
                 [campaign_id, datetime.now(timezone.utc).replace(tzinfo=None), mission, seed,

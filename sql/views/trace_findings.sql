@@ -1,7 +1,7 @@
 -- What went wrong in each trace, one row per (property, kind): an FN or FP verdict on a property,
 -- or the trace hung or crashed (property null). The one rule of a finding: the views
 -- bad_behaviours and findings, and a focused campaign's stopping rule (on its in-memory judge),
--- all read it.
+-- all read it. The runs of shrinks (table shrink_runs) show no findings: they re-run a finding.
 create or replace {{ 'temp ' if temp | default(false) }}view trace_findings as
 with wrong_verdicts as (
     select distinct trace_id, property_id, verdict as kind
@@ -20,3 +20,4 @@ shown as (
 )
 select s.trace_id, t.sut, s.property_id, s.kind
 from shown s join traces t using (trace_id)
+anti join shrink_runs r using (trace_id)
