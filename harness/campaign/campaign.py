@@ -26,7 +26,7 @@ from pathlib import Path
 from harness import DEFAULT_MISSION_DIR, store
 from harness.schema import cut
 from harness.analysis import analyzer
-from harness.campaign import budgeted, sharding, shrink
+from harness.campaign import budgeted, representatives, sharding, shrink
 from harness.campaign.budget import parse_duration
 from harness.errors import StoreError, UntimelyError
 from harness.run.executive import run_script
@@ -372,7 +372,7 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
     _judged(con, args.db, properties, interface, mission)
     if args.shrink:
         print("\nshrunk reproducers, one per distinct bad behaviour (view bad_behaviours):")
-        for line in shrink.representatives(con, properties, shrink.default_out(args.db), setup.external,
+        for line in representatives.representatives(con, properties, shrink.default_out(args.db), setup.external,
                                            setup.runner, 1 if setup.external else jobs):  # external: one at a time
             print(line, flush=True)
     return 0
