@@ -110,3 +110,26 @@ def test_targeted_mutants_exercise_the_manipulators_state_dependent_domain(tmp_p
                                    where property_id = 'SLOW(base.Move)' and not c_holds group by sut""").fetchall())
     con.close()
     assert "FN" in verdicts["careless"] and "FN" not in verdicts["safe"] and "TP" in verdicts["safe"]
+
+
+def test_a_focused_campaign_aims_at_the_value_domains(tmp_path):
+    """--strategy focused --value-mutations: a VAL aim's test is its request's preconditions from the
+    golden, then the request with one exceptional value. `reference` rejects every value outside
+    its domain (TP, never FN or FP); `bare` takes them, a finding."""
+    db = tmp_path / "fv.duckdb"
+    assert cli.main(["campaign", "--strategy", "focused", "--value-mutations", "--mutants", "50", "--budget",
+                     "1500s", "--sut", "reference,bare", "--seed", "3", "--jobs", "2", "--db", str(db)]) == 0
+    con = store.connect(db, read_only=True)
+    tests = [(json.loads(m)[0], body) for m, body in
+             con.execute("select mutations, body from scripts where kind = 'mutant'").fetchall()]
+    aims = [(m, body) for m, body in tests if m["aim"].startswith("VAL(")]
+    assert aims and all(" with " in m["situation"] for m, _ in aims)
+    assert all(len(parse(body).steps) <= 7 for _, body in aims)
+    verdicts = dict(con.execute("""select sut, list(distinct verdict order by verdict) from verdicts
+                                   join traces using (trace_id) where family = 'VAL' group by sut""").fetchall())
+    findings = con.execute("select sut, property_id, kind from findings where property_id like 'VAL(%'").fetchall()
+    con.close()
+    assert "TP" in verdicts["reference"] and not {"FN", "FP"} & set(verdicts["reference"])
+    assert "FN" in verdicts["bare"] and "TP" not in verdicts["bare"]
+    assert {(sut, kind) for sut, _, kind in findings} == {("bare", "FN")}
+    assert {p for _, p, _ in findings} == {"VAL(rflex)", "VAL(sick)", "VAL(ndd)", "VAL(antenna)"}

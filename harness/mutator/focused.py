@@ -44,6 +44,7 @@ FIRST_SLEEP_S = 0.01
 START_SLEEP_S = (0.005, 0.1)
 RUN_SLEEP_S = (0.01, 1.0)  # a running-phase sleep, log-uniform, below the shortest golden run
 SETTLE_S = 1.0  # after the perturbation, before ending the activities that never end by themselves
+SHOWN_CHARS = 20  # of an exceptional value, in a situation (an over-long text is cut)
 
 
 @dataclass(frozen=True)
@@ -65,7 +66,8 @@ class Aim:
         send = self.send
         if self.value:
             argument, kind, word = self.value
-            send += f" with {argument} left out" if word is None else f" with {argument}={word} ({kind})"
+            shown = word if word is None or len(word) <= SHOWN_CHARS else f"{word[:SHOWN_CHARS]}..."
+            send += f" with {argument} left out" if word is None else f" with {argument}={shown} ({kind})"
         return what.format(s=send, o=self.other) + (" (a disturbance: C stays true)" if self.disturb else "")
 
 
