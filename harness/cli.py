@@ -119,7 +119,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--time-mutations", action="store_true", help="also drop waits and change sleeps")
     c.add_argument("--value-mutations", action="store_true",
                    help="also give arguments exceptional values (bounds, beyond them, nan, wrong types, ...); "
-                        "targeted: also aim at the value-domain properties")
+                        "targeted and focused: also aim at the value-domain properties")
     c.add_argument("--operators", metavar="A,B", help="the mutation operators random mutants draw among, of "
                    f"{', '.join(OPERATORS)} (default: the paper's three, {', '.join(REQUEST_OPERATORS)})")
     c.add_argument("--cluster", metavar="ADDRESS", type=CLUSTER, help="run on a Dask cluster: a scheduler address "

@@ -9,8 +9,11 @@ import pytest
 from harness import DEFAULT_MISSION_DIR, cli, store
 from harness.analysis.judge import Judge
 from harness.run.external.definitions import ExternalSut
+from harness.mutator import strategies
+from harness.run.executive import run_script
 from harness.run.external.runner import run_external
 from harness.target.domains import violation
+from harness.target.mission import load_mission
 from harness.target.script import parse
 
 ADAPTER = Path(__file__).resolve().parent / "adapters" / "domains.py"
@@ -110,3 +113,47 @@ def test_targeted_mutants_exercise_the_manipulators_state_dependent_domain(tmp_p
                                    where property_id = 'SLOW(base.Move)' and not c_holds group by sut""").fetchall())
     con.close()
     assert "FN" in verdicts["careless"] and "FN" not in verdicts["safe"] and "TP" in verdicts["safe"]
+
+
+def test_a_focused_campaign_aims_at_the_value_domains(tmp_path):
+    """--strategy focused --value-mutations: a VAL aim's test is its request's preconditions from the
+    golden, then the request with one exceptional value. `reference` rejects every value outside
+    its domain (TP, never FN or FP); `bare` takes them, a finding."""
+    db = tmp_path / "fv.duckdb"
+    assert cli.main(["campaign", "--strategy", "focused", "--value-mutations", "--mutants", "50", "--budget",
+                     "1500s", "--sut", "reference,bare", "--seed", "3", "--jobs", "2", "--db", str(db)]) == 0
+    con = store.connect(db, read_only=True)
+    tests = [(json.loads(m)[0], body) for m, body in
+             con.execute("select mutations, body from scripts where kind = 'mutant'").fetchall()]
+    aims = [(m, body) for m, body in tests if m["aim"].startswith("VAL(")]
+    assert aims and all(" with " in m["situation"] for m, _ in aims)
+    assert all(len(parse(body).steps) <= 7 for _, body in aims)
+    verdicts = dict(con.execute("""select sut, list(distinct verdict order by verdict) from verdicts
+                                   join traces using (trace_id) where family = 'VAL' group by sut""").fetchall())
+    findings = con.execute("select sut, property_id, kind from findings where property_id like 'VAL(%'").fetchall()
+    con.close()
+    assert "TP" in verdicts["reference"] and not {"FN", "FP"} & set(verdicts["reference"])
+    assert "FN" in verdicts["bare"] and "TP" not in verdicts["bare"]
+    assert {(sut, kind) for sut, _, kind in findings} == {("bare", "FN")}
+    assert {p for _, p, _ in findings} == {"VAL(rflex)", "VAL(sick)", "VAL(ndd)", "VAL(antenna)"}
+
+
+def test_focused_tests_send_the_manipulators_fast_moves_while_the_arm_is_deployed():
+    """SLOW(base.Move)'s focused aims: moves legal at rest, each in the start phase of a fresh
+    arm.Deploy and while it runs, then the golden's arm.Stop; outside 0.3 m/s they falsify C,
+    inside they are disturbances. Without --value-mutations the plan has no value aim."""
+    target = load_mission(DEFAULT_MISSION_DIR.parent / "manipulator")
+    golden, interface, properties = target.golden(), target.interface, target.properties()
+    trace = run_script(golden, "safe", 1, interface, target.world_file)
+    plans = {flag: strategies.plan({"seed": 7, "value_mutations": flag}, golden, interface, properties, trace)
+             for flag in (False, True)}
+    assert not [a for a in plans[False].aims if a.value]
+    slow = [(n, a) for n, a in enumerate(plans[True].aims) if a.properties == ("SLOW(base.Move)",)]
+    assert {(a.phase, a.other) for _, a in slow} == {("start", "arm.Deploy"), ("running", "arm.Deploy")}
+    for n, aim in slow:
+        argument, kind, word = aim.value
+        assert argument == "speed" and 0.05 <= float(word) <= 1.0 and aim.disturb == (float(word) <= 0.3)
+        test = plans[True].test(n, "test")
+        steps = [s.service for s in test.script.steps if s.op == "send"]
+        assert test.valid and steps[-3:] == ["arm.Deploy", "base.Move", "arm.Stop"]
+        assert f"base.Move speed={word}" in test.body

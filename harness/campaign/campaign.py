@@ -83,9 +83,6 @@ def campaign_config(args) -> dict:
         raise UntimelyError(f"--budget {given} applies to --strategy focused, whose tests are made as "
                             f"the campaign goes; a {args.strategy} campaign runs its --mutants")
     budget = {} if given is None else {"budget_s": parse_duration(given)}
-    if getattr(args, "value_mutations", False) and args.strategy == "focused":
-        raise UntimelyError("--value-mutations applies to --strategy random and targeted; focused tests "
-                            "replay the golden's values")
     return {**budget, "kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
             "external": {name: sut.config() for name, sut in external.items()},
             "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,

@@ -2,12 +2,16 @@
 
 An aim is one way to falsify (or, for a disturbance, to probe) a property's P-condition, as
 targeted.py lists them (falsifiers, disturbers): send s before a service q has ended ok, or
-send s while an activity r runs. A test for it is
+send s while an activity r runs; for a value-domain property (only with --value-mutations),
+send s with one exceptional value of one argument (harness.mutator.values.cases: one aim per
+value, those inside the domain disturbances), anywhere, or, for a state-dependent domain, while
+r runs. A test for it is
   1. the context: the golden script's sends of the services s and r need (their modules' inits,
      the Q of the PC properties naming them, transitively), in the golden's order, with the golden's waits on
      them given a timeout (twice the longest run the golden showed, plus a second);
-  2. the perturbation: s alone (q never sent), q then s (s lands while q runs), r then s (in
-     r's start phase), or r, a sleep shorter than r's shortest golden run, then s;
+  2. the perturbation: s alone (q never sent, or s with its exceptional value), q then s (s lands
+     while q runs), r then s (in r's start phase), or r, a sleep shorter than r's shortest golden
+     run, then s;
   3. after SETTLE_S, the request that ended r or s in the golden run if it never ends by itself
      (the golden's Stop); then the executive's drain (DRAIN_S) awaits the outstanding finals.
 So a test's mission time has an upper bound known before it runs (`bound_s`), which is what
@@ -28,8 +32,9 @@ from itertools import zip_longest
 from harness.run.executive import DRAIN_S, REACTION_S
 from harness.target.interface import Interface, Property
 from harness.mutator.operators import Mutant, plausible, random_request, step_text, validated
-from harness.mutator.targeted import disturbers, falsifiers
+from harness.mutator.targeted import Falsifier, disturbers, falsifiers
 from harness.mutator.timeline import Timeline
+from harness.mutator.values import cases, with_value
 from harness.target.script import Script, Step
 
 UNSEEN_RUN_S = 5.0  # how long an activity the golden never ran is awaited
@@ -39,24 +44,45 @@ FIRST_SLEEP_S = 0.01
 START_SLEEP_S = (0.005, 0.1)
 RUN_SLEEP_S = (0.01, 1.0)  # a running-phase sleep, log-uniform, below the shortest golden run
 SETTLE_S = 1.0  # after the perturbation, before ending the activities that never end by themselves
+SHOWN_CHARS = 20  # of an exceptional value, in a situation (an over-long text is cut)
 
 
 @dataclass(frozen=True)
 class Aim:
     properties: tuple[str, ...]  # the properties whose condition it falsifies (or probes)
     send: str  # s
-    phase: str  # "without" q, "during" q, r's "start", r "running"
-    other: str  # q or r
+    phase: str  # "without" q, "during" q, r's "start", r "running", or a "value" alone
+    other: str  # q or r ("" for a value alone)
     disturb: bool = False
+    value: tuple[str, str, str | None] | None = None  # s's (argument, class, word; None: left out)
 
     @property
     def timed(self) -> bool:
-        return self.phase != "without"
+        return self.phase not in ("without", "value")
 
     def situation(self) -> str:
         what = {"without": "{s} with {o} never sent", "during": "{s} while {o} runs (before it ended ok)",
-                "start": "{s} in the start phase of {o}", "running": "{s} while {o} runs"}[self.phase]
-        return what.format(s=self.send, o=self.other) + (" (a disturbance: C stays true)" if self.disturb else "")
+                "start": "{s} in the start phase of {o}", "running": "{s} while {o} runs", "value": "{s}"}[self.phase]
+        send = self.send
+        if self.value:
+            argument, kind, word = self.value
+            shown = word if word is None or len(word) <= SHOWN_CHARS else f"{word[:SHOWN_CHARS]}..."
+            send += f" with {argument} left out" if word is None else f" with {argument}={shown} ({kind})"
+        return what.format(s=send, o=self.other) + (" (a disturbance: C stays true)" if self.disturb else "")
+
+
+def _value_keys(f: Falsifier, service: str, interface: Interface) -> list[tuple]:
+    """The aims of a value-domain falsifier at `service`: one per distinct exceptional value of
+    each argument its domain constrains (outside it: falsifying; inside: a disturbance), alone
+    or, for a narrowed domain, in the start phase of and while each r runs."""
+    values: dict[tuple, tuple] = {}
+    for arg in interface.services[service].args.values():
+        if not f.values or arg.name in f.values:
+            for kind, word, breaks in cases(arg, f.values.get(arg.name) if f.values else None):
+                values.setdefault((arg.name, word), ((arg.name, kind, word), breaks))
+    places = [("value", "")] if f.kind == "anywhere" else [(phase, r) for r in f.running
+                                                          for phase in ("start", "running")]
+    return [(service, phase, other, not breaks, value) for value, breaks in values.values() for phase, other in places]
 
 
 def aims(properties: list[Property], interface: Interface) -> list[Aim]:
@@ -67,17 +93,18 @@ def aims(properties: list[Property], interface: Interface) -> list[Aim]:
         keys = []
         for f in falsifiers(prop) + disturbers(prop, interface):
             for s in f.send:
-                if f.kind == "before_ok":
-                    keys += [(s, phase, q, f.disturb) for q in f.need for phase in ("without", "during")]
+                if f.values is not None:
+                    keys += _value_keys(f, s, interface)
+                elif f.kind == "before_ok":
+                    keys += [(s, phase, q, f.disturb, None) for q in f.need for phase in ("without", "during")]
                 else:
-                    keys += [(s, phase, r, f.disturb) for r in f.running for phase in ("start", "running")]
+                    keys += [(s, phase, r, f.disturb, None) for r in f.running for phase in ("start", "running")]
         per_property.append([(prop.id, k) for k in keys])
     served: dict[tuple, list[str]] = {}
     for column in zip_longest(*per_property):
         for pid, key in filter(None, column):
             served.setdefault(key, []).append(pid)
-    return [Aim(tuple(dict.fromkeys(pids)), s, phase, other, disturb)
-            for (s, phase, other, disturb), pids in served.items()]
+    return [Aim(tuple(dict.fromkeys(pids)), *key) for key, pids in served.items()]
 
 
 class Builder:
@@ -132,11 +159,13 @@ class Builder:
         longest = max([max(self.runs.get(s, [UNSEEN_RUN_S])) for s in services] + [0.0])
         return plausible(2 * longest + 1.0)
 
-    def request(self, service: str, rng: random.Random, handle: str | None = None) -> Step:
-        """The golden's first request of `service` (its arguments), else one with drawn arguments."""
+    def request(self, service: str, rng: random.Random, handle: str | None = None, value=None) -> Step:
+        """The golden's first request of `service` (its arguments), else one with drawn arguments;
+        `value` (argument, class, word): with that argument written as the word."""
         sent = next((s for s in self.golden.steps if s.op == "send" and s.service == service), None)
         step = sent or random_request(self.interface.services[service], rng, None)
-        return Step(0, "send", service=service, args=step.args, handle=handle)
+        step = Step(0, "send", service=service, args=step.args, handle=handle)
+        return with_value(step, value[0], value[2]) if value else step
 
     def context(self, wanted: list[str], rng: random.Random) -> list[Step]:
         """Sends of the `wanted` services in the golden's order, each awaited (with a timeout)
@@ -164,7 +193,7 @@ class Builder:
         return [Step(0, "wait", handle=h, seconds=self._timeout([s])) for h, s, _ in awaited]
 
     def sleep(self, aim: Aim, rng: random.Random, repeat: bool) -> list[Step]:
-        if aim.phase == "without":
+        if not aim.timed:
             return []
         if aim.phase in ("start", "during") and not repeat:
             return [Step(0, "sleep", seconds=FIRST_SLEEP_S)]
@@ -174,7 +203,9 @@ class Builder:
         return [Step(0, "sleep", seconds=plausible(lo * (hi / lo) ** rng.random()))]
 
     def test(self, aim: Aim, rng: random.Random, repeat: bool) -> list[Step]:
-        if aim.phase in ("without", "during"):
+        if aim.phase == "value":
+            steps = self.context(self.closure([aim.send]), rng)
+        elif aim.phase in ("without", "during"):
             wanted = self.closure([aim.send], without=aim.other)
             if aim.phase == "during":
                 wanted += [s for s in self.closure([aim.other]) if s not in wanted]
@@ -184,7 +215,7 @@ class Builder:
         else:
             steps = self.context(self.closure([aim.send, aim.other]), rng)
             steps += [self.request(aim.other, rng)]
-        steps += self.sleep(aim, rng, repeat) + [self.request(aim.send, rng)]
+        steps += self.sleep(aim, rng, repeat) + [self.request(aim.send, rng, value=aim.value)]
         enders = list(dict.fromkeys(self.enders[s] for s in (aim.other, aim.send) if s in self.enders))
         if enders:  # else the drain would wait its full time for an activity that never ends
             steps += [Step(0, "sleep", seconds=SETTLE_S)] + [self.request(e, rng) for e in enders]

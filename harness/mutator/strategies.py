@@ -45,11 +45,18 @@ def operations(strategy: str, given: int | None, time_mutations: bool, named_ope
 
 def plan(config: dict, golden: Script, interface: Interface, properties: list[Property],
          golden_trace: Trace) -> focused.Plan:
-    """A focused campaign's tests, made as the campaign goes (harness.campaign.budgeted). Its tests
-    replay golden values: a value-domain property is no aim of theirs (--value-mutations is refused)."""
+    """A focused campaign's tests, made as the campaign goes (harness.campaign.budgeted). Without
+    --value-mutations its tests replay golden values: a value-domain property is no aim of theirs."""
     timeline = Timeline(golden, golden_trace, interface.replies)
-    properties = [p for p in properties if p.type not in targeted.VALUE_TYPES]
-    return focused.Plan(golden, timeline, interface, properties, config["seed"])
+    return focused.Plan(golden, timeline, interface, _aimed(config, properties), config["seed"])
+
+
+def _aimed(config: dict, properties: list[Property]) -> list[Property]:
+    """The properties the targeted and focused strategies aim at: value-domain ones only when value
+    mutations are asked for, so that a timing campaign's mutants stay as they were."""
+    if config.get("value_mutations", False):
+        return properties
+    return [p for p in properties if p.type not in targeted.VALUE_TYPES]
 
 
 def generate(config: dict, golden: Script, interface: Interface, properties: list[Property],
@@ -65,8 +72,7 @@ def generate(config: dict, golden: Script, interface: Interface, properties: lis
         return operators.generate(golden, interface, count, seed, ops, config["time_mutations"], name=name,
                                   on_mutant=on_mutant, operators=tuple(named) if named else
                                   operators.chosen(None, config["time_mutations"], value_mutations))
-    if not value_mutations:  # value-domain properties are aimed at only when value mutations are asked for
-        properties = [p for p in properties if p.type not in targeted.VALUE_TYPES]
+    properties = _aimed(config, properties)
     trace = run_golden()
     verdicts = Judge(interface, properties).verdicts([trace])[0]
     return targeted.generate(golden, trace, verdicts, interface, properties, count, seed, ops, name=name)

@@ -83,20 +83,25 @@ def replace_value(steps: list[Step], rng: random.Random, interface: Interface) -
             "class": kind, "value": word}
 
 
+def cases(arg: Argument, narrowed: Domain | None = None) -> list[tuple[str, str | None, bool]]:
+    """(class, word, breaks) of each exceptional value of `arg`: against its own domain, every one
+    (`breaks`: outside it); with a `narrowed` domain, those legal at rest, of both domains (`breaks`:
+    outside the narrowed one). The cases the targeted and focused strategies aim at."""
+    if narrowed is None:
+        return [(kind, word, violation(arg, word) is not None) for kind, word in exceptional_values(arg)]
+    return [(kind, word, violation(arg, word, narrowed) is not None)
+            for kind, word in exceptional_values(arg) + exceptional_values(arg, narrowed)
+            if violation(arg, word) is None]
+
+
 def falsifying_request(request: Step, service: Service, rng: random.Random,
                        narrowed: dict[str, Domain] | None = None) -> tuple[Step, str] | None:
     """`request` (legal values) with one argument made illegal: outside its interface domain, or
     with `narrowed`, inside it but outside the narrowed domain; and what was done. None when no
     argument can be (a service without arguments, bounds that leave nothing between them).
     For the targeted strategies: a request that makes a value-domain property's C false."""
-    options = []
-    for arg in service.args.values():
-        if narrowed is None:
-            options += [(arg.name, kind, word) for kind, word in exceptional_values(arg) if violation(arg, word)]
-        elif arg.name in narrowed:  # legal at rest, illegal in the narrowed state
-            domain = narrowed[arg.name]
-            options += [(arg.name, kind, word) for kind, word in exceptional_values(arg) + exceptional_values(arg, domain)
-                        if violation(arg, word) is None and violation(arg, word, domain)]
+    options = [(arg.name, kind, word) for arg in service.args.values() if narrowed is None or arg.name in narrowed
+               for kind, word, breaks in cases(arg, None if narrowed is None else narrowed[arg.name]) if breaks]
     if not options:
         return None
     name, kind, word = rng.choice(options)
