@@ -41,8 +41,9 @@ def render_query(name: str) -> str:
 
 
 def render_bench(name: str, **parameters) -> str:
-    """The statements of sql/bench/<name>.sql with which a benchmark builds its store (bench/):
-    kept in sql/ like every statement that writes outside harness/store/."""
+    """The statements of sql/bench/<name>.sql that a benchmark (bench/) runs: those that build its
+    stores, kept in sql/ like every statement that writes outside harness/store/, and its queries
+    that are more than a count."""
     return ENV.get_template(f"bench/{name}.sql").render(**parameters)
 
 
