@@ -7,6 +7,7 @@ import re
 
 import pytest
 
+from harness.errors import UntimelyError
 from harness.report import sections
 from test_report import Page, analysed_store, write_report
 
@@ -70,3 +71,9 @@ def test_a_section_reading_a_relation_the_store_lacks_is_left_out(store, tmp_pat
     index = _index(write_report(store, tmp_path / "out"))
     assert "behaviours" not in _links(index) + _headings(index)
     assert not (tmp_path / "out" / "bad_behaviours.csv").exists()
+
+
+def test_a_section_entry_with_an_unknown_key_is_refused_with_the_file(tmp_path, monkeypatch):
+    _with_entry(tmp_path, monkeypatch, BEHAVIOURS.replace("heading =", "headng ="))
+    with pytest.raises(UntimelyError, match=r"sections.toml: section 'behaviours' has keys .*'headng'"):
+        sections.registry()

@@ -7,6 +7,8 @@ import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
+from harness.errors import UntimelyError
+
 REGISTRY = Path(__file__).parent / "sections.toml"
 
 
@@ -28,6 +30,11 @@ class Section:
 def registry() -> list[Section]:
     """Every section, in reading order (the order of the file's entries)."""
     entries = tomllib.loads(REGISTRY.read_text(encoding="utf-8"))["section"]
+    keys = set(Section.__dataclass_fields__)
+    for e in entries:  # a typo in a key would otherwise surface as a TypeError without the file
+        if set(e) - keys or not {"id", "nav", "reads"} <= set(e):
+            raise UntimelyError(f"{REGISTRY}: section {e.get('id')!r} has keys {sorted(e)}; give id, nav and "
+                                f"reads, and only keys among {sorted(keys)}")
     return [Section(**{k: tuple(v) if isinstance(v, list) else v for k, v in e.items()}) for e in entries]
 
 
