@@ -4,9 +4,9 @@ events judged per second are measured on a synthetic store of >= 10 million even
 The synthetic stores are built in SQL, set-based (sql/bench/synthetic_traces.sql): every choice
 (service, timing, reply) is a hash of (seed, trace, request), so the same seed gives the same
 store. They are judged with the 21 Dala properties, exactly as `python -m harness analyze` does.
-Each judging time is also printed as a multiple of the calibration loop timed in the same run
-(calibration.py): unlike seconds, that ratio compares across machines and loads, so a slowdown
-of the analyzer shows as a larger ratio. Not a test:
+Each judging time is also printed as a multiple of the calibration loop (calibration.py) timed
+just before and after it: unlike seconds, that ratio compares across machines and loads, so a
+slowdown of the analyzer shows as a larger ratio (lower is faster). Not a test:
 
     .venv/bin/python bench/analyzer_bench.py [--events 10000000] [--campaign reports/campaign.duckdb]
 """
@@ -43,21 +43,23 @@ def synthesise(con, interface, traces: int, requests: int, seed: int) -> int:
     return con.execute("select count(*) from events").fetchone()[0]
 
 
-def judge(path: Path, properties) -> tuple[int, int, float]:
+def judge(path: Path, properties) -> tuple[int, int, float, float]:
+    """Traces, events, seconds to judge them, and the calibration loop's seconds (the median of
+    loops timed just before and just after, as the machine's load was while it judged)."""
+    before = calibrate()
     con = connect(path)
     started = time.perf_counter()
     materialise(con, properties, 0.01, load_interface(DEFAULT_MISSION_DIR / "interface.toml"))
     elapsed = time.perf_counter() - started
     traces, events = con.execute("select (select count(*) from traces), (select count(*) from events)").fetchone()
     con.close()
-    return traces, events, elapsed
+    return traces, events, elapsed, (before + calibrate()).wall_s
 
 
-def report(what: str, calibration_s: float, traces: int, events: int, elapsed: float,
-           limit: float | None = None) -> None:
+def report(what: str, traces: int, events: int, elapsed: float, loop: float, limit: float | None = None) -> None:
     verdict = "" if limit is None else ("  (<= %.0f s: %s)" % (limit, "yes" if elapsed <= limit else "NO"))
-    print(f"{what}: {traces:,} traces, {events:,} events judged in {elapsed:.2f} s "
-          f"= {events / elapsed:,.0f} events/s = {elapsed / calibration_s:.1f} calibration loops{verdict}")
+    print(f"{what}: {traces:,} traces, {events:,} events judged in {elapsed:.2f} s = {events / elapsed:,.0f} "
+          f"events/s = {elapsed / loop:.1f} calibration loops of {loop * 1000:.0f} ms{verdict}", flush=True)
 
 
 def main() -> int:
@@ -68,20 +70,17 @@ def main() -> int:
     args = p.parse_args()
     interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
     properties = load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface)
-    loop = calibrate().wall_s
-    print(f"calibration loop {loop * 1000:.0f} ms wall (median of its repetitions; a judging time below in "
-          "calibration loops is lower when faster, and compares across machines and loads)", flush=True)
     with tempfile.TemporaryDirectory() as tmp:
         if args.campaign:
             copy = Path(tmp) / "campaign.duckdb"
             shutil.copy(args.campaign, copy)
-            report("real campaign", loop, *judge(copy, properties), limit=3)
+            report("real campaign", *judge(copy, properties), limit=3)
         # ~900 traces shaped like the golden mission's (~30 requests, ~60 events each)
         small = Path(tmp) / "small.duckdb"
         con = connect(small)
         synthesise(con, interface, 900, 30, args.seed)
         con.close()
-        report("campaign-sized store", loop, *judge(small, properties), limit=3)
+        report("campaign-sized store", *judge(small, properties), limit=3)
         big = Path(tmp) / "big.duckdb"
         con = connect(big)
         started = time.perf_counter()
@@ -89,7 +88,7 @@ def main() -> int:
         events = synthesise(con, interface, -(-args.events // (2 * requests) * 100 // 98), requests, args.seed)
         con.close()
         print(f"(built the large store, {events:,} events, in {time.perf_counter() - started:.1f} s)")
-        report("large store", loop, *judge(big, properties))
+        report("large store", *judge(big, properties))
     return 0
 
 
