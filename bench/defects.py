@@ -18,6 +18,7 @@ from pathlib import Path
 
 from harness.target.interface import Property
 from harness.target.layer_description import CHECKING, load_layer
+from harness.store.sql import render_bench
 
 MAX_STEPS = 10
 
@@ -58,6 +59,5 @@ def expected(folder: Path, properties: list[Property], suts: list[str]) -> list[
 def exposed(con, wanted: list[Expected]) -> dict[Expected, tuple[int, int] | None]:
     """Per expected finding: (its reproducer's script id, steps) if the store shows it shrunk to at
     most MAX_STEPS steps, else None."""
-    rows = con.execute("select sut, property_id, kind, reproducer, reproducer_steps from findings "
-                       "where reproducer_steps <= ? order by reproducer", [MAX_STEPS]).fetchall()
+    rows = con.execute(render_bench("short_reproducers"), [MAX_STEPS]).fetchall()
     return {e: next(((r[3], r[4]) for r in rows if e.matches(*r[:3])), None) for e in wanted}

@@ -23,6 +23,7 @@ from harness.analysis.judge import Judge
 from harness.mutator import operators, targeted
 from harness.target.script import load_script
 from harness.campaign.shrink import Behaviour, original, shrink
+from harness.store.sql import render_bench
 
 VARIANTS = "genom,bip-a,bip-b,bare,reference"
 MUTANTS, SEED, COVERAGE_TARGET = 300, 2012, 30
@@ -58,9 +59,7 @@ def campaign(db: Path, strategy: str) -> float:
 
 def compare(dbs: dict[str, Path]) -> bool:
     cons = {s: store.connect(db, read_only=True) for s, db in dbs.items()}
-    covered = {s: con.execute("select property_id, c_false from coverage join properties using (property_id) "
-                              "where sut = 'reference' order by properties.position").fetchall()
-               for s, con in cons.items()}
+    covered = {s: con.execute(render_bench("reference_coverage")).fetchall() for s, con in cons.items()}
     print(f"\n{'requests with C false on reference':<46}" + "".join(f"{s:>10}" for s in STRATEGIES))
     for (prop, a), (_, b) in zip(*covered.values()):
         print(f"  {prop:<44}{a:>10}{b:>10}")
@@ -95,9 +94,7 @@ def shrink_times(db: Path) -> None:
     interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
     properties = load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface)
     con = store.connect(db, read_only=True)
-    picked = con.execute("""select sut, verdict, property_id, representative from bad_behaviours
-                            qualify row_number() over (partition by sut, verdict order by traces desc) = 1
-                            order by all""").fetchall()
+    picked = con.execute(render_bench("shrink_picks")).fetchall()
     times, steps = [], []
     for sut, verdict, prop, trace_id in picked:
         orig = original(con, trace_id)

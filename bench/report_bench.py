@@ -32,6 +32,7 @@ from harness import DEFAULT_MISSION_DIR  # noqa: E402
 from harness.analysis.analyzer import materialise  # noqa: E402
 from harness.target.interface import load_interface, load_properties  # noqa: E402
 from harness.store.database import connect  # noqa: E402
+from harness.store.sql import render_bench  # noqa: E402
 
 TIME_LINE_S, SIZE_LINE_MB, MEMORY_LINE_MB = 10.0, 100.0, 100.0
 MB = 1024 * 1024
@@ -43,13 +44,7 @@ def build(db: Path, traces: int, mutants: int) -> None:
                     "--db", str(db)], cwd=ROOT, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     con = connect(db)
     original, top = con.execute("select count(*), max(trace_id) from traces").fetchone()
-    copies = -(-traces // original) - 1
-    con.execute("create temporary table copies as select range as k from range(1, ?)", [copies + 1])
-    offset = f"t.trace_id + k * {top}"
-    con.execute(f"insert into traces by name select {offset} as trace_id, t.* exclude (trace_id) from traces t, copies")
-    for table in ("events", "internal_events", "world_events"):
-        con.execute(f"insert into {table} by name select {offset} as trace_id, t.* exclude (trace_id) "
-                    f"from {table} t, copies")
+    con.execute(render_bench("copied_traces", copies=-(-traces // original) - 1, top=top))
     interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
     materialise(con, load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface), 0.01, interface)
     con.close()

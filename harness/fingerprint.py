@@ -3,30 +3,29 @@
 Two stores with the same fingerprint hold the same scripts, traces (all but wall times), events,
 ground truth, world events and verdicts, float for float: a change meant only to make the bench
 faster must leave the fingerprint of a campaign unchanged (tests/test_campaign_fingerprint.py).
+A table's columns are those the store defines (sql/schema.sql, sql/views/verdicts.sql), in their
+order, but for LEFT_OUT: a column added to the schema enters the fingerprint by itself.
 """
 from __future__ import annotations
 
 import hashlib
 
-# Each table's columns in a canonical order, and the order of its rows; wall_s, created_at and
-# campaign ids are left out: they differ between two runs of the same campaign.
-TABLES = {
-    "scripts": ("script_id, kind, parent, mutations, body, valid, invalid_reason", "script_id"),
-    "traces": ("trace_id, script_id, sut, seed, outcome, sim_s, error", "trace_id"),
-    "events": ("trace_id, seq, t, kind, rqst_id, module, service, args, reply", "trace_id, seq"),
-    "internal_events": ("trace_id, seq, t, kind, rqst_id, module, service, args, reply", "trace_id, seq"),
-    "world_events": ("trace_id, t, kind, detail", "all"),
-    "verdicts": ("trace_id, property_id, family, rqst_id, module, service, c_holds, verdict, margin_s, "
-                 "suspicious, certain, alternatives", "all"),
-}
+from harness.store.reads import columns
+
+# The order of each fingerprinted table's rows.
+TABLES = {"scripts": "script_id", "traces": "trace_id", "events": "trace_id, seq",
+          "internal_events": "trace_id, seq", "world_events": "all", "verdicts": "all"}
+# Columns that differ between two runs of the same campaign (its id, wall times), and the name an
+# imported file gives a trace (no campaign run has one; the recorded fingerprints predate its use).
+LEFT_OUT = frozenset({"campaign_id", "wall_s", "label"})
 BATCH_ROWS = 50_000
 
 
 def table_digest(con, table: str, condition: str = "true") -> str:
     """Hex SHA-256 of the rows of `table` (one of TABLES) that meet the SQL `condition`."""
-    columns, order = TABLES[table]
+    kept = ", ".join(c for c in columns(con, table) if c not in LEFT_OUT)
     digest = hashlib.sha256()
-    cursor = con.execute(f"select {columns} from {table} where {condition} order by {order}")
+    cursor = con.execute(f"select {kept} from {table} where {condition} order by {TABLES[table]}")
     while rows := cursor.fetchmany(BATCH_ROWS):
         digest.update("".join(f"{row!r}\n" for row in rows).encode())
     return digest.hexdigest()

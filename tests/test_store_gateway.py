@@ -1,8 +1,11 @@
 """The store is the one gateway (issue 20): no Python file outside harness/store/ holds an SQL
-statement that writes; the statements that write are in harness/store/ or in sql/ templates."""
+statement that writes, the benchmarks' (bench/) included; the statements that write are in
+harness/store/ or in sql/ templates."""
 import ast
 import re
 from pathlib import Path
+
+import pytest
 
 from harness import ROOT
 
@@ -44,8 +47,9 @@ def writes_outside_the_store(folder: Path) -> list[str]:
     return found
 
 
-def test_no_python_file_outside_the_store_writes_sql():
-    assert writes_outside_the_store(ROOT / "harness") == []
+@pytest.mark.parametrize("folder", ["harness", "bench"])
+def test_no_python_file_outside_the_store_writes_sql(folder):
+    assert writes_outside_the_store(ROOT / folder) == []
 
 
 def test_the_check_finds_a_write_where_there_is_one(tmp_path, monkeypatch):

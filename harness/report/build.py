@@ -25,9 +25,10 @@ from harness.analysis.analyzer import family_order, sut_order
 from harness.errors import StoreError, UntimelyError
 from harness.analysis.explain import explanations
 from harness.files import make_folder
-from harness.report import html, pages, queries, trace_pages
+from harness.report import html, pages, queries, sections, trace_pages
+from harness.report.index_tables import IndexTables
 from harness.store.database import connect
-from harness.store.reads import analyses_made
+from harness.store.reads import analyses_made, relations
 
 PARALLEL_FROM = 400  # trace pages per worker process; fewer are not worth starting one for
 # DuckDB's memory for the report's queries: beyond it, their hash tables spill to a temporary
@@ -155,42 +156,19 @@ def _write_all(con, out: Path) -> dict[str, int]:
 
 
 def _write_rest(con, out: Path, page_ids: set[int]) -> dict[str, int]:
-    """Everything but the trace pages: index, lists, CSV files."""
+    """Everything but the trace pages: index (its sections: sections.toml), lists, CSV files."""
     suts, families = sut_order(con), family_order(con)
-    table2 = queries.view(con, "trace_robustness", percent=frozenset({"t_rob", "t_rob_certain"}))
-    tp = queries.view(con, "tp_rates", percent=frozenset({"tp_rate", "tp_rate_certain"}))
-    fp = queries.view(con, "fp_rates", percent=frozenset({"fp_rate", "fp_rate_certain"}))
-    bad = queries.bad_traces(con)
-    family_traces = queries.family_traces(con)
-
-    def page_link(trace_id):
-        return html.trace_href(trace_id) if trace_id in page_ids else None
-    tables = {
-        "findings": queries.view(con, "findings").link_column("reproducer", pages.shrunk_href)
-                                                 .link_column("first_trace", page_link),
-        "trace_outcomes": queries.trace_counts(con),
-        "invalid_mutants": queries.invalid_mutants(con),
-        "crash_reasons": queries.crash_reasons(con),
-        "table2": table2.link_column("sut", html.bad_href),
-        "table3": pages.pivot(tp, "tp_rate", "table3", suts, families),
-        "table4": pages.pivot(fp, "fp_rate", "table4", suts, families),
-        "properties": queries.per_property(con),
-        "shrunk": queries.shrunk(con).link_column("script_id", pages.shrunk_href).link_column("trace_id", page_link),
-        "suspicious": queries.suspicious(con).link_column("trace_id", page_link),
-        "inversions": queries.inversions(con).link_column("trace_id", page_link),
-    }
-    tables["verdict_transitions"], tables["table_changes"] = queries.changes(con)
+    tables = IndexTables(con, suts, families, page_ids)
+    shown = sections.shown(relations(con))
     pages.write_shrunk(con, out, tables["shrunk"])
-    csv_tables = [tables["findings"], table2, tp, fp, tables["properties"], tables["suspicious"], tables["invalid_mutants"],
-                  tables["trace_outcomes"], bad, queries.bad_verdicts(con), tables["inversions"],
-                  tables["verdict_transitions"], tables["table_changes"], tables["shrunk"], family_traces]
-
+    csv_tables = [tables[name] for section in shown for name in section.csv]
     for table in csv_tables:
         table.write_csv(out)
-    lists = pages.write_lists(out, family_traces, bad, suts, families, (tp, fp), page_ids)
+    tp, fp = tables["tp_rates"], tables["fp_rates"]
+    lists = pages.write_lists(out, tables["family_traces"], tables["bad_traces"], suts, families, (tp, fp), page_ids)
     pages.write_index(out, dict(
-        campaigns=queries.campaigns(con), analysis=queries.analysis(con), tables=tables, bad=bad, suts=suts,
-        first_analysis=analyses_made(con) < 2,
-        charts=pages.index_charts(suts, families, tp, fp, table2, queries.verdict_mix(con)),
+        sections=shown, campaigns=queries.campaigns(con), analysis=queries.analysis(con), tables=tables,
+        suts=suts, first_analysis=analyses_made(con) < 2,
+        charts=pages.index_charts(suts, families, tp, fp, tables["table2"], queries.verdict_mix(con)),
         csv=[t.name for t in csv_tables], pages=len(page_ids)))
     return {"traces": len(page_ids), "lists": lists, "csv": len(csv_tables)}

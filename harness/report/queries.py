@@ -5,7 +5,7 @@ import json
 from collections.abc import Iterator
 from itertools import islice
 
-from harness.store.reads import exists, ordered, read_older_analysis, relations
+from harness.store.reads import columns, exists, ordered, read_older_analysis, relations
 from harness.errors import StoreError
 from harness.store.sql import render_query, sql_id_list
 from harness.analysis.provenance import stale_files
@@ -16,9 +16,6 @@ from harness.report.trace_pages import Rows
 # What `python -m harness analyze` materialises and the report reads.
 ANALYSED = ("verdicts", "requests", "property_verdicts", "family_verdicts", "trace_robustness",
             "tp_rates", "fp_rates", "inversions", "analysis")
-# What an analysis by a bench with provenance (schema version 2) adds; a store judged before is
-# read as is, without them.
-CHANGES = ("verdict_transitions", "table_changes")
 # The rate columns of the coverage view, shown as percentages.
 COVERAGE_RATES = frozenset(f"{rate}{end}" for rate in ("tp_rate", "fp_rate") for end in ("", "_low", "_high"))
 
@@ -91,8 +88,7 @@ def verdict_mix(con) -> dict[tuple[str, str], int]:
 def analysis(con) -> dict:
     """When the verdicts were made, from how many properties, with which epsilon and files, and
     which of those files changed on disk since (the verdicts no longer match them)."""
-    columns = [d[0] for d in con.execute("select * from analysis limit 0").description]
-    if "analysis_id" not in columns:  # judged before analyses were recorded: no provenance
+    if "analysis_id" not in columns(con, "analysis"):  # judged before analyses were recorded: no provenance
         found = rows(con, "select analysed_at::timestamp as analysed_at, epsilon, properties from analysis")[0]
         return dict(found, analysis_id=None, seconds=None, files=[], stale=[])
     found = rows(con, "select analysis_id, analysed_at, epsilon, properties, seconds from analysis")[0]
@@ -103,13 +99,14 @@ def analysis(con) -> dict:
     return found
 
 
-def changes(con) -> tuple[Table, ...]:
-    """What the last analysis changed: verdict transitions and the changed cells of Tables II-IV
-    (empty for a store judged before they were kept)."""
-    if not set(CHANGES) <= relations(con):
-        return tuple(Table(name, [], []) for name in CHANGES)
-    return (query_table(con, "verdict_transitions", ordered(con, "verdict_transitions")),
-            query_table(con, "table_changes", ordered(con, "table_changes") + ", paper_table"))
+def verdict_transitions(con) -> Table:
+    """The verdicts the last analysis changed (a section of stores judged with provenance)."""
+    return query_table(con, "verdict_transitions", ordered(con, "verdict_transitions"))
+
+
+def table_changes(con) -> Table:
+    """The cells of Tables II-IV the last analysis changed."""
+    return query_table(con, "table_changes", ordered(con, "table_changes") + ", paper_table")
 
 
 def suspicious(con) -> Table:

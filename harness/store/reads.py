@@ -10,12 +10,18 @@ POSITIONS = {"sut": "variant_positions", "family": "family_positions", "property
 
 def ordered(con, view: str) -> str:
     """The query of a whole view (or table), its rows in the order of POSITIONS, ties by its columns."""
-    columns = [d[0] for d in con.execute(f"select * from {view} limit 0").description]
-    ranked = [c for c in POSITIONS if c in columns]
+    names = columns(con, view)
+    ranked = [c for c in POSITIONS if c in names]
     joins = " ".join(f"left join (select {c}, position as {c}_rank from {POSITIONS[c]}) using ({c})"
                      for c in ranked)
-    order = [f"{c}_rank nulls last" for c in ranked] + [str(n) for n in range(1, len(columns) + 1)]
+    order = [f"{c}_rank nulls last" for c in ranked] + [str(n) for n in range(1, len(names) + 1)]
     return f"select v.* from {view} v {joins} order by {', '.join(order)}"
+
+
+def columns(con, relation: str) -> list[str]:
+    """A table's or view's columns, in the order the store defines them (sql/schema.sql and
+    sql/views/: the one definition of each table's columns)."""
+    return [d[0] for d in con.execute(f"select * from {relation} limit 0").description]
 
 
 def analyses_made(con) -> int:

@@ -40,6 +40,13 @@ def render_query(name: str) -> str:
     return ENV.get_template(f"report/{name}.sql").render()
 
 
+def render_bench(name: str, **parameters) -> str:
+    """The statements of sql/bench/<name>.sql that a benchmark (bench/) runs: those that build its
+    stores, kept in sql/ like every statement that writes outside harness/store/, and its queries
+    that are more than a count."""
+    return ENV.get_template(f"bench/{name}.sql").render(**parameters)
+
+
 _COMMENTS = re.compile(r"\{#.*?#\}|--[^\n]*", re.S)
 _DEFINES = re.compile(r"create\s+or\s+replace\s+(?:\{\{[^}]*\}\}\s*)?(?:temp\s+)?(?:view|table|macro)\s+(\w+)"
                       r"(?:\s*\([^)]*\))?\s+as\b", re.I)
