@@ -8,6 +8,9 @@ that reply. Prints per SUT the verdicts judged on both timelines, the inversions
 run to run with the machine's load. Not a test:
 
     .venv/bin/python bench/taken_bench.py [--mutants 30] [--time-scale 10] [--jobs 4] [--db STORE]
+
+`--db`: the campaign's store, read if it exists (then the other options are unused), else built
+there (by default in a temporary folder).
 """
 from __future__ import annotations
 
@@ -70,12 +73,12 @@ def main() -> int:
     parser.add_argument("--seed", type=int, default=2012)
     parser.add_argument("--time-scale", type=float, default=10.0)
     parser.add_argument("--jobs", type=int, default=4)
-    parser.add_argument("--db", type=Path, help="an existing (analysed) store of this campaign")
+    parser.add_argument("--db", type=Path, help="the campaign's store: read if it exists, else built there")
     args = parser.parse_args()
     load = "load average " + ", ".join(f"{v:.1f}" for v in os.getloadavg())
     with tempfile.TemporaryDirectory() as folder:
         db = args.db or Path(folder) / "taken.duckdb"
-        if not args.db:
+        if not db.exists():
             print(f"before: {load}", flush=True)
             run_campaign(db, args)
         con = connect(db, read_only=True)
