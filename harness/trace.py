@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 # Column order of an event row, shared by `events` and `internal_events` (DESIGN §5).
 EVENT_COLUMNS = ("seq", "t", "kind", "rqst_id", "module", "service", "args", "reply")
 WORLD_EVENT_COLUMNS = ("t", "kind", "detail")
+# A `taken` reply (seq on the counter of the trace's events, which skip its numbers).
+TAKEN_EVENT_COLUMNS = ("seq", "t", "rqst_id")
 OUTCOMES = ("completed", "hung", "crashed")
 
 
@@ -21,6 +23,7 @@ class Trace:
     events: list[tuple] = field(default_factory=list)
     internal_events: list[tuple] = field(default_factory=list)
     world_events: list[tuple] = field(default_factory=list)  # (t, kind, detail JSON text)
+    taken_events: list[tuple] = field(default_factory=list)  # (seq, t, rqst_id)
     # Where, when and with what interface latency a real-time run ran (a trace_runs row).
     provenance: dict | None = None
 

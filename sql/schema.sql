@@ -59,6 +59,16 @@ create table if not exists internal_events (
     reply     varchar
 );
 
+-- Observed at the interface too: when the SUT replied that it took a request (protocol untimely/1,
+-- reply kind `taken`, an optional interface extension). The oracles place such a request at this
+-- instant instead of its sending. seq is on the counter of the trace's events (which skip it).
+create table if not exists taken_events (
+    trace_id  integer not null,
+    seq       integer not null,
+    t         double not null,
+    rqst_id   integer not null
+);
+
 create table if not exists reply_codes (
     module   varchar not null,
     service  varchar not null,

@@ -59,7 +59,7 @@ def test_the_inversions_view_holds_exactly_the_requests_judged_differently_on_bo
     assert set(con.execute("select trace_id, property_id, rqst_id from inversions").fetchall()) == truth
 
 
-@pytest.mark.xfail(strict=True, reason="issue 23: precision 64-78% (docs/analyzer.md): near-simultaneous "
+@pytest.mark.xfail(strict=True, reason="issue 23: precision 67-78% (docs/analyzer.md): near-simultaneous "
                    "requests to a layer without the protection are a coin flip a black-box flag cannot settle")
 def test_most_flagged_verdicts_are_inversions(campaign):
     name, con = campaign

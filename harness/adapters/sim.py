@@ -4,7 +4,8 @@ It speaks `untimely/1` on stdio (the bench starts it for each run) or, with `--l
 HOST:PORT`, to every bench that connects (one run per connection, several at once). The layer
 runs in wall-clock time scaled by the hello's `time_scale`, so the same scripts can be run in
 process and through the protocol and their traces compared. It reports the layer's internal
-instants (`internal`) and its virtual damage (`world`).
+instants (`internal`) and its virtual damage (`world`); with `--taken`, it also replies `taken`
+at the instant its control task takes each request (the paper's interface extension).
 """
 from __future__ import annotations
 
@@ -26,8 +27,8 @@ from harness.sim.host import LayerHost
 class Session:
     """One run: the bench's lines in, the layer's replies out."""
 
-    def __init__(self, variant: str, mission: Path, output):
-        self.variant, self.mission, self.output = variant, mission, output
+    def __init__(self, variant: str, mission: Path, output, taken: bool = False):
+        self.variant, self.mission, self.output, self.taken = variant, mission, output, taken
         self.lock = threading.Lock()
         self.host: LayerHost | None = None
 
@@ -37,9 +38,13 @@ class Session:
             self.output.flush()
 
     def on_reply(self, rqst_id: int, kind: str, code: str | None, t: float) -> None:
+        # the ground truth first: a run that ends at a reply (the bench sends bye once it has the
+        # last final) has the reply's internal line too
+        self.send("internal", id=rqst_id, kind=kind, t=t, **({"code": code} if code else {}))
         if kind != "request":
             self.send("reply", id=rqst_id, kind=kind, **({"code": code} if code else {}))
-        self.send("internal", id=rqst_id, kind=kind, t=t, **({"code": code} if code else {}))
+        elif self.taken:
+            self.send("reply", id=rqst_id, kind="taken")
 
     def start(self, hello: dict) -> None:
         interface = load_interface(self.mission / "interface.toml")
@@ -49,7 +54,7 @@ class Session:
                               on_error=lambda message: self.send("error", message=message))
         answered = time.monotonic()  # internal times count from the hello answer
         self.send("hello", proto=PROTO, sut=f"untimely simulated layer, variant {self.variant}",
-                  caps=["internal", "world"])
+                  caps=["internal", "world", *(["taken"] if self.taken else [])])
         self.host.start(answered)
 
     def serve(self, lines) -> int:
@@ -83,15 +88,17 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--variant", required=True, help="implementation variant of the simulated layer")
     p.add_argument("--mission", default=str(DEFAULT_MISSION_DIR), help="mission folder (default: %(default)s)")
     p.add_argument("--listen", metavar="HOST:PORT", help="serve benches over TCP instead of stdio")
+    p.add_argument("--taken", action="store_true",
+                   help="reply `taken` when the layer takes each request (an interface extension)")
     args = p.parse_args(argv)
     mission = Path(args.mission)
     if not args.listen:
-        return Session(args.variant, mission, sys.stdout).serve(sys.stdin)
+        return Session(args.variant, mission, sys.stdout, args.taken).serve(sys.stdin)
 
     class Handler(socketserver.StreamRequestHandler):
         def handle(self):
             writer = self.connection.makefile("w", encoding="utf-8")
-            Session(args.variant, mission, writer).serve(self.connection.makefile("r", encoding="utf-8"))
+            Session(args.variant, mission, writer, args.taken).serve(self.connection.makefile("r", encoding="utf-8"))
 
     host, port = args.listen.rsplit(":", 1)
     with socketserver.ThreadingTCPServer((host, int(port)), Handler) as server:

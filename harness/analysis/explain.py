@@ -19,7 +19,7 @@ import duckdb
 from harness.errors import StoreError, UntimelyError
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.analysis.oracles import render_property
-from harness.store.reads import exists, require_analysis
+from harness.store.reads import exists, relations, require_analysis
 from harness.store.sql import sql_id_list
 from harness.analysis.provenance import default_properties
 from harness.store.database import connect
@@ -68,8 +68,8 @@ class Explainer:
     def __init__(self, con, interface: Interface, properties: dict[str, Property]):
         self.con, self.interface, self.properties = con, interface, properties
         self.epsilon = con.execute("select epsilon from analysis").fetchone()[0]
-        self.runs = con.execute("select count(*) from information_schema.tables "
-                                "where table_name = 'trace_runs'").fetchone()[0] > 0  # a store read as it is may lack it
+        tables = relations(con)  # a store read as it is may lack the newer ones
+        self.runs, self.taken = "trace_runs" in tables, "taken_events" in tables
 
     def explain(self, keys: list[Key]) -> dict[Key, str]:
         keys = [k for k in keys if k[1] in self.properties]
@@ -78,7 +78,8 @@ class Explainer:
         traces = sql_id_list({t for t, _, _ in keys})
         cursor = self.con.execute(f"""select r.trace_id, r.rqst_id, r.module || '.' || r.service as service, r.t,
                                              r.final_t, r.reply, r.class, e.args
-                                      from requests r left join events e on e.trace_id = r.trace_id and e.seq = r.seq
+                                      from requests r left join events e
+                                        on e.trace_id = r.trace_id and e.rqst_id = r.rqst_id and e.kind = 'request'
                                       where r.trace_id in ({traces})""")
         requests = {(r[0], r[1]): r[2:] for r in cursor.fetchall()}
         verdicts = {(t, p, r): rest for t, p, r, *rest in self.con.execute(
@@ -93,7 +94,8 @@ class Explainer:
             try:
                 cursor = self.con.execute(render_property(self.properties[property_id], "events", self.epsilon,
                                                           self.interface, explain=wanted,
-                                                          peers=list(self.properties.values()), runs=self.runs))
+                                                          peers=list(self.properties.values()), runs=self.runs,
+                                                          taken=self.taken))
             except duckdb.Error as e:  # one property's failing oracle must not hide the others' explanations
                 failed[property_id] = str(e).split("\n")[0]
                 continue

@@ -64,12 +64,14 @@ def _table_name(name: str, role: str) -> None:
 
 def render_property(prop: Property, events: str = "events", epsilon: float = DEFAULT_EPSILON_S,
                     interface: Interface | None = None, explain: list[tuple[int, int]] = (),
-                    peers: list[Property] = (), runs: bool = True, into: str | None = None) -> str:
+                    peers: list[Property] = (), runs: bool = True, taken: bool = True,
+                    into: str | None = None) -> str:
     """The oracle query of one property over the events table `events`: the verdicts columns.
     The interface, when given, says which requests may end an activity, and `peers` (the properties
     judged with it) on which other modules an interruption may come from (see sql/oracles/ee.sql).
     `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions.
-    `runs`: whether the store has trace_runs, whose pings give a real-time trace its epsilon.
+    `runs`: whether the store has trace_runs, whose pings give a real-time trace its epsilon;
+    `taken`: whether it has taken_events, where an SUT's `taken` replies place its requests.
     `into`: a verdicts table; then the statement inserting the rows into it."""
     _table_name(events, "events source")
     if into is not None:
@@ -84,7 +86,7 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
     try:
         return ENV.get_template("oracles/_oracle.sql").render(
             template=template, into=into, id=prop.id, family=prop.family, events=events,
-            epsilon=round(float(epsilon), 6), parameters=parameters, enders=enders, runs=runs,
+            epsilon=round(float(epsilon), 6), parameters=parameters, enders=enders, runs=runs, taken=taken,
             modules=sorted(own | {service.split(".")[0] for *_, service in enders}),
             until_stopped=interface.until_stopped if interface else [],
             control=interface.of_kind("control") if interface else [],

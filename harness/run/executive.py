@@ -8,7 +8,9 @@ stopped answering and the trace ends `hung`. An exception inside the layer ends 
 
 Every message crosses the interface with a seeded random delay in [0, max_delay]: a request is
 observed when the executive sends it and reaches the layer later; a reply leaves the layer and is
-observed later. The observed timeline goes to `events`, the layer's own to `internal_events`.
+observed later. The observed timeline goes to `events`, the layer's own to `internal_events`; a
+layer that replies `taken` when it takes a request (an external SUT may) has those replies
+observed into `taken_events`.
 """
 from __future__ import annotations
 
@@ -43,6 +45,7 @@ class Request:
     step: Step
     args: str  # as JSON text
     taken: bool = False  # the layer's control task has taken it
+    said_taken: bool = False  # the layer has replied `taken`
     final: str | None = None
     observed: Event | None = None  # succeeds when the final reply is observed
 
@@ -87,7 +90,9 @@ class Executive:
 
     def on_reply(self, rqst_id: int, kind: str, code: str | None) -> None:
         """The layer's messages: `request` when its control task takes the request (the internal
-        instant the layer decides on it, not observed), then `intermediate` and `final` replies."""
+        instant the layer decides on it, not observed), then `intermediate` and `final` replies;
+        a layer may also reply `taken` at that instant, an observed reply without its own row of
+        ground truth (the `request` one is it)."""
         request = self.requests.get(rqst_id)
         if request is None:
             raise LayerMisbehaved(f"the layer replied to request {rqst_id}, which was never sent")
@@ -105,7 +110,12 @@ class Executive:
                 raise LayerMisbehaved(f"the layer replied {code!r} to request {rqst_id} "
                                       f"({request.step.service}); the interface catalogue has no such code")
             request.final = code
-        self.internal.add(self.env.now, kind, request, code)
+        if kind == "taken":
+            if request.said_taken:
+                raise LayerMisbehaved(f"the layer replied taken to request {rqst_id} ({request.step.service}) twice")
+            request.said_taken = True
+        else:
+            self.internal.add(self.env.now, kind, request, code)
 
         def observe():
             self.observed.add(self.env.now, kind, request, code)
@@ -184,7 +194,10 @@ def trace_of(executive: Executive, env: Environment, trace: Trace, wall_start: f
              internal: list[tuple], world: list[tuple]) -> Trace:
     """A finished run's timelines and clocks, into its trace: the observed events, the layer's
     internal ones, its virtual damage with the executive's notes."""
-    trace.events, trace.internal_events = executive.observed.rows, internal
+    trace.events = [row for row in executive.observed.rows if row[2] != "taken"]
+    trace.taken_events = [(seq, t, rqst_id) for seq, t, kind, rqst_id, *_ in executive.observed.rows
+                          if kind == "taken"]
+    trace.internal_events = internal
     trace.world_events = sorted(list(world) + executive.notes)
     trace.sim_s, trace.wall_s = env.now, time.perf_counter() - wall_start
     return trace

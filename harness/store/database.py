@@ -17,7 +17,7 @@ from harness.errors import StoreError
 from harness.files import make_folder
 from harness.target.interface import Interface
 from harness.store.sql import ENV
-from harness.trace import EVENT_COLUMNS, WORLD_EVENT_COLUMNS, Trace
+from harness.trace import EVENT_COLUMNS, TAKEN_EVENT_COLUMNS, WORLD_EVENT_COLUMNS, Trace
 
 if TYPE_CHECKING:
     import pyarrow as pa
@@ -28,6 +28,8 @@ STORAGE_VERSION = "v1.1.0"
 # The layout of sql/schema.sql; each store lists the versions it went through in schema_version.
 SCHEMA_VERSION = 3
 POSITIONS_SINCE = 3  # the first schema version with variant_positions and module_positions
+# The tables stored per trace.
+PER_TRACE = ("traces", "events", "internal_events", "world_events", "taken_events", "trace_runs")
 
 
 def connect(path: str | Path = ":memory:", read_only: bool = False,
@@ -278,7 +280,7 @@ def _table(rows: list[tuple], columns: tuple[str, ...], schema: pa.Schema, trace
 
 def forget_traces(con) -> None:
     """Empty the trace tables (of an in-memory store that judges one batch of traces after another)."""
-    for table in ("traces", "events", "internal_events", "world_events", "trace_runs"):
+    for table in PER_TRACE:
         con.execute(f"delete from {table}")
 
 
@@ -302,7 +304,7 @@ def insert_traces(con, campaign_id: int, runs: list[tuple[int, int | None, Trace
     trace_rows = pa.Table.from_pylist(rows, schema=schema)  # noqa: F841 (read by DuckDB)
     con.execute("insert into traces by name select * from trace_rows")
     for table, columns in (("events", EVENT_COLUMNS), ("internal_events", EVENT_COLUMNS),
-                           ("world_events", WORLD_EVENT_COLUMNS)):
+                           ("world_events", WORLD_EVENT_COLUMNS), ("taken_events", TAKEN_EVENT_COLUMNS)):
         schema = _schema(con, table)
         rows, trace_ids = [], []
         for trace_id, _, trace, _ in runs:

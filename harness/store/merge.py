@@ -9,12 +9,10 @@ from __future__ import annotations
 import duckdb
 
 from harness.errors import StoreError
-from harness.store.database import add_campaign, quoted, transaction
+from harness.store.database import PER_TRACE, add_campaign, quoted, transaction
 
 # Stored once per campaign, the same in every shard: copied from the first.
 SHARED = ("scripts", "reply_codes", "variant_positions", "module_positions")
-# Stored per trace: copied from every shard.
-PER_TRACE = ("traces", "events", "internal_events", "world_events", "trace_runs")
 SCRIPT_DIGEST = "select md5(string_agg(concat_ws('|', script_id, body, mutations, valid), '\n' order by script_id)) from {}.scripts"
 
 

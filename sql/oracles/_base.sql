@@ -1,6 +1,7 @@
 {#- Building blocks of every oracle (DESIGN §6), imported by the type templates.
-    A request has two instants: (t, seq) when it was sent and (final_t, final_seq) when its
-    first final reply came. "Before" is the lexicographic order on (t, seq).
+    A request has two instants: (t, seq) when it was sent, or when the SUT replied that it took
+    it (table taken_events), and (final_t, final_seq) when its first final reply came. "Before"
+    is the lexicographic order on (t, seq).
 
     A type template selects its relevant requests `x` and turns them into `pairs`: one row
     per request x(i) (trace_id, rqst_id) and per thing that can make its P-condition false
@@ -24,10 +25,11 @@
 ({{ a }}t < {{ b }}t or ({{ a }}t = {{ b }}t and {{ a }}seq < {{ b }}seq))
 {%- endmacro %}
 
-{% macro requests(events, modules=none, traces=none, args=false) -%}
+{% macro requests(events, modules=none, traces=none, args=false, taken=true) -%}
 -- request and final-reply events (intermediate replies decide nothing) of `modules`: those of
 -- the property's services, and those that may interrupt its activities (see ee.sql); `args`:
--- with the requests' arguments (only a value-domain oracle reads them)
+-- with the requests' arguments (only a value-domain oracle reads them); `taken`: the store has
+-- taken_events (one read as it is may lack them)
 logged as (
     select trace_id, rqst_id, module, service, kind, t, seq, reply{{ ', args' if args }}
     from {{ events }}
@@ -47,10 +49,20 @@ paired as (
     from logged
     group by trace_id, rqst_id
 ),
+{% if events == 'events' and taken %}
+-- observed, a request the SUT replied `taken` to is placed at that reply: the instant the layer
+-- took it, observed on the channel of its other replies, instead of its sending
+placed as (
+    select p.* replace (coalesce(k.t, p.t) as t, coalesce(k.seq, p.seq) as seq)
+    from paired p left join taken_events k using (trace_id, rqst_id)
+),
+{% else %}
+placed as (select * from paired),
+{% endif %}
 -- the interface gives each reply code its class T, Z or R; a reply without its request is dropped
 requests as (
     select p.*, c.class
-    from paired p left join reply_codes c using (module, service, reply)
+    from placed p left join reply_codes c using (module, service, reply)
     where p.seq is not null
 )
 {%- endmacro %}

@@ -10,7 +10,7 @@
 {% if into %}
 insert into {{ into }} by name
 {% endif %}
-with {{ base.requests(events, modules, explain.traces if explain else none, oracle.needs_args is defined) }},
+with {{ base.requests(events, modules, explain.traces if explain else none, oracle.needs_args is defined, taken) }},
 {{ eps.per_trace(runs) }},
 {{ oracle.ctes('p', **parameters) }}
 {% if explain %}

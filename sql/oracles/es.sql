@@ -6,28 +6,52 @@
 {% import 'oracles/_causes.sql' as causes with context %}
 
 {% macro ctes(name, x, y, r_p) -%}
+{{ chain(name, x, y, r_p) }}
+{%- endmacro %}
+
+{#- `mutual`: ES[x, y] judged with ES[y, x] under the same r_P (mx_r.sql), so a y(j) rejected with
+    r_P says an x ran when the layer took it (rule 8). -#}
+{% macro chain(name, x, y, r_p, mutual=false) -%}
 {{ base.relevant(name, 'x', x) }},
 {{ base.relevant(name, 'y', y) }},
 {{ name }}_xy as (
     select * from {{ name }}_x union select * from {{ name }}_y
 ),
 {{ causes.ctes(name, name ~ '_xy', (x + y) | modules) }},
+-- rule 8: a y(j) rejected with r_P by a mutual exclusion was taken while an x ran; when a single
+-- x(i) could have run then (not rejected, sent before y(j)'s rejection was observed, its own final
+-- reply not observed before y(j) was sent), x(i) was taken before y(j)
+{{ name }}_named as (
+{% if mutual %}
+    select y.trace_id, y.rqst_id as y_rqst_id, any_value(x.rqst_id) as rqst_id
+    from {{ name }}_y y
+    join {{ name }}_x x on x.trace_id = y.trace_id and x.rqst_id <> y.rqst_id and x.class is distinct from 'R'
+         and {{ base.before('x.', 'y.final_') }} and not coalesce({{ base.before('x.final_', 'y.') }}, false)
+    where y.class = 'R' and y.reply = {{ r_p | lit }}
+    group by y.trace_id, y.rqst_id having count(*) = 1
+{% else %}
+    select null::integer as trace_id, null::integer as y_rqst_id, null::integer as rqst_id where false
+{% endif %}
+),
 -- each x(i) with every other y(j) of its trace, placed relative to x(i); whether y(j) is the
--- sole cause of x(i)'s end, or x(i) of y(j)'s (_causes.sql)
+-- sole cause of x(i)'s end, or x(i) of y(j)'s (_causes.sql), or named x(i) (rule 8)
 {{ name }}_met as (
     select x.trace_id, x.rqst_id, x.t, y.rqst_id as y_rqst_id, y.t as y_t, y.final_t as y_final_t, y.class as y_class,
            {{ base.before('y.', 'x.') }} as y_first,
            coalesce({{ base.before('y.final_', 'x.') }}, false) as y_ended,
-           sx.cause_id is not null as y_ended_x, sy.cause_id is not null as x_ended_y
+           sx.cause_id is not null as y_ended_x, sy.cause_id is not null as x_ended_y,
+           n.rqst_id is not null as y_named_x
     from {{ name }}_x x
     left join {{ name }}_y y on y.trace_id = x.trace_id and y.rqst_id <> x.rqst_id
     left join {{ name }}_sole sx on sx.trace_id = x.trace_id and sx.rqst_id = x.rqst_id and sx.cause_id = y.rqst_id
     left join {{ name }}_sole sy on sy.trace_id = x.trace_id and sy.rqst_id = y.rqst_id and sy.cause_id = x.rqst_id
+    left join {{ name }}_named n on n.trace_id = x.trace_id and n.rqst_id = x.rqst_id and n.y_rqst_id = y.rqst_id
 ),
 -- y(j) conflicts if sent before x(i) and not ended before it; its shift is how far its request
 -- or its final reply would have to move to the other side of x(i). `movable`: the same unless
 -- the order is sure (rule 7): a y(j) whose reply was observed before x(i) was sent, a y(j) that
--- x(i) ended as its sole cause (x(i) came while it ran), or one that ended x(i) (it came after)
+-- x(i) ended as its sole cause (x(i) came while it ran), one that ended x(i) or that named x(i)
+-- in its rejection (it came after)
 {{ name }}_pairs as (
     select trace_id, rqst_id, y_rqst_id::varchar as item,
            y_first and not y_ended as conflicts,
@@ -36,7 +60,7 @@
                 else y_t - t end as shift,
            case when y_first and not y_ended then (case when x_ended_y then 'infinity'::double else least(t - y_t, y_final_t - t) end)
                 when y_ended then 'infinity'::double
-                when y_ended_x then 'infinity'::double
+                when y_ended_x or y_named_x then 'infinity'::double
                 else y_t - t end as movable,
            y_class is not distinct from 'R' as conflict_rejected
     from {{ name }}_met

@@ -4,6 +4,10 @@
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/es.sql' as es with context %}
 
+{% macro mutual(name, x, y, r_p) -%}
+{{ es.chain(name, x, y, r_p, mutual=true) }}
+{%- endmacro %}
+
 {% macro ctes(name, x, y, r_p) -%}
-{{ base.both_ways(name, es.ctes, x, y, r_p) }}
+{{ base.both_ways(name, mutual, x, y, r_p) }}
 {%- endmacro %}

@@ -12,7 +12,7 @@ PROTO = "untimely/1"
 # What the SUT may send, with the fields each must carry and their JSON types.
 SUT_MESSAGES = {
     "hello": {"proto": str},
-    "reply": {"id": int, "kind": str},  # and `code`: text on a final, optional on an intermediate
+    "reply": {"id": int, "kind": str},  # and `code`: text on a final, optional on the others
     "pong": {"id": int},
     "internal": {"id": int, "kind": str, "t": float},
     "world": {"t": float, "kind": str, "detail": dict},
@@ -24,7 +24,9 @@ BENCH_MESSAGES = {
     "ping": {"id": int},
     "bye": {},
 }
-REPLY_KINDS = ("intermediate", "final")
+# `taken`: the layer has taken the request (an optional reply of every request, at the instant its
+# control task takes it; the oracles then place the request there, docs/protocol.md)
+REPLY_KINDS = ("taken", "intermediate", "final")
 INTERNAL_KINDS = ("request", "intermediate", "final")
 
 

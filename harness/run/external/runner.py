@@ -127,7 +127,7 @@ class ProtocolLayer:
                 raise ProtocolViolation(f"reply kind {message['kind']!r}; expected one of {', '.join(REPLY_KINDS)}")
             self._request(message)
             code = message.get("code")
-            if not (isinstance(code, str) or code is None and message["kind"] == "intermediate"):
+            if not (isinstance(code, str) or code is None and message["kind"] != "final"):
                 raise ProtocolViolation(f"a {message['kind']} reply needs a text code, got {code!r}")
             self.on_reply(message["id"], message["kind"], code)
         elif op == "pong":
