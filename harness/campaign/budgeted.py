@@ -2,7 +2,8 @@
 run and judged ROUND_TESTS at a time, in the plan's order (harness.mutator.focused), on every
 variant the stopping rule has not ended yet, within the budget (harness.campaign.budget). With
 --shrink, each new finding's first trace is shrunk as soon as it shows, its runs within the
-budget too.
+budget too: before the next round in process, in the background on external SUTs (their runs
+share the campaign's slots with the tests, harness.campaign.slots).
 
 Resumable and a function of the arguments only: rounds are fixed (not a function of --jobs), a
 variant's rule is applied to its tests in order, and a resumed campaign replays its stored
@@ -13,16 +14,17 @@ The table campaign_budgets records the budget, the rule, the mission seconds of 
 from __future__ import annotations
 
 import json
-import queue
 import time
 import threading
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future
+from contextlib import nullcontext
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from harness import store
 from harness.campaign import shrink
 from harness.campaign.budget import RULE, Budget, VariantState
+from harness.campaign.slots import Slots
 from harness.store.budgets import record_budget
 from harness.store.scripts import ScriptRow, add_scripts
 from harness.analysis.judge import Judge
@@ -43,18 +45,20 @@ class BudgetSpent(Exception):
 @dataclass
 class MeteredOriginal(shrink.Original):
     """A trace to shrink whose re-runs are counted against the campaign's budget (shrinks run
-    side by side: one lock keeps the budget's account)."""
+    side by side: one lock keeps the budget's account), each on a slot taken for that run alone."""
     budget: Budget | None = None
     bound: float = 0.0  # no candidate outlasts the original script's bound
     spent_s: float = 0.0
     account: threading.Lock = field(default_factory=threading.Lock)  # shared by the shrinks of a campaign
+    slots: Slots | None = None  # None: in process, on slot 0
 
     def run(self, body: str, runner=None):
         with self.account:
             if not self.budget.fits(self.bound):
                 raise BudgetSpent()
             self.budget.spent_s += self.bound  # reserved until the run says what it took
-        trace = super().run(body, runner) if runner else super().run(body)
+        with self.slots.taken() if self.slots else nullcontext(self.slot) as self.slot:
+            trace = super().run(body, runner) if runner else super().run(body)
         with self.account:
             self.budget.spent_s += trace.sim_s - self.bound
             self.spent_s += trace.sim_s
@@ -67,13 +71,14 @@ def record(con, campaign_id: int, budget: Budget, shrink_s: float, tests: int, s
 
 class FocusedRun:
     def __init__(self, con, campaign_id: int, config: dict, plan: Plan, golden_id: int, tasks_of,
-                 run_tasks, batches, properties, interface, shrink_to: Path | None, say, jobs: int = 1):
+                 run_tasks, batches, properties, interface, shrink_to: Path | None, say, slots: Slots | None = None):
         self.con, self.campaign_id, self.config, self.plan = con, campaign_id, config, plan
-        self.golden_id, self.tasks_of, self.run_tasks, self.batches = golden_id, tasks_of, run_tasks, batches
+        self.golden_id, self.batches, self.slots = golden_id, batches, slots
+        self.tasks_of, self.run_tasks = tasks_of, (slots.run_tasks if slots else run_tasks)
         self.properties, self.interface, self.shrink_to, self.say = properties, interface, shrink_to, say
         self.judge = Judge(interface, properties)
-        # shrinks side by side only on external SUTs: in process, threads would share one core
-        self.shrinkers, self.account = (max(1, jobs) if config["external"] else 1), threading.Lock()
+        self.account = threading.Lock()  # the budget's, shared with shrinks running in the background
+        self.shrinking: list[tuple[shrink.Original, MeteredOriginal, shrink.Behaviour, Future]] = []
         self.state = {sut: VariantState() for sut in config["sut"]}
         stored = con.execute("select sum(sim_s) from traces where campaign_id = ?", [campaign_id]).fetchone()[0]
         self.shrink_s, self.stopped = con.execute("select shrink_s, stopped from campaign_budgets where "
@@ -141,7 +146,8 @@ class FocusedRun:
                 traces = sorted(fresh.items())
                 for (trace_id, trace), found in zip(traces, self.judge.findings([t for _, t in traces])):
                     self.shown[trace_id] = found
-                    self.budget.spent_s += trace.sim_s
+                    with self.account:
+                        self.budget.spent_s += trace.sim_s
                 self.stored |= set(fresh)
             found = []
             for k, tasks in tests:
@@ -158,9 +164,8 @@ class FocusedRun:
                 return self._stop("budget", n)
 
     def _shrink(self, found: list[tuple[Task, str | None, str]]) -> None:
-        """Says what a round found; shrinks each new finding from the trace that showed it, side by
-        side on an external SUT (each shrink on a slot of its own), and stores them in order."""
-        todo = []
+        """Says what a round found; shrinks each new finding from the trace that showed it, at once
+        in process, in the background on external SUTs; stores the shrinks done, in order."""
         for task, property_id, kind in found:
             what = f"{kind} on {property_id}" if property_id else kind
             self.say(f"found     {task.sut}: {what} (trace {task.trace_id}, script {task.script_id})")
@@ -168,40 +173,48 @@ class FocusedRun:
                 continue
             orig = shrink.original(self.con, task.trace_id)
             metered = MeteredOriginal(**{f.name: getattr(orig, f.name) for f in fields(orig)}, budget=self.budget,
-                                      bound=bound_s(parse(orig.body)), account=self.account)
-            todo.append((orig, metered, shrink.Behaviour(task.sut, kind, property_id)))
-        slots = queue.SimpleQueue()
-        for slot in range(self.shrinkers):
-            slots.put(slot)
+                                      bound=bound_s(parse(orig.body)), account=self.account, slots=self.slots)
+            behaviour = shrink.Behaviour(task.sut, kind, property_id)
+            start = self.slots.background if self.slots else at_once
+            self.shrinking.append((orig, metered, behaviour, start(shrunk, metered, behaviour, self.properties)))
+        self._store_shrunk(wait=False)
 
-        def shrunk(metered: MeteredOriginal, behaviour: shrink.Behaviour):
-            metered.slot = slots.get()
-            started = time.perf_counter()
-            try:
-                script, runs = shrink.shrink(metered, behaviour, self.properties)
-                return script, runs, time.perf_counter() - started
-            except BudgetSpent:
-                return "the budget is spent"
-            except UntimelyError as e:
-                return str(e)
-            finally:
-                slots.put(metered.slot)
-        with ThreadPoolExecutor(self.shrinkers) as pool:
-            futures = [(orig, metered, behaviour, pool.submit(shrunk, metered, behaviour))
-                       for orig, metered, behaviour in todo]
-            for orig, metered, behaviour, future in futures:
-                result = future.result()
-                self.shrink_s += metered.spent_s
-                if isinstance(result, str):
-                    self.say(f"          {behaviour}: not shrunk: {result}")
-                    continue
-                self.shrunk.add((behaviour.sut, behaviour.verdict, behaviour.property_id))
-                line = shrink.stored(self.con, orig, behaviour, result, self.shrink_to)
-                self.say(f"          shrunk in {metered.spent_s:,.0f} mission s: " + line.split(": ", 1)[1])
+    def _store_shrunk(self, wait: bool) -> None:
+        """Stores the shrinks done (all of them, waiting, if `wait`), in the order they were started."""
+        while self.shrinking and (wait or self.shrinking[0][3].done()):
+            orig, metered, behaviour, future = self.shrinking.pop(0)
+            result = future.result()
+            self.shrink_s += metered.spent_s
+            if isinstance(result, str):
+                self.say(f"          {behaviour}: not shrunk: {result}")
+                continue
+            self.shrunk.add((behaviour.sut, behaviour.verdict, behaviour.property_id))
+            line = shrink.stored(self.con, orig, behaviour, result, self.shrink_to)
+            self.say(f"          shrunk in {metered.spent_s:,.0f} mission s: " + line.split(": ", 1)[1])
 
     def _stop(self, reason: str, tests: int) -> str:
+        self._store_shrunk(wait=True)
         record(self.con, self.campaign_id, self.budget, self.shrink_s, tests, reason)
         return reason
+
+
+def shrunk(metered: MeteredOriginal, behaviour: shrink.Behaviour, properties) -> tuple | str:
+    """(the shrunk script, runs, wall seconds), or why it could not be shrunk."""
+    started = time.perf_counter()
+    try:
+        script, runs = shrink.shrink(metered, behaviour, properties)
+        return script, runs, time.perf_counter() - started
+    except BudgetSpent:
+        return "the budget is spent"
+    except UntimelyError as e:
+        return str(e)
+
+
+def at_once(work, *args) -> Future:
+    """`work(*args)` run now, as a finished future (in process, shrinks keep the rounds' order)."""
+    future = Future()
+    future.set_result(work(*args))
+    return future
 
 
 def stopped_line(run: FocusedRun, reason: str) -> str:
