@@ -97,21 +97,28 @@ def realtime(folder: Path, prefix: str) -> None:
     load = os.getloadavg()[0]
     wall = campaign(db, DEFAULT_MISSION_DIR, suts, "--strategy", "focused", "--budget", "4000s", "--shrink",
                     "--time-scale", "1", "--jobs", str(SLOTS))
+    print(realtime_line(prefix, db, folder / "dala-focused.duckdb", wall, load))
+
+
+def realtime_line(prefix: str, db: Path, twin: Path, wall: float, load: float) -> str:
+    """The figures of a real-time campaign in `db` that took `wall` seconds, the load average
+    `load` when it started, beside its in-process twin's mission seconds."""
     con = store.connect(db, read_only=True)
     spent, stopped = focused_spent(con)
-    predicted, _ = focused_spent(store.connect(folder / "dala-focused.duckdb", read_only=True))
+    predicted, _ = focused_spent(store.connect(twin, read_only=True))
+    variants = TARGETS["dala"][1].split(",")
     in_process = expected(DEFAULT_MISSION_DIR, load_mission(DEFAULT_MISSION_DIR).properties(), variants)
     wanted = [replace(e, sut=f"{prefix}-{e.sut}") for e in in_process]
     missing = [f"{e.sut} {e.what}" for e, r in exposed(con, wanted).items() if r is None]
     runs, beyond = con.execute("select count(*), median(wall_s - sim_s / time_scale) from traces "
                                "join trace_runs using (trace_id)").fetchone()
-    print(f"{prefix}-* at 1x on {SLOTS} slots: {wall / 60:.1f} min wall for {spent:,.0f} mission s, stopped "
-          f"({stopped}); slots' speed-up {spent / wall:.1f}x real time (of {SLOTS}); in-process prediction "
-          f"{predicted:,.0f} mission s ({spent / predicted:.2f}x of it); "
-          f"{len(wanted) - len(missing)} of {len(wanted)} defects exposed"
-          + (f" (missing: {', '.join(missing)})" if missing else "")
-          + f"; {runs} test runs, median {beyond:.1f} s wall each beyond their mission time (start-up); "
-          f"load average {load:.1f} before, {os.getloadavg()[0]:.1f} after on {os.cpu_count()} cores")
+    return (f"{prefix}-* at 1x on {SLOTS} slots: {wall / 60:.1f} min wall for {spent:,.0f} mission s, stopped "
+            f"({stopped}); slots' speed-up {spent / wall:.1f}x real time (of {SLOTS}); in-process prediction "
+            f"{predicted:,.0f} mission s ({spent / predicted:.2f}x of it); "
+            f"{len(wanted) - len(missing)} of {len(wanted)} defects exposed"
+            + (f" (missing: {', '.join(missing)})" if missing else "")
+            + f"; {runs} stored runs (golden and tests), median {beyond:.1f} s wall each beyond their mission time; "
+            f"load average {load:.1f} before, {os.getloadavg()[0]:.1f} after on {os.cpu_count()} cores")
 
 
 def realtime_choice() -> list[str]:
