@@ -1,5 +1,7 @@
 """The slots shared by a focused campaign's test runs and background shrink runs on external SUTs
-(harness.campaign.slots): never two runs on one slot, tests served before shrinks, errors kept."""
+(harness.campaign.slots): never two runs on one slot, tests served before shrinks, errors kept,
+and runs of one process that start and close side by side leave each other's adapters alone."""
+import subprocess
 import threading
 import time
 
@@ -7,6 +9,9 @@ import pytest
 
 from harness.campaign.slots import Slots, SlotsClosed
 from harness.errors import UntimelyError
+from harness.run.external import channel
+from harness.run.external.channel import Connection
+from harness.run.external.definitions import ExternalSut
 from harness.run.workers import Task
 from harness.trace import Trace
 
@@ -70,3 +75,27 @@ def test_a_shrink_waiting_for_a_slot_gives_up_when_the_campaign_stops():
 def test_an_adapter_that_cannot_start_stops_the_campaign():
     with pytest.raises(UntimelyError, match="could not be started"):
         Slots(FakeSetup(fail=2), None, 2).run_tasks(tasks(4), lambda task, trace: None)
+
+
+def test_an_adapter_starting_while_another_run_closes_is_no_orphan_of_it(monkeypatch):
+    """A closing channel ends the detached children of the process it does not know: an adapter
+    whose start (fork to exec) overlaps that close, in another thread, is not one of them."""
+    reader = ExternalSut("reader", command="{python} -c 'import sys; sys.stdin.read()'")
+    first = Connection(reader, 0)
+    real_popen, started, go_on = subprocess.Popen, threading.Event(), threading.Event()
+
+    def slow_popen(*args, **kwargs):  # the child runs, its Popen has not returned yet
+        process = real_popen(*args, **kwargs)
+        started.set()
+        go_on.wait(10)
+        return process
+    monkeypatch.setattr(channel.subprocess, "Popen", slow_popen)
+    second = Slots.background(Connection, reader, 1)
+    assert started.wait(10)
+    closing = Slots.background(first.close)
+    time.sleep(0.5)
+    go_on.set()
+    closing.result(timeout=20)
+    connection = second.result(timeout=20)
+    assert connection.process.poll() is None, "the starting adapter was ended"
+    connection.close()
