@@ -25,12 +25,18 @@ class Client:
     def __init__(self, sut: ExternalSut, slot: int):
         self.lines: queue.Queue = queue.Queue()
         started = time.monotonic()
-        self.connection = Connection(sut, slot, self.lines.put)
+        self.connection = Connection(sut, slot)
+        self.connection.start(self.deliver)
         self.connection.write(encode("hello", proto=PROTO, run=slot, seed=0, time_scale=1.0,
                                      interface=INTERFACE.describe()))
         self.next(lambda m: m["op"] == "hello")
         self.startup_s = time.monotonic() - started
         self.ids = iter(range(1, 10**6))
+
+    def deliver(self, lines: list[str] | None) -> None:
+        """The reader thread's lines, one by one; None when the SUT's output ends."""
+        for line in lines or [None]:
+            self.lines.put(line)
 
     def next(self, wanted) -> dict:
         while True:

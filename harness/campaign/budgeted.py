@@ -15,15 +15,16 @@ the rule, the shrink runs' share of that sum and why the campaign stopped.
 from __future__ import annotations
 
 import json
-import queue
 import threading
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future
+from contextlib import nullcontext
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from harness import store
 from harness.campaign import shrink
 from harness.campaign.budget import RULE, Budget, VariantState
+from harness.campaign.slots import Slots
 from harness.store.budgets import record_budget
 from harness.store.scripts import ScriptRow, add_scripts
 from harness.store.sql import render_query
@@ -48,17 +49,19 @@ class BudgetSpent(UntimelyError):
 @dataclass
 class MeteredOriginal(shrink.Original):
     """A trace to shrink whose re-runs are counted against the campaign's budget (shrinks run
-    side by side: one lock keeps the budget's account)."""
+    side by side: one lock keeps the budget's account), each on a slot taken for that run alone."""
     budget: Budget | None = None
     bound: float = 0.0  # no candidate outlasts the original script's bound
     account: threading.Lock = field(default_factory=threading.Lock)  # shared by the shrinks of a campaign
+    slots: Slots | None = None  # None: in process, on slot 0
 
     def run(self, body: str, runner=None):
         with self.account:
             if not self.budget.fits(self.bound):
                 raise BudgetSpent()
             self.budget.spent_s += self.bound  # reserved until the run says what it took
-        trace = super().run(body, runner) if runner else super().run(body)
+        with self.slots.taken() if self.slots else nullcontext(self.slot) as self.slot:
+            trace = super().run(body, runner) if runner else super().run(body)
         with self.account:
             self.budget.spent_s += trace.sim_s - self.bound
         return trace
@@ -70,13 +73,14 @@ def record(con, campaign_id: int, budget: Budget, shrink_s: float, tests: int, s
 
 class FocusedRun:
     def __init__(self, con, campaign_id: int, config: dict, plan: Plan, golden_id: int, tasks_of,
-                 run_tasks, batches, properties, interface, shrink_to: Path | None, say, jobs: int = 1):
+                 run_tasks, batches, properties, interface, shrink_to: Path | None, say, slots: Slots | None = None):
         self.con, self.campaign_id, self.config, self.plan = con, campaign_id, config, plan
-        self.golden_id, self.tasks_of, self.run_tasks, self.batches = golden_id, tasks_of, run_tasks, batches
+        self.golden_id, self.batches, self.slots = golden_id, batches, slots
+        self.tasks_of, self.run_tasks = tasks_of, (slots.run_tasks if slots else run_tasks)
         self.properties, self.interface, self.shrink_to, self.say = properties, interface, shrink_to, say
         self.judge = Judge(interface, properties)
-        # shrinks side by side only on external SUTs: in process, threads would share one core
-        self.shrinkers, self.account = (max(1, jobs) if config["external"] else 1), threading.Lock()
+        self.account = threading.Lock()  # the budget's, shared with shrinks running in the background
+        self.shrinking: list[tuple[shrink.Behaviour, Future]] = []
         self.state = {sut: VariantState() for sut in config["sut"]}
         (self.stopped,) = con.execute("select stopped from campaign_budgets where campaign_id = ?",
                                       [campaign_id]).fetchone() or (None,)
@@ -97,10 +101,12 @@ class FocusedRun:
             "select config from campaigns where config->>'kind' = 'shrink'").fetchall())}
 
     def account_from_store(self) -> None:
-        """What the campaign has spent: the mission seconds of its stored traces and shrink runs."""
+        """What the campaign has spent: the mission seconds of its stored traces and shrink runs
+        (called with no shrink running: a running shrink's runs are counted, but not yet stored)."""
         traces_s, self.shrink_s = self.con.execute(render_query("campaign_spent"),
                                                    {"campaign": self.campaign_id}).fetchone()
-        self.budget.spent_s = traces_s + self.shrink_s
+        with self.account:
+            self.budget.spent_s = traces_s + self.shrink_s
 
     def script(self, n: int) -> tuple[int, str]:
         """Test n's (script_id, body), made and stored the first time (shrunk scripts and the
@@ -152,7 +158,8 @@ class FocusedRun:
                 traces = sorted(fresh.items())
                 for (trace_id, trace), found in zip(traces, self.judge.findings([t for _, t in traces])):
                     self.shown[trace_id] = found
-                    self.budget.spent_s += trace.sim_s
+                    with self.account:
+                        self.budget.spent_s += trace.sim_s
                 self.stored |= set(fresh)
             found = []
             for k, tasks in tests:
@@ -164,15 +171,15 @@ class FocusedRun:
                     found += [(task, property_id, kind) for property_id, kind in sorted(new, key=str)]
                 n = k + 1
             self._shrink(found)
-            self.account_from_store()
+            if not self.shrinking:
+                self.account_from_store()
             record(self.con, self.campaign_id, self.budget, self.shrink_s, n, None)
             if cut is not None:
                 return self._stop("budget", n)
 
     def _shrink(self, found: list[tuple[Task, str | None, str]]) -> None:
-        """Says what a round found; shrinks each new finding from the trace that showed it, side by
-        side on an external SUT (each shrink on a slot of its own), and stores them in order."""
-        todo = []
+        """Says what a round found; shrinks each new finding from the trace that showed it, at once
+        in process, in the background on external SUTs; stores the shrinks done, in order."""
         for task, property_id, kind in found:
             what = f"{kind} on {property_id}" if property_id else kind
             self.say(f"found     {task.sut}: {what} (trace {task.trace_id}, script {task.script_id})")
@@ -180,33 +187,39 @@ class FocusedRun:
                 continue
             orig = shrink.original(self.con, task.trace_id)
             metered = MeteredOriginal(**{f.name: getattr(orig, f.name) for f in fields(orig) if f.init},
-                                      budget=self.budget, bound=bound_s(parse(orig.body)), account=self.account)
-            todo.append((metered, shrink.Behaviour(task.sut, kind, property_id)))
-        slots = queue.SimpleQueue()
-        for slot in range(self.shrinkers):
-            slots.put(slot)
+                                      budget=self.budget, bound=bound_s(parse(orig.body)), account=self.account,
+                                      slots=self.slots)
+            behaviour = shrink.Behaviour(task.sut, kind, property_id)
+            self.shrunk.add((behaviour.sut, behaviour.verdict, behaviour.property_id))
+            start = self.slots.background if self.slots else at_once
+            self.shrinking.append((behaviour, start(shrink.shrunk, metered, behaviour, self.properties)))
+        self._store_shrunk(wait=False)
 
-        def shrunk(metered: MeteredOriginal, behaviour: shrink.Behaviour) -> shrink.Shrunk:
-            metered.slot = slots.get()
-            try:
-                return shrink.shrunk(metered, behaviour, self.properties)
-            finally:
-                slots.put(metered.slot)
-        with ThreadPoolExecutor(self.shrinkers) as pool:
-            futures = [(behaviour, pool.submit(shrunk, metered, behaviour)) for metered, behaviour in todo]
-            for behaviour, future in futures:
-                result = future.result()
-                line = shrink.stored(self.con, behaviour, result, self.shrink_to)  # its runs, even if it failed
-                self.shrunk.add((behaviour.sut, behaviour.verdict, behaviour.property_id))
-                if result.error:
-                    self.say(f"          {line}")
-                    continue
-                spent = sum(trace.sim_s for _, trace in result.orig.made)
-                self.say(f"          shrunk in {spent:,.0f} mission s: " + line.split(": ", 1)[1])
+    def _store_shrunk(self, wait: bool) -> None:
+        """Stores the shrinks done (all of them, waiting, if `wait`), in the order they were started,
+        each with its runs, even if it failed."""
+        while self.shrinking and (wait or self.shrinking[0][1].done()):
+            behaviour, future = self.shrinking.pop(0)
+            result = future.result()
+            line = shrink.stored(self.con, behaviour, result, self.shrink_to)
+            if result.error:
+                self.say(f"          {line}")
+                continue
+            spent = sum(trace.sim_s for _, trace in result.orig.made)
+            self.say(f"          shrunk in {spent:,.0f} mission s: " + line.split(": ", 1)[1])
 
     def _stop(self, reason: str, tests: int) -> str:
+        self._store_shrunk(wait=True)
+        self.account_from_store()
         record(self.con, self.campaign_id, self.budget, self.shrink_s, tests, reason)
         return reason
+
+
+def at_once(work, *args) -> Future:
+    """`work(*args)` run now, as a finished future (in process, shrinks keep the rounds' order)."""
+    future = Future()
+    future.set_result(work(*args))
+    return future
 
 
 def stopped_line(run: FocusedRun, reason: str) -> str:

@@ -28,6 +28,7 @@ from harness.schema import cut
 from harness.analysis import analyzer
 from harness.campaign import budgeted, representatives, sharding, shrink
 from harness.campaign.budget import parse_duration
+from harness.campaign.slots import campaign_slots
 from harness.errors import StoreError, UntimelyError
 from harness.run.executive import run_script
 from harness.files import read_text
@@ -276,7 +277,7 @@ def _judged(con, db, properties, interface, mission, show: bool = True) -> None:
 
 
 def _focused(args, con, campaign_id, config, mission, interface, golden, properties, run_tasks, start,
-             jobs: int) -> None:
+             setup: Setup, jobs: int) -> None:
     """A focused campaign: the golden on every variant, then tests until it stops (harness.campaign.budgeted)."""
     if campaign_id is None:
         golden_id = store.next_id(con, "scripts", "script_id")
@@ -291,10 +292,11 @@ def _focused(args, con, campaign_id, config, mission, interface, golden, propert
     _judged(con, args.db, properties, interface, mission, show=False)  # what the stored traces found
     session = Session(Progress(len(config["sut"]) * len(plan.aims), unit="runs"), start)
     out = shrink.default_out(args.db) if args.shrink else None
-    with Batches(con, campaign_id, session, set(config["external"])) as batches:
+    with Batches(con, campaign_id, session, set(config["external"])) as batches, \
+            campaign_slots(config, setup, interface, jobs, args.cluster) as slots:
         focused_run = budgeted.FocusedRun(con, campaign_id, config, plan, golden_id,
                                           lambda script_id, body: _tasks([(script_id, body)], golden_id, config),
-                                          run_tasks, batches, properties, interface, out, print, jobs)
+                                          run_tasks, batches, properties, interface, out, print, slots)
         reason = focused_run.run()
     session.progress.close()
     print(summary(con, campaign_id, session))
@@ -337,7 +339,8 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
     variants = len(config["sut"])
     start = time.monotonic()
     if config["strategy"] == "focused":
-        _focused(args, con, campaign_id, config, mission, interface, golden, properties, run_tasks, start, jobs)
+        _focused(args, con, campaign_id, config, mission, interface, golden, properties, run_tasks, start,
+                 setup, jobs)
         return 0
     if campaign_id is None:
         golden_id = store.next_id(con, "scripts", "script_id")

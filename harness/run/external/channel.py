@@ -34,6 +34,9 @@ QUOTE_CHARS = 200  # of a line quoted in a message
 GRACE_S = 2.0  # after bye, how long an adapter has to exit by itself
 POLL_S = 0.25  # how often a blocked reader or writer looks whether the channel was closed
 _live: set[int] = set()  # the adapters of this process's open channels (a Dask worker runs several)
+# Held from an adapter's start until it is in _live, and while a closing channel lists orphans: an
+# adapter starting in another thread (a focused campaign's runs share one process) is no orphan.
+_starting = threading.Lock()
 
 
 class Unresponsive(Exception):
@@ -84,14 +87,15 @@ class Connection:
 
     def _start(self, slot: int) -> None:
         env = {**os.environ, **self.sut.env, "UNTIMELY_SLOT": str(slot)}
-        try:
-            self.process = subprocess.Popen(self.sut.argv(), stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                            stderr=subprocess.PIPE, env=env, bufsize=0, cwd=self.sut.cwd,
-                                            start_new_session=True)
-        except OSError as e:
-            raise UntimelyError(f"--sut {self.sut.name}: cannot start {self.sut.command!r}: {e}; "
-                                "check the command (a path relative to the current folder?)") from None
-        _live.add(self.process.pid)
+        with _starting:
+            try:
+                self.process = subprocess.Popen(self.sut.argv(), stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                                stderr=subprocess.PIPE, env=env, bufsize=0, cwd=self.sut.cwd,
+                                                start_new_session=True)
+            except OSError as e:
+                raise UntimelyError(f"--sut {self.sut.name}: cannot start {self.sut.command!r}: {e}; "
+                                    "check the command (a path relative to the current folder?)") from None
+            _live.add(self.process.pid)
 
     def start(self, deliver: Callable[[list[str] | None], None]) -> None:
         """Start handing the SUT's lines to `deliver`."""
@@ -205,8 +209,9 @@ class Connection:
         except subprocess.TimeoutExpired:
             pass
         processes.end_group(self.process.pid, self.process)
-        _live.discard(self.process.pid)
-        processes.end_orphans(self.started, _live)
+        with _starting:
+            _live.discard(self.process.pid)
+            processes.end_orphans(self.started, _live)
         self._join(self.reader)
         self._join(self._stderr_reader)  # its last lines, for the error of a crashed trace
         self.process.stdout.close()

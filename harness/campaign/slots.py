@@ -1,0 +1,103 @@
+"""The slots of a focused campaign on external SUTs, shared by its test runs and its shrink runs.
+
+A real-time run mostly waits, on its SUT and on the clock. A round of tests waits for its slowest
+run, and shrinking a finding is a chain of runs one after another: with rounds and shrinks
+taking turns, most of the slots idled (the out-of-process simulator at 1x on 8 slots gave 1.8x
+real time). Here a run, a test's or a shrink's, holds a slot only while it runs, and shrinks go
+on in the background while later rounds run, so the slots a round's tail leaves free take shrink
+runs. Tests come first: the stopping rule waits for their round.
+
+Runs are played in daemon threads of the campaign's process, as shrink runs always were: an
+external run's work is its adapter's, the bench only stamps and forwards lines. A campaign
+stopped by an error or Ctrl-C does not wait for them: an adapter whose bench exits sees the end
+of its input and exits. In process, runs are CPU-bound and rounds and shrinks keep their order
+(reproducibility), so this is used only when every variant is external.
+"""
+from __future__ import annotations
+
+import threading
+from concurrent.futures import Future, as_completed
+from contextlib import contextmanager
+from typing import Callable, Iterator
+
+from harness.errors import UntimelyError
+from harness.run.workers import Setup, Task
+from harness.trace import Trace
+
+
+class SlotsClosed(Exception):
+    """The campaign stopped: a shrink waiting for a slot gives up."""
+
+
+class Slots:
+    def __init__(self, setup: Setup, interface, jobs: int):
+        self.setup, self.interface = setup, interface
+        self.free = list(range(jobs - 1, -1, -1))  # slot 0 first, as the worker pool hands them out
+        self.turn = threading.Condition()
+        self.tests_waiting = 0
+        self.closed = False
+
+    @contextmanager
+    def taken(self, test: bool = False) -> Iterator[int]:
+        """A free slot's number while the block runs; a test's run is served before a shrink's."""
+        with self.turn:
+            self.tests_waiting += test
+            try:
+                self.turn.wait_for(lambda: self.closed or (self.free and (test or not self.tests_waiting)))
+            finally:
+                self.tests_waiting -= test
+            if self.closed:
+                raise SlotsClosed()
+            slot = self.free.pop()
+        try:
+            yield slot
+        finally:
+            with self.turn:
+                self.free.append(slot)
+                self.turn.notify_all()
+
+    def run_tasks(self, tasks: list[Task], on_trace: Callable[[Task, Trace], None]) -> None:
+        """The worker pool's run_all on these slots: `on_trace` in this thread, in completion order;
+        an UntimelyError (an adapter that cannot be started) stops the campaign."""
+        futures = {self.background(self._run, task): task for task in tasks}
+        for future in as_completed(futures):
+            result = future.result()
+            if isinstance(result, UntimelyError):
+                raise result
+            on_trace(futures[future], result)
+
+    def _run(self, task: Task) -> Trace | UntimelyError:
+        with self.taken(test=True) as slot:
+            return self.setup.run(task, self.interface, slot)
+
+    @staticmethod
+    def background(work: Callable, *args) -> Future:
+        """`work(*args)` in a daemon thread of its own."""
+        future = Future()
+
+        def body() -> None:
+            try:
+                future.set_result(work(*args))
+            except BaseException as e:  # noqa: BLE001 - handed to whoever reads the future
+                future.set_exception(e)
+        threading.Thread(target=body, daemon=True).start()
+        return future
+
+    def close(self) -> None:
+        with self.turn:
+            self.closed = True
+            self.turn.notify_all()
+
+
+@contextmanager
+def campaign_slots(config: dict, setup: Setup, interface, jobs: int, cluster: str | None) -> Iterator[Slots | None]:
+    """Slots for a focused campaign whose variants are all external and run here (not on a
+    cluster); None otherwise."""
+    if cluster or not set(config["sut"]) <= set(config["external"]):
+        yield None
+        return
+    slots = Slots(setup, interface, jobs)
+    try:
+        yield slots
+    finally:
+        slots.close()
