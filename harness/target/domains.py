@@ -135,7 +135,15 @@ def _sound(table):
     return table
 
 
-class Bounds(Strict):
+class Sound(Strict):
+    """A table whose bounds some value meets and whose pattern is a regular expression."""
+
+    @model_validator(mode="after")
+    def _sound(self):
+        return _sound(self)
+
+
+class Bounds(Sound):
     """The bounds a table sets on an argument (each optional): min..max for a float, choices and a
     pattern for a str."""
     model_config = ConfigDict(title="a narrowed domain")
@@ -144,15 +152,11 @@ class Bounds(Strict):
     choices: list[str] = Field(default_factory=list, description="give a list of string choices")
     pattern: str | None = Field(None, description='give a regular expression such as "[a-z_]{1,32}"')
 
-    @model_validator(mode="after")
-    def _sound(self):
-        return _sound(self)
-
     def domain(self) -> Domain:
         return Domain(self.min, self.max, tuple(self.choices), self.pattern)
 
 
-class FloatArgumentFile(Strict):
+class FloatArgumentFile(Sound):
     model_config = ConfigDict(title="a float argument")
     type: Literal["float"]
     min: float | None = Field(None, description="give a finite number, at most max")
@@ -160,22 +164,14 @@ class FloatArgumentFile(Strict):
     required: bool = Field(True, description="give true or false")
     doc: str = ""
 
-    @model_validator(mode="after")
-    def _sound(self):
-        return _sound(self)
 
-
-class StrArgumentFile(Strict):
+class StrArgumentFile(Sound):
     model_config = ConfigDict(title="a str argument")
     type: Literal["str"]
     choices: list[str] = Field(default_factory=list, description="give a list of string choices")
     pattern: str | None = Field(None, description='give a regular expression such as "[a-z_]{1,32}"')
     required: bool = Field(True, description="give true or false")
     doc: str = ""
-
-    @model_validator(mode="after")
-    def _sound(self):
-        return _sound(self)
 
 
 ARGUMENT_HINT = ('give { type = "float", min = .., max = .. } or { type = "str", choices = [..], pattern = ".." } '
