@@ -21,6 +21,8 @@ CONFIGURE = "float64 speed\n---\nbool success\nstring message\n"
 BASE = 100.0  # the bag's clock: its first message
 CLIENT, SERVER = np.arange(16, dtype=np.uint8), np.zeros(16, dtype=np.uint8)
 SENT, RECEIVED, ANSWERED, GOT = range(4)
+SKEW = 0.25  # the server's clock runs this far ahead of the recorder's: its stamps are the SUT's clock
+ACCEPT = {1: BASE + 1.005, 2: BASE + 2.005}  # when the server accepted each goal (the recorder's clock)
 ACCEPTED, EXECUTING, CANCELED, ABORTED = 1, 2, 5, 6
 
 
@@ -49,8 +51,10 @@ class Bag:
         self.writer.write(self.connections[topic], int(at * 1e9), self.store.serialize_cdr(message, msgtype))
 
     def event(self, topic, msgtype, definition, at, kind, sequence, request=None, response=None) -> None:
+        """An introspection event received at `at`; the server stamps its own on its clock."""
+        stamp = at + SKEW if kind in (RECEIVED, ANSWERED) else at
         info = self.types["service_msgs/msg/ServiceEventInfo"](
-            event_type=kind, stamp=self._t(at), client_gid=CLIENT, sequence_number=sequence)
+            event_type=kind, stamp=self._t(stamp), client_gid=CLIENT, sequence_number=sequence)
         event = self.types[msgtype](info=info, request=[request] if request else [], response=[response] if response else [])
         self.write(topic, msgtype, definition, at, event)
 
@@ -67,14 +71,18 @@ class Bag:
         kind = "rover_msgs/action/Drive_SendGoal_Event"
         request = self.types["rover_msgs/action/Drive_SendGoal_Request"](
             goal_id=self._uuid(goal), goal=self.types["rover_msgs/action/Drive_Goal"](x=x, y=y))
-        response = self.types["rover_msgs/action/Drive_SendGoal_Response"](accepted=accepted, stamp=self._t(at))
-        self.event("/navigate/_action/send_goal/_service_event", kind, DRIVE, at, SENT, goal, request=request)
-        self.event("/navigate/_action/send_goal/_service_event", kind, DRIVE, at + 0.01, GOT, goal, response=response)
+        response = self.types["rover_msgs/action/Drive_SendGoal_Response"](accepted=accepted, stamp=self._t(0))  # rclcpp leaves it zero
+        topic = "/navigate/_action/send_goal/_service_event"
+        for step, when in ((SENT, at), (RECEIVED, at + 0.002)):
+            self.event(topic, kind, DRIVE, when, step, goal, request=request)
+        for step, when in ((ANSWERED, at + 0.004), (GOT, at + 0.01)):
+            self.event(topic, kind, DRIVE, when, step, goal, response=response)
 
     def status(self, at: float, *goals: tuple[int, int]) -> None:
         types = self.types
         array = types["action_msgs/msg/GoalStatusArray"](status_list=[types["action_msgs/msg/GoalStatus"](
-            goal_info=types["action_msgs/msg/GoalInfo"](goal_id=self._uuid(goal), stamp=self._t(at)), status=status)
+            goal_info=types["action_msgs/msg/GoalInfo"](goal_id=self._uuid(goal), stamp=self._t(ACCEPT[goal] + SKEW)),
+            status=status)
             for goal, status in goals])
         self.write("/navigate/_action/status", "action_msgs/msg/GoalStatusArray", None, at, array)
 
@@ -89,8 +97,10 @@ class Bag:
         response = self.types["rover_msgs/action/Drive_GetResult_Response"](
             status=status, result=self.types["rover_msgs/action/Drive_Result"](message=message))
         topic = "/navigate/_action/get_result/_service_event"
-        self.event(topic, kind, DRIVE, at - 0.5, SENT, 100 + goal, request=request)
-        self.event(topic, kind, DRIVE, at, GOT, 100 + goal, response=response)
+        for step, when in ((SENT, at - 0.5), (RECEIVED, at - 0.499)):
+            self.event(topic, kind, DRIVE, when, step, 100 + goal, request=request)
+        for step, when in ((ANSWERED, at - 0.002), (GOT, at)):
+            self.event(topic, kind, DRIVE, when, step, 100 + goal, response=response)
 
     def close(self) -> None:
         self.writer.close()
@@ -119,11 +129,11 @@ def robot_day(path: Path, plugin: StoragePlugin, introspection: bool = True) -> 
     return path
 
 
-def imported(path: Path, interface):
+def imported(path: Path, interface, table: str = "events"):
     con = connect(":memory:")
     import_file(con, path, interface, str(MAPPING))
-    rows = con.execute("select seq, round(t, 3), kind, rqst_id, module || '.' || service, args::varchar, reply "
-                       "from events order by seq").fetchall()
+    rows = con.execute("select seq, round(t, 4), kind, rqst_id, module || '.' || service, args::varchar, reply "
+                       f"from {table} order by seq").fetchall()
     return [(*row[:5], json.loads(row[5]) if row[5] else None, row[6]) for row in rows]
 
 
@@ -141,6 +151,34 @@ def test_a_rosbag2_bag_imports_to_the_trace_the_robot_lived(tmp_path, interface,
         (8, 5.01, "final", 3, "ndd.GotoPosition", None, "goal_unreachable"),  # aborted: the result's text
         (9, 6.0, "request", 4, "ndd.GotoPosition", {"x":30.0,"y":1.0}, None),
         (10, 6.01, "final", 4, "ndd.GotoPosition", None, "disallowed"),  # rejected: not accepted
+    ]
+
+
+@pytest.mark.parametrize("plugin", [StoragePlugin.MCAP, StoragePlugin.SQLITE3])
+def test_the_servers_stamps_are_the_suts_clock_in_internal_events(tmp_path, interface, plugin):
+    """From the bag's first receive stamp, on the server's clock (SKEW ahead): a request at its
+    REQUEST_RECEIVED stamp, a final at its RESPONSE_SENT stamp (send_goal's for the rejected goal,
+    get_result's for the preempted and the aborted one); feedback is unstamped, so no intermediate."""
+    bag = robot_day(tmp_path / "day", plugin)
+    assert imported(bag, interface, "internal_events") == [
+        (1, 0.251, "request", 1, "ndd.SetParams", {"speed": 0.6}, None),
+        (2, 0.252, "final", 1, "ndd.SetParams", None, "ok"),
+        (3, 1.252, "request", 2, "ndd.GotoPosition", {"x": 9.0, "y": 4.0}, None),
+        (4, 2.252, "request", 3, "ndd.GotoPosition", {"x": 14.0, "y": 11.0}, None),
+        (5, 2.308, "final", 2, "ndd.GotoPosition", None, "interrupted"),  # preempted
+        (6, 5.258, "final", 3, "ndd.GotoPosition", None, "goal_unreachable"),  # aborted
+        (7, 6.252, "request", 4, "ndd.GotoPosition", {"x": 30.0, "y": 1.0}, None),
+        (8, 6.254, "final", 4, "ndd.GotoPosition", None, "disallowed"),  # rejected
+    ]
+
+
+def test_without_introspection_the_suts_clock_has_the_accept_stamps_only(tmp_path, interface):
+    """A status array carries no stamp of its own: its goals' accept stamps give their requests,
+    and their terminal statuses no final on the SUT's clock. The origin is the first status array."""
+    bag = robot_day(tmp_path / "day", StoragePlugin.SQLITE3, introspection=False)
+    assert imported(bag, interface, "internal_events") == [
+        (1, 0.235, "request", 1, "ndd.GotoPosition", None, None),
+        (2, 1.235, "request", 2, "ndd.GotoPosition", None, None),
     ]
 
 

@@ -1,9 +1,9 @@
 """Bags as traces (docs/ros.md, "Judging a bag"): a ROS 1 .bag, a ROS 2 rosbag2 folder (MCAP or
 SQLite3), or a folder of them, read with the `rosbags` library (no ROS needed). One bag is one
 trace, labelled with its file name; the mapping file (ros.toml) says which topics carry which
-service. The bag's receive stamps are the observed timeline (`events`); the SUT's own header stamps,
-where the bag has them (ROS 1), the SUT's clock (`internal_events`, as an external SUT's `internal`
-messages; timeline.sut_rows).
+service. The bag's receive stamps are the observed timeline (`events`); the SUT's own stamps (ROS 1
+headers; ROS 2 the server's introspection events and goals' accept stamps) the SUT's clock
+(`internal_events`, as an external SUT's `internal` messages; timeline.sut_rows).
 """
 from __future__ import annotations
 

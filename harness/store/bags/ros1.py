@@ -17,7 +17,7 @@ from rosbags.highlevel import AnyReader
 
 from harness.errors import UntimelyError
 from harness.store.bags.routes import Routes
-from harness.store.bags.timeline import Timeline, seconds
+from harness.store.bags.timeline import Timeline, seconds, stamped
 
 STATUS = ("PENDING", "ACTIVE", "PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED", "PREEMPTING", "RECALLING",
           "RECALLED", "LOST")
@@ -66,5 +66,4 @@ def read_ros1(path: Path, routes: Routes) -> tuple[Timeline, list[str]]:
 
 def _stamp(message) -> float | None:
     """The header stamp the server (the SUT) gave a message, in seconds; None if it left it zero."""
-    stamp = message.header.stamp
-    return seconds(stamp) if stamp.sec or stamp.nanosec else None
+    return stamped(message.header.stamp)

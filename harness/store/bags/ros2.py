@@ -10,15 +10,23 @@ as the live adapter does). Per ROS service NAME: NAME/_service_event, whose resp
 final reply (Route.response_code). Events of one call are paired by client GID and sequence
 number; the client's side (request sent, response received) is the observed one when recorded,
 else the server's.
+
+The SUT's own clock (timeline.sut_rows) comes from what the server stamps: a request at the earlier of
+its REQUEST_RECEIVED event's stamp and its goal's accept stamp (goal_info.stamp in a status
+list); a final at its RESPONSE_SENT event's stamp (send_goal's for a rejected goal, get_result's or
+the call's otherwise). Status arrays and feedback messages carry no stamp of their own, so neither
+a terminal status nor a feedback has an instant on the SUT's clock.
 """
 from __future__ import annotations
+
+from typing import NamedTuple
 
 from rosbags.rosbag2 import Reader
 
 from harness.store.bags.ros2_types import register, typestore
 from harness.errors import UntimelyError
 from harness.store.bags.routes import Routes
-from harness.store.bags.timeline import Timeline, seconds
+from harness.store.bags.timeline import Timeline, seconds, stamped
 
 STATUS = {4: "SUCCEEDED", 5: "PREEMPTED", 6: "ABORTED"}  # action_msgs/GoalStatus terminal codes
 REQUEST_SENT, REQUEST_RECEIVED, RESPONSE_SENT, RESPONSE_RECEIVED = range(4)
@@ -44,61 +52,82 @@ def _key(uuid) -> bytes:
     return bytes(bytearray(uuid.uuid))
 
 
-def _calls(events: list) -> list:
-    """(call, request time, request, response time, response, send stamp) of each call, paired by
-    client GID and sequence number; the client's instants preferred to the server's."""
+class Call(NamedTuple):
+    """One call's events: the observed instants (the client's when recorded, else the server's), and
+    the server's own stamps (the SUT's clock) where its side was recorded."""
+    key: tuple  # client GID, sequence number
+    sent: float  # receive time of the request event
+    request: object
+    answered: float | None  # receive time of the response event
+    response: object | None
+    sent_s: float  # the request event's stamp: numbers the requests
+    received_stamp: float | None  # REQUEST_RECEIVED's stamp: the server got the request
+    answer_stamp: float | None  # RESPONSE_SENT's stamp: the server sent its response
+
+
+def _calls(events: list) -> list[Call]:
+    """Each call, its events paired by client GID and sequence number."""
     calls: dict[tuple, dict[int, tuple]] = {}
     for received, event in events:
         pair = calls.setdefault((bytes(bytearray(event.info.client_gid)), event.info.sequence_number), {})
         pair.setdefault(event.info.event_type, (received, event))
     paired = []
-    for call, pair in calls.items():
+    for key, pair in calls.items():
         sent = pair.get(REQUEST_SENT) or pair.get(REQUEST_RECEIVED)
         answered = pair.get(RESPONSE_RECEIVED) or pair.get(RESPONSE_SENT)
         if sent and sent[1].request:
-            paired.append((call, sent[0], sent[1].request[0], answered[0] if answered else None,
-                           answered[1].response[0] if answered and answered[1].response else None,
-                           seconds(sent[1].info.stamp)))
+            server = {kind: stamped(pair[kind][1].info.stamp)
+                      for kind in (REQUEST_RECEIVED, RESPONSE_SENT) if kind in pair}
+            paired.append(Call(key, sent[0], sent[1].request[0], answered[0] if answered else None,
+                               answered[1].response[0] if answered and answered[1].response else None,
+                               seconds(sent[1].info.stamp), server.get(REQUEST_RECEIVED), server.get(RESPONSE_SENT)))
     return paired
 
 
 def _send_goals(timeline: Timeline, routes: Routes, carried, events) -> None:
     route = carried[0][1]
-    for _, sent, request, answered, response, stamp in _calls(events):
-        target = routes.target(carried, request.goal)
+    for call in _calls(events):
+        target = routes.target(carried, call.request.goal)
         if target is not None:
-            timeline.request(_key(request.goal_id), sent, *target, sent_s=stamp)
-            if response is not None and not response.accepted:
-                timeline.final(_key(request.goal_id), answered, routes.final_code(route, "REJECTED", None, ""))
+            key = _key(call.request.goal_id)
+            timeline.request(key, call.sent, *target, sent_s=call.sent_s)
+            timeline.held(key, call.received_stamp)
+            if call.response is not None and not call.response.accepted:
+                timeline.final(key, call.answered, routes.final_code(route, "REJECTED", None, ""), call.answer_stamp)
 
 
 def _service_calls(timeline: Timeline, routes: Routes, carried, events) -> None:
-    for call, sent, request, answered, response, stamp in _calls(events):
-        timeline.request(call, sent, *routes.target(carried, request), sent_s=stamp)
-        if response is not None:
-            timeline.final(call, answered, carried[0][1].response_code(response, routes.catalogue))
+    for call in _calls(events):
+        timeline.request(call.key, call.sent, *routes.target(carried, call.request), sent_s=call.sent_s)
+        timeline.held(call.key, call.received_stamp)
+        if call.response is not None:
+            timeline.final(call.key, call.answered, carried[0][1].response_code(call.response, routes.catalogue),
+                           call.answer_stamp)
 
 
 def _statuses(timeline: Timeline, routes: Routes, carried, events) -> None:
     route = carried[0][1]
     for received, message in events:
         for status in message.status_list:
-            key = _key(status.goal_info.goal_id)
+            key, accepted = _key(status.goal_info.goal_id), stamped(status.goal_info.stamp)
             if not route.generic:  # a generic goal's service is in its goal only
                 timeline.request(key, received, carried[0][0], None, sent_s=seconds(status.goal_info.stamp))
-            if status.status in STATUS:
+            timeline.held(key, accepted)  # the server's accept instant
+            if status.status in STATUS:  # a status array has no stamp: no SUT instant for the change
                 timeline.status_final(key, received, routes.final_code(route, STATUS[status.status], None, ""))
 
 
 def _results(timeline: Timeline, routes: Routes, carried, events) -> None:
-    for _, _, request, answered, response, _ in _calls(events):
+    for call in _calls(events):
+        response = call.response
         if response is not None and response.status in STATUS:
-            timeline.final(_key(request.goal_id), answered,
-                           routes.final_code(carried[0][1], STATUS[response.status], response.result, ""))
+            timeline.final(_key(call.request.goal_id), call.answered,
+                           routes.final_code(carried[0][1], STATUS[response.status], response.result, ""),
+                           call.answer_stamp)
 
 
 def _feedback(timeline: Timeline, routes: Routes, carried, events) -> None:
-    for received, message in events:
+    for received, message in events:  # a FeedbackMessage has no stamp: no SUT instant
         timeline.intermediate(_key(message.goal_id), received)
 
 

@@ -10,11 +10,12 @@ intermediate reply it sent first is kept, no later than the final.
 Requests are numbered in the order their clients sent them (the client's own stamp), as the
 bench numbers a script's requests.
 
-The SUT's own stamps (ROS 1 headers) give the same requests on the SUT's clock, for
-`internal_events` (sut_rows): a request at the first stamp showing that the server held the goal
-(a status list naming it, its feedback or its result), its first feedback at that feedback's
-stamp, its final at its result's (or terminal status's) stamp. A request the SUT never stamped is
-left out of them.
+The SUT's own stamps (ROS 1 headers; ROS 2 the server's introspection events and goals' accept
+stamps, ros2.py) give the same requests on the SUT's clock, for `internal_events` (sut_rows): a
+request at the first stamp showing that the server held the goal or call (ROS 1: a status list
+naming it, its feedback or its result; ROS 2: its receipt or acceptance, else its response), its
+first feedback at that feedback's stamp, its final at its result's (or terminal status's) stamp.
+A request the SUT never stamped is left out of them, and so is a reply it did not stamp.
 """
 from __future__ import annotations
 
@@ -34,7 +35,7 @@ class Request:
     final_stamp: float | None = None
     status_final: tuple[float, str] | None = None  # a terminal status, for a goal whose result is not in the bag
     status_stamp: float | None = None  # that status list's stamp
-    held_stamp: float | None = None  # the SUT's earliest stamp on a status list naming the goal
+    held_stamp: float | None = None  # the SUT's earliest stamp showing it held the goal (status list, receipt)
 
     def settle(self) -> None:
         """A goal whose result the bag lacks ends with its terminal status."""
@@ -74,7 +75,8 @@ class Timeline:
             request.status_final, request.status_stamp = (received_s - self.origin_s, code), stamp_s
 
     def held(self, key, stamp_s: float | None) -> None:
-        """A status list stamped `stamp_s` by the SUT names the goal."""
+        """The SUT stamped `stamp_s` on something showing it held the goal (a status list naming it,
+        its receipt or acceptance)."""
         request = self.requests.get(key)
         if request is not None and stamp_s is not None:
             request.held_stamp = stamp_s if request.held_stamp is None else min(stamp_s, request.held_stamp)
@@ -133,3 +135,8 @@ def _sent_before(first: float | None, second: float | None) -> bool:
 def seconds(stamp) -> float:
     """A message's time stamp (sec, nanosec) in seconds."""
     return stamp.sec + stamp.nanosec * 1e-9
+
+
+def stamped(stamp) -> float | None:
+    """A stamp the SUT gave, in seconds; None if it left it zero (no instant)."""
+    return seconds(stamp) if stamp.sec or stamp.nanosec else None
