@@ -42,8 +42,8 @@ PATIENCE = 40  # tests per variant without anything new, once every aim was exer
 class BudgetSpent(UntimelyError):
     """A shrink run that would not fit in the budget."""
 
-    def __init__(self):
-        super().__init__("the budget is spent")
+    def __init__(self, message: str = "the budget is spent"):
+        super().__init__(message)
 
 
 @dataclass
