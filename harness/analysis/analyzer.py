@@ -21,7 +21,8 @@ from harness.analysis.provenance import default_properties, last_epsilon, source
 from harness.errors import InputFileError, PropertyError, StoreError
 from harness.store.analyses import (OracleFailure, drop_staged, keep_previous, publish, record, replace_old_analysis,
                                     stage, staged, try_statement)
-from harness.store.database import connect, transaction
+from harness.store.appends import transaction
+from harness.store.database import connect
 from harness.store.reads import ordered, relations
 from harness.store.sql import render_query, render_view, view_order
 from harness.target.interface import Interface, Property, load_interface, load_properties

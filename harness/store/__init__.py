@@ -1,7 +1,8 @@
 """The store: the one gateway to the DuckDB file (connection, schema, writes, reads, import, export)."""
+from harness.store.appends import transaction
 from harness.store.database import (SCHEMA_VERSION, add_campaign, add_reply_codes, connect, discard_if_empty,
                                     forget_traces, insert_trace, insert_traces, next_id, next_script_id, place,
-                                    quoted, schema_version, transaction)
+                                    quoted, schema_version)
 from harness.store.scripts import ScriptRow, add_scripts, record_shrink_failure
 from harness.store.shrinks import add_shrink_runs
 

@@ -16,6 +16,7 @@ from harness import SQL_DIR, __version__
 from harness.errors import StoreError
 from harness.files import make_folder
 from harness.target.interface import Interface
+from harness.store.appends import append, schema
 from harness.store.sql import ENV
 from harness.trace import EVENT_COLUMNS, TAKEN_EVENT_COLUMNS, WORLD_EVENT_COLUMNS, Trace
 
@@ -153,11 +154,6 @@ def _open_problem(path: str, error: duckdb.Error) -> str:
     return f"cannot open the store {path!r}: {error}"
 
 
-def _write_problem(error: duckdb.Error) -> StoreError:
-    return StoreError(f"could not write the store: {error}; every transaction committed before is kept. "
-                      "Free disk space (or fix the cause) and rerun the same command: a campaign resumes")
-
-
 def discard_if_empty(path: str | Path) -> None:
     """Remove a store that holds no campaign and no trace (one a failed command just created)."""
     if not Path(path).exists():
@@ -171,26 +167,6 @@ def discard_if_empty(path: str | Path) -> None:
     if empty:
         for leftover in (Path(path), Path(f"{path}.wal")):
             leftover.unlink(missing_ok=True)
-
-
-@contextmanager
-def transaction(con):
-    """The block's writes commit together, or on any exception are rolled back and it propagates."""
-    con.begin()
-    try:
-        yield
-    except BaseException as e:
-        try:
-            con.rollback()
-        except duckdb.TransactionException:
-            pass  # DuckDB already ended a transaction whose write failed
-        if isinstance(e, duckdb.IOException):
-            raise _write_problem(e) from None
-        raise
-    try:
-        con.commit()
-    except duckdb.Error as e:  # a full disk shows here, when the write-ahead log is written
-        raise _write_problem(e) from None
 
 
 @contextmanager
@@ -257,18 +233,6 @@ def place(con, table: str, column: str, names: list[str]) -> None:
                     from given where name not in (select {column} from {table})""")
 
 
-_SCHEMAS: dict[str, pa.Schema] = {}
-
-
-def _schema(con, table: str) -> pa.Schema:
-    """A trace table's Arrow schema, as DuckDB gives it from sql/schema.sql (the one definition of
-    its columns). pyarrow is imported by the functions that write a store: a process that only
-    reads one, such as the report, is some 50 MB smaller without it."""
-    if table not in _SCHEMAS:
-        _SCHEMAS[table] = con.sql(f"select * from {table} limit 0").to_arrow_table().schema
-    return _SCHEMAS[table]
-
-
 def _table(rows: list[tuple], columns: tuple[str, ...], schema: pa.Schema, trace_ids: list[int]) -> pa.Table:
     """Rows (without their trace id) of several traces as one Arrow table of the table's `schema`
     (its other columns are left to their defaults); `trace_ids` row by row."""
@@ -292,30 +256,22 @@ def insert_trace(con, trace_id: int, campaign_id: int, script_id: int | None, tr
 
 def insert_traces(con, campaign_id: int, runs: list[tuple[int, int | None, Trace, str | None]]) -> None:
     """Write traces, given as (trace_id, script_id, trace, label): their rows, events, ground truth,
-    world events and provenance, one bulk insert per table; the caller owns the transaction."""
+    world events and provenance, one `append` per table; the caller owns the transaction."""
     if not runs:  # e.g. a shard that runs none of the golden runs
         return
-    import pyarrow as pa
-    schema = _schema(con, "traces")
     rows = [dict(trace_id=trace_id, campaign_id=campaign_id, script_id=script_id, label=label,
-                 **{c: getattr(t, c) for c in schema.names if hasattr(t, c)})
+                 **{c: getattr(t, c) for c in schema(con, "traces").names if hasattr(t, c)})
             for trace_id, script_id, t, label in runs]
     place(con, "variant_positions", "sut", [t.sut for _, _, t, _ in sorted(runs, key=lambda run: run[0])])
-    trace_rows = pa.Table.from_pylist(rows, schema=schema)  # noqa: F841 (read by DuckDB)
-    con.execute("insert into traces by name select * from trace_rows")
+    append(con, "traces", rows)
     for table, columns in (("events", EVENT_COLUMNS), ("internal_events", EVENT_COLUMNS),
                            ("world_events", WORLD_EVENT_COLUMNS), ("taken_events", TAKEN_EVENT_COLUMNS)):
-        schema = _schema(con, table)
         rows, trace_ids = [], []
         for trace_id, _, trace, _ in runs:
             these = getattr(trace, table)
             rows += these
             trace_ids += [trace_id] * len(these)
         if rows:
-            arrow = _table(rows, columns, schema, trace_ids)  # noqa: F841 (read by DuckDB)
-            con.execute(f"insert into {table} by name select * from arrow")
-    for trace_id, _, trace, _ in runs:
-        if trace.provenance:
-            columns = ", ".join(trace.provenance)
-            con.execute(f"insert into trace_runs (trace_id, {columns}) values (?{', ?' * len(trace.provenance)})",
-                        [trace_id, *trace.provenance.values()])
+            append(con, table, _table(rows, columns, schema(con, table), trace_ids))
+    append(con, "trace_runs", [dict(trace_id=trace_id, **trace.provenance) for trace_id, _, trace, _ in runs
+                               if trace.provenance])

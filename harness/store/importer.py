@@ -27,7 +27,8 @@ from harness.store.export import with_exported_traces
 from harness.files import read_bytes, read_text
 from harness.schema import cut
 from harness.target.interface import Interface, load_interface
-from harness.store.database import add_campaign, add_reply_codes, connect, next_id, place, transaction
+from harness.store.appends import append, transaction
+from harness.store.database import add_campaign, add_reply_codes, connect, next_id, place
 from harness.textable import counted
 from harness.trace import OUTCOMES
 
@@ -250,22 +251,23 @@ def load(con, path: Path, interface: Interface, sut_clock: bool = False) -> tupl
                               coalesce(any_value(sut), ?) as sut, coalesce(any_value(outcome), 'completed') as outcome,
                               max(t::double) as sim_s
                        from staged group by trace_id""", [first, path.stem])
-        con.execute("""insert into traces (trace_id, campaign_id, sut, outcome, sim_s, label)
-                       select id, ?, sut, outcome, sim_s, label from imported_ids order by id""", [campaign_id])
+        append(con, "traces", con.sql("""select id as trace_id, ? as campaign_id, sut, outcome, sim_s, label
+                                         from imported_ids order by id""", params=[campaign_id]))
         place(con, "variant_positions", "sut",
               [r[0] for r in con.execute("select sut from imported_ids group by sut order by min(id)").fetchall()])
-        con.execute("""insert into events (trace_id, seq, t, kind, rqst_id, module, service, args, reply)
-                       select i.id, s.seq::integer, s.t::double, s.kind, s.rqst_id::integer, s.module, s.service,
-                              s.args::json, s.reply
-                       from staged s join imported_ids i on i.label = s.trace_id order by i.id, s.line""")
+        append(con, "events", _events(con, "staged"))
         if sut_clock:
-            con.execute("""insert into internal_events (trace_id, seq, t, kind, rqst_id, module, service, args, reply)
-                           select i.id, s.seq::integer, s.t::double, s.kind, s.rqst_id::integer, s.module, s.service,
-                                  s.args::json, s.reply
-                           from sut_clock s join imported_ids i on i.label = s.trace_id order by i.id, s.line""")
+            append(con, "internal_events", _events(con, "sut_clock"))
         count = con.execute("select count(*) from imported_ids").fetchone()[0]
         con.execute("drop table imported_ids")
     return campaign_id, first, count
+
+
+def _events(con, staged: str) -> duckdb.DuckDBPyRelation:
+    """The typed events of the registered table `staged`, under their traces' new ids."""
+    return con.sql(f"""select i.id as trace_id, s.seq::integer as seq, s.t::double as t, s.kind,
+                              s.rqst_id::integer as rqst_id, s.module, s.service, s.args::json as args, s.reply
+                       from {staged} s join imported_ids i on i.label = s.trace_id order by i.id, s.line""")
 
 
 def import_file(con, path: str | Path, interface: Interface, ros: str | None = None) -> tuple[int, int, int]:

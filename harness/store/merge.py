@@ -9,7 +9,8 @@ from __future__ import annotations
 import duckdb
 
 from harness.errors import StoreError
-from harness.store.database import PER_TRACE, add_campaign, quoted, transaction
+from harness.store.appends import append, transaction
+from harness.store.database import PER_TRACE, add_campaign, quoted
 
 # Stored once per campaign, the same in every shard: copied from the first.
 SHARED = ("scripts", "reply_codes", "variant_positions", "module_positions")
@@ -43,4 +44,4 @@ def copy(con: duckdb.DuckDBPyConnection, stores: list[str], config: dict) -> Non
 def _insert(con, table: str, source: str) -> None:
     """Rows of `source`.`table`, by column name; those of the shard's campaign become campaign 1's."""
     columns = "* replace (1 as campaign_id)" if table in ("scripts", "traces") else "*"
-    con.execute(f"insert into {table} by name select {columns} from {source}.{table}")
+    append(con, table, con.sql(f"select {columns} from {source}.{table}"))

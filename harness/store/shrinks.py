@@ -2,6 +2,7 @@
 (table shrink_runs)."""
 from __future__ import annotations
 
+from harness.store.appends import append
 from harness.store.database import insert_traces, next_id
 from harness.trace import Trace
 
@@ -12,5 +13,5 @@ def add_shrink_runs(con, campaign_id: int, original: int, runs: list[tuple[str, 
         return
     first = next_id(con, "traces", "trace_id")
     insert_traces(con, campaign_id, [(first + i, None, trace, None) for i, (_, trace) in enumerate(runs)])
-    con.executemany("insert into shrink_runs (trace_id, original, body) values (?, ?, ?)",
-                    [(first + i, original, body) for i, (body, _) in enumerate(runs)])
+    append(con, "shrink_runs", [dict(trace_id=first + i, original=original, body=body)
+                                for i, (body, _) in enumerate(runs)])
