@@ -373,6 +373,6 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
     if args.shrink:
         print("\nshrunk reproducers, one per distinct bad behaviour (view bad_behaviours):")
         for line in representatives.representatives(con, properties, shrink.default_out(args.db), setup.external,
-                                           setup.runner, 1 if setup.external else jobs):  # external: one at a time
+                                                    setup.runner, 1 if setup.external else jobs):  # external: one at a time
             print(line, flush=True)
     return 0
