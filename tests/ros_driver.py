@@ -163,7 +163,9 @@ class Launcher:
         raise AssertionError("no dala_node process below the launcher")
 
     def bye(self, timeout: float = 60.0) -> int:
+        """bye, then end of input (as the bench: a launcher that offers reuse waits for a next hello)."""
         self.send({"op": "bye"})
+        self.process.stdin.close()
         return self.process.wait(timeout)
 
     def kill(self) -> None:

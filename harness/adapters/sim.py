@@ -1,7 +1,8 @@
 """`python -m harness.adapters.sim --variant NAME`: the simulated layer as an external SUT.
 
-It speaks `untimely/1` on stdio (the bench starts it for each run) or, with `--listen
-HOST:PORT`, to every bench that connects (one run per connection, several at once). The layer
+It speaks `untimely/1` on stdio (the bench starts it, and keeps it for run after run: it offers
+`reuse`) or, with `--listen HOST:PORT`, to every bench that connects (runs one after another on
+a connection, several connections at once). The layer
 runs in wall-clock time scaled by the hello's `time_scale`, so the same scripts can be run in
 process and through the protocol and their traces compared. It reports the layer's internal
 instants (`internal`) and its virtual damage (`world`); with `--taken`, it also replies `taken`
@@ -20,7 +21,7 @@ from pathlib import Path
 from harness import DEFAULT_MISSION_DIR
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
-from harness.run.external.protocol import BENCH_MESSAGES, PROTO, ProtocolViolation, decode, encode
+from harness.run.external.protocol import BENCH_MESSAGES, PROTO, REUSE, ProtocolViolation, decode, encode
 from harness.sim.host import LayerHost
 
 
@@ -31,6 +32,7 @@ class Session:
         self.variant, self.mission, self.output, self.taken = variant, mission, output, taken
         self.lock = threading.Lock()
         self.host: LayerHost | None = None
+        self.runs = 0
 
     def send(self, op: str, **fields) -> None:
         with self.lock:
@@ -53,15 +55,25 @@ class Session:
                                                                          detail=json.loads(detail)),
                               on_error=lambda message: self.send("error", message=message))
         answered = time.monotonic()  # internal times count from the hello answer
-        self.send("hello", proto=PROTO, sut=f"untimely simulated layer, variant {self.variant}",
-                  caps=["internal", "world", *(["taken"] if self.taken else [])])
+        self.runs += 1
+        self.send("hello", proto=PROTO, sut=f"untimely simulated layer, variant {self.variant}, run {self.runs} "
+                  "of this adapter", caps=["internal", "world", REUSE, *(["taken"] if self.taken else [])])
         self.host.start(answered)
+
+    def end_run(self) -> None:
+        """The bench's bye: the layer stops (its thread joined, so nothing of the run follows), and
+        the adapter answers bye, ready for the next run's hello."""
+        self.host.stop()
+        self.host = None
+        self.send("bye")
 
     def serve(self, lines) -> int:
         try:
             for line in lines:
                 message = decode(line, BENCH_MESSAGES)
                 op = message["op"]
+                if op == "hello" and self.host is not None:
+                    raise ProtocolViolation("a second hello before bye")
                 if op == "hello":
                     self.start(message)
                 elif self.host is None:
@@ -73,7 +85,7 @@ class Session:
                 elif op == "ping":
                     self.host.ping(lambda ping_id=message["id"]: self.send("pong", id=ping_id))
                 else:  # bye
-                    break
+                    self.end_run()
         except (ProtocolViolation, UntimelyError) as e:
             self.send("error", message=str(e))
             return 1

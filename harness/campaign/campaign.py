@@ -41,6 +41,7 @@ from harness.store.sql import render_query
 from harness.progress import Progress
 from harness.analysis.provenance import last_epsilon
 from harness.run.external.definitions import ExternalSut, resolve
+from harness.run.external.kept import kept_adapters
 from harness.trace import Trace
 from harness.run.workers import Pool, Setup, Task, script_label
 
@@ -316,7 +317,7 @@ def main(args, runner=None) -> int:
                   external, REALTIME_WALL_LIMIT_S if external else RUN_WALL_LIMIT_S)
     # A real-time run mostly waits: its slots may outnumber the cores.
     jobs = args.jobs or max([len(os.sched_getaffinity(0))] + [s.slots for s in external.values()])
-    with _backend(args.cluster, setup, jobs) as run_tasks:
+    with _backend(args.cluster, setup, jobs) as run_tasks, kept_adapters():
         return _run(args, config, mission, interface, golden, properties, setup, jobs, run_tasks)
 
 

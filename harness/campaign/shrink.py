@@ -33,6 +33,7 @@ from harness.analysis.provenance import campaign_target
 from harness.mutator.ddmin import ddmin
 from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
+from harness.run.external.kept import kept_adapters
 from harness.run.external.definitions import SUTS_FILE, ExternalSut, load_suts_file, resolve
 from harness.trace import Trace
 from harness.run.workers import Setup, Task
@@ -291,7 +292,8 @@ def main(args) -> int:
     if args.verdict and not args.property:
         raise UntimelyError(f"--verdict {args.verdict} needs --property: the property whose verdict to keep")
     behaviour = behaviour_of(orig, properties, args.property, args.verdict)
-    result = shrunk(orig, behaviour, properties)
+    with kept_adapters():
+        result = shrunk(orig, behaviour, properties)
     line = stored(con, behaviour, result, out)  # its runs, even if it failed
     if result.error:
         raise UntimelyError(result.error)

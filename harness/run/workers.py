@@ -31,6 +31,7 @@ from typing import Callable
 
 from harness.errors import UntimelyError
 from harness.run import processes
+from harness.run.external.kept import kept_adapters
 from harness.run.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import parse
@@ -91,8 +92,9 @@ def _serve(conn, setup: Setup, slot: int) -> None:
     try:
         interface = load_interface(setup.interface_file)
         conn.send(READY)
-        while (task := conn.recv()) is not None:
-            conn.send(setup.run(task, interface, slot))
+        with kept_adapters():
+            while (task := conn.recv()) is not None:
+                conn.send(setup.run(task, interface, slot))
     except (EOFError, OSError, KeyboardInterrupt):  # the parent is gone, or stops this worker
         return
 

@@ -5,6 +5,8 @@ after 0.2 mission seconds, answers pings, and misbehaves as `--fault` says once 
 Faults: none, crash (exits 3), silent (stops answering anything), garbage (a non-JSON line),
 two-finals (a second final to the same request), unknown-code, unknown-op, error (an error
 message), no-hello (never answers hello), stray-reply (a reply to an id never sent).
+With `--reuse answer` it offers `reuse`, answers bye and takes the next hello (its faults count
+the requests of each run); `--reuse mute` offers it but never answers bye. Its hello counts runs.
 """
 import argparse
 import json
@@ -16,9 +18,10 @@ import time
 p = argparse.ArgumentParser()
 p.add_argument("--fault", default="none")
 p.add_argument("--after", type=int, default=3)
+p.add_argument("--reuse", choices=["no", "answer", "mute"], default="no")
 args = p.parse_args()
 lock = threading.Lock()
-state = {"taken": 0, "silent": False, "scale": 1.0}
+state = {"taken": 0, "silent": False, "scale": 1.0, "runs": 0}
 print(f"faulty adapter on slot {os.environ.get('UNTIMELY_SLOT')}", file=sys.stderr, flush=True)
 
 
@@ -56,10 +59,11 @@ def misbehave(rqst_id: int) -> None:
 for line in sys.stdin:
     msg = json.loads(line)
     if msg["op"] == "hello":
-        state["scale"] = msg["time_scale"]
+        state.update(scale=msg["time_scale"], taken=0, runs=state["runs"] + 1)
+        runs = f", run {state['runs']}" if args.reuse != "no" else ""
         if args.fault != "no-hello":
-            send(message(op="hello", proto="untimely/1", caps=[],
-                         sut=f"faulty test adapter on slot {os.environ.get('UNTIMELY_SLOT')}"))
+            send(message(op="hello", proto="untimely/1", caps=["reuse"] if args.reuse != "no" else [],
+                         sut=f"faulty test adapter on slot {os.environ.get('UNTIMELY_SLOT')}{runs}"))
     elif msg["op"] == "request":
         state["taken"] += 1
         if state["taken"] > args.after:
@@ -67,5 +71,7 @@ for line in sys.stdin:
         threading.Thread(target=finish, args=(msg["id"],), daemon=True).start()
     elif msg["op"] == "ping":
         send(message(op="pong", id=msg["id"]))
-    elif msg["op"] == "bye":
+    elif msg["op"] == "bye" and args.reuse == "no":
         break
+    elif msg["op"] == "bye" and args.reuse == "answer":
+        send(message(op="bye"))

@@ -5,8 +5,11 @@
 Order: the master starts on a free loopback port; the bench's hello gives the time scale, passed
 to the node as $UNTIMELY_TIME_SCALE (with $ROS_MASTER_URI); once every mapped action server
 answers (and, with --rosbag, every publisher has accepted the recorder), the hello is answered and
-requests flow. On `bye`, end of input or SIGTERM, the node and the master are stopped and the ROS
-log folder removed. A failure before that is an `error` line.
+requests flow. When the mapping names a `reset_service` (and nothing is recorded), the hello
+answer offers `reuse`: on `bye`, the node is reset through that service, bye is answered, and the
+next hello starts the next run on the same master and node, with none of their start-up. On
+end of input, SIGTERM, or `bye` without reuse, the node and the master are stopped and the ROS
+log folder removed. A failure is an `error` line.
 """
 from __future__ import annotations
 
@@ -49,13 +52,40 @@ def read_message(stream) -> dict | None:
         raise UntimelyError(f"the bench sent {line.strip()[:200]!r}: {e}") from None
 
 
-def serve(adapter, stream) -> None:
-    """Requests and pings until `bye` or end of input."""
+def serve(adapter, stream) -> bool:
+    """Requests and pings until `bye` (True) or end of input (False)."""
     handlers = {"request": adapter.request, "ping": adapter.ping}
     while (message := read_message(stream)) is not None and message["op"] != "bye":
         if message["op"] not in handlers:
             raise UntimelyError(f"the bench sent a second {message['op']!r}")
         handlers[message["op"]](message)
+    return message is not None
+
+
+def read_hello(stream, first: dict | None = None) -> dict | None:
+    """The bench's hello (None at end of input); a later run's must keep the first's time scale and
+    interface, which the node was started with."""
+    hello = read_message(stream)
+    if hello is None:
+        return None
+    if hello["op"] != "hello" or hello["proto"] != PROTO:
+        raise UntimelyError(f"the bench's first line must be a hello of {PROTO}, got {json.dumps(hello)[:200]}")
+    if first and (hello["time_scale"], hello["interface"]) != (first["time_scale"], first["interface"]):
+        raise UntimelyError("the bench reused this adapter for another time scale or interface; start one for it")
+    return hello
+
+
+def reset(service: str, timeout_s: float) -> None:
+    """The node back to its initial state, through its std_srvs/Trigger `service`."""
+    import rospy
+    from std_srvs.srv import Trigger
+    try:
+        rospy.wait_for_service(service, timeout_s)
+        answer = rospy.ServiceProxy(service, Trigger)()
+    except (rospy.ROSException, rospy.ServiceException) as e:
+        raise UntimelyError(f"the node's reset service {service} failed: {e}") from None
+    if not answer.success:
+        raise UntimelyError(f"the node's reset service {service} refused: {answer.message}")
 
 
 def node_environment(mapping, hello: dict) -> dict[str, str]:
@@ -77,11 +107,9 @@ def run(args, out: LineWriter) -> None:
     try:
         master, env = start_master(home, args.startup_timeout)
         children.append(master)
-        hello = read_message(sys.stdin)
+        first = hello = read_hello(sys.stdin)
         if hello is None:
             return
-        if hello["op"] != "hello" or hello["proto"] != PROTO:
-            raise UntimelyError(f"the bench's first line must be a hello of {PROTO}, got {json.dumps(hello)[:200]}")
         time_scale = hello["time_scale"]
         if recording_folder():
             topics = recorded_topics(mapping, interface_services(hello["interface"]))
@@ -95,11 +123,20 @@ def run(args, out: LineWriter) -> None:
         rospy.init_node("untimely_adapter", disable_signals=True, disable_rosout=True)
         ros_up = True
         adapter = Adapter(mapping, hello["interface"], time_scale, out.write)
-        adapter.wait_for_servers(args.startup_timeout, node.failure)
-        if recorder:
-            wait_connected(recorder, topics, env, args.startup_timeout)
-        adapter.hello(PROTO, f"ROS 1 actionlib adapter (master {env['ROS_MASTER_URI']}; node: {' '.join(args.node)})")
-        serve(adapter, sys.stdin)
+        reusable = mapping.reset_service is not None and not recorder
+        runs = 0
+        while hello is not None:
+            adapter.wait_for_servers(args.startup_timeout, node.failure)
+            if recorder:
+                wait_connected(recorder, topics, env, args.startup_timeout)
+            runs += 1
+            adapter.hello(PROTO, f"ROS 1 actionlib adapter (master {env['ROS_MASTER_URI']}; node: "
+                                 f"{' '.join(args.node)}; run {runs} of this master)", reusable)
+            if not (serve(adapter, sys.stdin) and reusable) or node.failure():
+                break
+            adapter.end_run()
+            reset(mapping.reset_service, args.startup_timeout)
+            hello = read_hello(sys.stdin, first)
     finally:
         if recorder:
             stop_recorder(recorder)

@@ -14,7 +14,9 @@ codes from the mapping file. Rules (docs/ros.md):
   server's status list forgets a goal, gives none: the adapter never invents a final;
 - a ping is answered once every action server's status heartbeat is fresh and, if the mapping
   has a ping topic, the SUT has echoed it; a dead or deadlocked server leaves its goals ACTIVE
-  forever and its pings unanswered, so the bench records `hung`.
+  forever and its pings unanswered, so the bench records `hung`;
+- the clients and subscriptions outlive a run, the run's goals do not: each hello starts a run
+  (a generation), and whatever ROS delivers of an earlier run, or between runs, is dropped.
 """
 from __future__ import annotations
 
@@ -41,7 +43,11 @@ STATUS_NAMES = {getattr(GoalStatus, name): name for name in
 
 class Adapter:
     def __init__(self, mapping: Mapping, interface: dict, time_scale: float, write: Callable[[dict], None]):
-        self.mapping, self.write, self.time_scale = mapping, write, time_scale
+        self.mapping, self.time_scale = mapping, time_scale
+        self._write = write
+        # Held around each line written: a line of an ended run can never follow the bye that ended it.
+        self.out_lock = threading.Lock()
+        self.generation, self.live = 0, False  # the run being served (one per hello), and whether it is on
         self.catalogue: dict[str, str] = dict(interface.get("replies") or {})
         self.routes = mapping.routes(interface_services(interface))
         self.lock = threading.Lock()  # guards the state below
@@ -53,7 +59,7 @@ class Adapter:
         self.pending_pings: dict[int, bool] = {}  # ping id -> echoed through ROS (or no ping topic)
         self.goals: dict[int, actionlib.ClientGoalHandle] = {}  # kept: actionlib holds only weak references
         self.goal_ids: dict[str, int] = {}  # ROS goal id -> request id
-        self.replies = Replies(write)
+        self.replies = Replies(self._writer(0))
         self.hello_epoch = time.time()  # reset when the hello is answered: the SUT's clock starts there
         for name in self.clients:
             rospy.Subscriber(f"{name}/status", GoalStatusArray, self._heartbeat, callback_args=name)
@@ -64,13 +70,37 @@ class Adapter:
         if self.pinger:
             self.topics.append(self.pinger)
 
-    def hello(self, proto: str, sut: str) -> None:
-        """Answer the bench's hello; `internal` and `world` times count from here."""
+    def hello(self, proto: str, sut: str, reuse: bool = False) -> None:
+        """Answer the bench's hello, starting a run; `internal` and `world` times count from here."""
         caps = [cap for cap, topic in (("internal", self.mapping.internal_topic),
-                                       ("world", self.mapping.world_topic)) if topic]
-        with self.lock:
+                                       ("world", self.mapping.world_topic)) if topic] + (["reuse"] if reuse else [])
+        with self.lock, self.out_lock:
+            self.generation += 1
+            self.live = True
+            self.goals, self.goal_ids, self.pending_pings = {}, {}, {}
+            self.replies = Replies(self._writer(self.generation))
             self.hello_epoch = time.time()
-            self.write({"op": "hello", "proto": proto, "sut": sut, "caps": caps})
+            self._write({"op": "hello", "proto": proto, "sut": sut, "caps": caps})
+
+    def end_run(self) -> None:
+        """The bench's bye: this run's goals are forgotten, and bye is answered (nothing of the run
+        follows it)."""
+        with self.lock, self.out_lock:
+            self.live = False
+            self.goals, self.goal_ids, self.pending_pings = {}, {}, {}
+            self._write({"op": "bye"})
+
+    def _writer(self, generation: int) -> Callable[[dict], None]:
+        """What writes a line of run `generation`: nothing once that run is over."""
+        def write(message: dict) -> None:
+            with self.out_lock:
+                if self.live and self.generation == generation:
+                    self._write(message)
+        return write
+
+    def write(self, message: dict) -> None:
+        """A line of the current run."""
+        self._writer(self.generation)(message)
 
     def wait_for_servers(self, timeout_s: float, alive: Callable[[], str | None]) -> None:
         """Block until every action server and topic is connected (a message published before its
@@ -119,9 +149,10 @@ class Adapter:
         else:
             goal = fill(classes.Goal(), route, message["args"])
         with self.lock:
+            replies = self.replies  # this run's: a late event of this goal cannot reach the next run
             handle = self.clients[route.name].send_goal(
-                goal, transition_cb=lambda gh: self._transition(rqst_id, route, gh),
-                feedback_cb=lambda gh, fb: self.replies.feedback(rqst_id))
+                goal, transition_cb=lambda gh: self._transition(replies, rqst_id, route, gh),
+                feedback_cb=lambda gh, fb: replies.feedback(rqst_id))
             self.goals[rqst_id] = handle
             self.goal_ids[handle.comm_state_machine.action_goal.goal_id.id] = rqst_id
 
@@ -133,14 +164,15 @@ class Adapter:
         call_id = f"call-{rqst_id}"
         with self.lock:
             self.goal_ids[call_id] = rqst_id
+            replies = self.replies
 
         def call() -> None:
             try:
                 response = rospy.ServiceProxy(route.name, kind, headers={"untimely_call": call_id})(request)
             except (rospy.ServiceException, rospy.ROSException) as e:
-                self.replies.ended(rqst_id, f"a failed call ({e})", None)
+                replies.ended(rqst_id, f"a failed call ({e})", None)
                 return
-            self.replies.ended(rqst_id, "RESPONSE", route.response_code(response, self.catalogue))
+            replies.ended(rqst_id, "RESPONSE", route.response_code(response, self.catalogue))
         threading.Thread(target=call, name=f"call {rqst_id}", daemon=True).start()
 
     def ping(self, message: dict) -> None:
@@ -151,12 +183,12 @@ class Adapter:
             self._answer_pings()
 
     # -- ROS -> bench (ROS threads) ------------------------------------------------------------
-    def _transition(self, rqst_id: int, route: Route, handle) -> None:
+    def _transition(self, replies: Replies, rqst_id: int, route: Route, handle) -> None:
         if handle.get_comm_state() == actionlib.CommState.DONE:
             status = STATUS_NAMES.get(handle.get_goal_status())
             result = handle.get_result()
             texts = (getattr(result, route.code or "code", None), handle.get_goal_status_text())
-            self.replies.ended(rqst_id, status, self.mapping.final_code(status, texts, self.catalogue))
+            replies.ended(rqst_id, status, self.mapping.final_code(status, texts, self.catalogue))
 
     def _heartbeat(self, _statuses, action: str) -> None:
         with self.lock:

@@ -18,7 +18,9 @@ layer and publishes every server's status only when the layer answers, which it 
 a module is deadlocked. So a deadlock (or a dead node) silences the heartbeat, and the adapter's
 pings go unanswered: the trace hangs, as in-process. The adapter's pings also cross ROS: the node
 echoes each (ros.toml's ping_topic) once the layer answers it, so the bench's measured round trip
-includes the ROS transport.
+includes the ROS transport. When the mapping names a `reset_service`, the node serves it
+(std_srvs/Trigger): the layer is replaced by a fresh one, and the goals of the ended run abort,
+so the launcher can serve run after run on this node.
 
     python -m harness.adapters.ros.dala_node --variant reference [--time-scale 10] [--mission DIR] [--mapping FILE]
 """
@@ -38,6 +40,7 @@ import actionlib
 import rospy
 from actionlib_msgs.msg import GoalStatus
 from std_msgs.msg import String
+from std_srvs.srv import Trigger, TriggerResponse
 
 from harness import DEFAULT_MISSION_DIR
 from harness.adapters.ros.mapping import load_mapping
@@ -102,15 +105,13 @@ class DalaNode:
     def __init__(self, variant: str, mission: Path, mapping: Path, time_scale: float):
         self.interface = load_interface(mission / "interface.toml")
         self.mapping = load_mapping(mapping)
-        self.time_scale = time_scale
+        self.variant, self.world_file, self.time_scale = variant, mission / "world.toml", time_scale
         self.failure: str | None = None
         self.world_pub = rospy.Publisher(self.mapping.world_topic, String, queue_size=100) \
             if self.mapping.world_topic else None
         self.internal_pub = rospy.Publisher(self.mapping.internal_topic, String, queue_size=1000) \
             if self.mapping.internal_topic else None
-        self.host = LayerHost(variant, self.interface, mission / "world.toml", time_scale,
-                              on_world=self._world, on_error=self._failed)
-        self.origin = time.time() - self.host.env.clock() / time_scale  # wall-clock epoch of the host's t = 0
+        self.host = self._new_host()
         self.pong = rospy.Publisher(self.mapping.pong_topic, String, queue_size=100) \
             if self.mapping.ping_topic else None
         self.ids = itertools.count(1)
@@ -133,8 +134,28 @@ class DalaNode:
                 self.servers[route.name] = actionlib.ActionServer(
                     route.name, classes.Action, self._goal_for(qualified, route, classes), auto_start=False)
 
-    def start(self) -> None:
+    def _new_host(self) -> LayerHost:
+        return LayerHost(self.variant, self.interface, self.world_file, self.time_scale,
+                         on_world=self._world, on_error=self._failed)
+
+    def _start_host(self) -> None:
         self.host.start()
+        self.origin = time.time() - self.host.env.clock() / self.time_scale  # wall-clock epoch of the host's t = 0
+
+    def _reset(self, _request) -> TriggerResponse:
+        """A fresh layer; the ended run's goals and calls end `reset` (the adapter has forgotten them)."""
+        self.host.stop()  # its thread joined: no reply of the old layer follows
+        for ending in list(self.goals.values()):
+            ending.end("reset")
+        self.goals.clear()
+        self.host = self._new_host()
+        self._start_host()
+        return TriggerResponse(success=True, message=f"a fresh {self.variant} layer")
+
+    def start(self) -> None:
+        self._start_host()
+        if self.mapping.reset_service:
+            rospy.Service(self.mapping.reset_service, Trigger, self._reset)
         for server in self.servers.values():
             server.start()
         for name, kind, handler in self.services:

@@ -36,6 +36,9 @@ class Mapping:
     # {id}: the adapter publishes each ping on ping_topic; the SUT echoes it on pong_topic when alive
     ping_topic: str | None
     pong_topic: str | None
+    # a std_srvs/Trigger service that returns the SUT to its initial state: with it, one master,
+    # node and adapter serve run after run (the adapter offers `reuse`)
+    reset_service: str | None = None
 
     @property
     def folder(self) -> Path:
@@ -102,6 +105,8 @@ class MappingFile(Strict):
     internal_topic: str | None = Field(None, min_length=1, description=TOPIC_HINT)
     ping_topic: str | None = Field(None, min_length=1, description=TOPIC_HINT)
     pong_topic: str | None = Field(None, min_length=1, description=TOPIC_HINT)
+    reset_service: str | None = Field(None, min_length=1, description="give the name of a std_srvs/Trigger "
+                                      "service, such as \"/robot/reset\"")
 
     @model_validator(mode="after")
     def _consistent(self):
@@ -122,4 +127,5 @@ def load_mapping(path: str | Path) -> Mapping:
     data, text = read_toml(path, "mapping file not found; pass the ros.toml beside the interface")
     spec = validated(MappingFile, data, path, text)
     return Mapping(str(path), spec.action, {service: parse_route(path, service, route) for service, route in spec.services.items()}, {**DEFAULT_STATUS_CODES, **spec.status_codes},
-                   spec.heartbeat_stale_s, spec.world_topic, spec.internal_topic, spec.ping_topic, spec.pong_topic)
+                   spec.heartbeat_stale_s, spec.world_topic, spec.internal_topic, spec.ping_topic, spec.pong_topic,
+                   spec.reset_service)

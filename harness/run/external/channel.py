@@ -61,6 +61,7 @@ class Connection:
         self.closed = threading.Event()
         self.started = processes.uptime()
         self.reader = self._stderr_reader = None
+        self.deliver: Callable[[list[str] | None], None] | None = None
         if sut.command:
             self._start(slot)
             try:  # stopped (a signal) right after the start: the adapter must not be left behind
@@ -98,9 +99,19 @@ class Connection:
             _live.add(self.process.pid)
 
     def start(self, deliver: Callable[[list[str] | None], None]) -> None:
-        """Start handing the SUT's lines to `deliver`."""
-        self.reader = threading.Thread(target=self._read, args=(deliver,), name=f"{self.sut.name} output", daemon=True)
-        self.reader.start()
+        """Hand the SUT's lines to `deliver` from now on: a kept channel's next run (kept.py) takes
+        over the reader, and only this run's standard error is kept for its errors."""
+        self.deliver = deliver
+        if self.reader is None:
+            self.reader = threading.Thread(target=self._read, name=f"{self.sut.name} output", daemon=True)
+            self.reader.start()
+        else:
+            self.stderr.clear()
+            self.stderr_cut = 0
+
+    def gone(self) -> bool:
+        """Whether the SUT's output has ended (a kept adapter that exited while idle)."""
+        return self.out_fd is None or not self.reader.is_alive()
 
     def _chunks(self, fd: int):
         """What arrives on `fd` until its end, or until nothing more comes once the channel is closed."""
@@ -120,7 +131,7 @@ class Connection:
                 return
             yield chunk
 
-    def _read(self, deliver) -> None:
+    def _read(self) -> None:
         rest = b""
         try:
             for chunk in self._chunks(self.out_fd):
@@ -130,7 +141,7 @@ class Connection:
                     self.last_read = (time.monotonic(), lines[-1])
                     for line in lines:
                         self.transcript.add("<", line)
-                    deliver(lines)
+                    self.deliver(lines)
                 if len(rest) > MAX_LINE_BYTES:
                     self.ended = (f"the SUT sent a line of more than {MAX_LINE_BYTES:,} bytes without a newline "
                                   f"(it starts {quoted(rest[:QUOTE_CHARS].decode('utf-8', 'replace'))}); "
@@ -143,7 +154,7 @@ class Connection:
                     pass
         except Exception as e:  # noqa: BLE001 - the run must learn that its SUT's output ended
             self.ended = self.ended or f"the bench could not read the SUT's output ({e!r})"
-        deliver(None)
+        self.deliver(None)
 
     def _keep_stderr(self) -> None:
         for chunk in self._chunks(self.process.stderr.fileno()):

@@ -24,6 +24,10 @@ BENCH_MESSAGES = {
     "ping": {"id": int},
     "bye": {},
 }
+# A SUT that offered `reuse` in its hello answers the bench's bye with its own: the run is over on
+# its side (nothing of it follows), and it takes the next run's hello (docs/protocol.md).
+REUSE = "reuse"
+SUT_FAREWELL = {"bye": {}}
 # `taken`: the layer has taken the request (an optional reply of every request, at the instant its
 # control task takes it; the oracles then place the request there, docs/protocol.md)
 REPLY_KINDS = ("taken", "intermediate", "final")

@@ -21,11 +21,13 @@ import threading
 import time
 from datetime import datetime, timezone
 
-from harness.run.external.channel import Connection, Unresponsive, quoted
+from harness.run.external import kept
+from harness.run.external.channel import GRACE_S, Connection, Unresponsive, quoted
 from harness.run.executive import Executive, LayerMisbehaved, trace_of
 from harness.target.interface import Interface
 from harness.target.script import Script
-from harness.run.external.protocol import INTERNAL_KINDS, PROTO, REPLY_KINDS, ProtocolViolation, decode, encode
+from harness.run.external.protocol import (INTERNAL_KINDS, PROTO, REPLY_KINDS, REUSE, SUT_FAREWELL,
+                                           ProtocolViolation, decode, encode)
 from harness.sim.realtime import RealtimeEnvironment
 from harness.run.external.definitions import ExternalSut
 from harness.trace import Trace
@@ -54,6 +56,7 @@ class ProtocolLayer:
         self.greeted = threading.Event()
         self.problem: str | None = None  # a violation before the hello answer
         self.closing = False
+        self.farewell = threading.Event()  # the SUT answered bye: its channel may serve the next run
         self.room = threading.BoundedSemaphore(MAX_QUEUED_READS)
 
     # Reader thread: the hello is handled here; every later line goes to the kernel's thread.
@@ -63,10 +66,26 @@ class ProtocolLayer:
             lines = lines[1:] if lines else None
             if lines == []:
                 return
-        while not self.room.acquire(timeout=0.25):
-            if self.closing:
-                return
+        while not self.closing and not self.room.acquire(timeout=0.25):
+            pass
+        if self.closing:  # the run is over: only the SUT's bye still counts
+            self._farewell(lines)
+            return
         self.env.post(lambda: self.handle(lines))
+
+    def _farewell(self, lines: list[str] | None) -> None:
+        for line in lines or ():
+            try:
+                decode(line, SUT_FAREWELL)
+                self.farewell.set()
+            except ProtocolViolation:
+                pass
+
+    def reusable(self, outcome: str) -> bool:
+        """Whether the channel may serve the next run: a run that ended well, on a SUT that offered
+        reuse and said its bye within the grace period."""
+        caps = (self.hello or {}).get("caps")
+        return outcome == "completed" and isinstance(caps, list) and REUSE in caps and self.farewell.wait(GRACE_S)
 
     def _greet(self, line: str | None) -> None:
         if line is None:
@@ -173,8 +192,8 @@ def run_external(script: Script, sut: ExternalSut, seed: int, interface: Interfa
     executive = Executive(env, layer, interface, random.Random(seed), max_delay=0.0,
                           probe_period=PROBE_PERIOD_WALL_S * sut.time_scale,
                           probe_timeout=sut.probe_timeout_s * sut.time_scale)
-    outcome, error = "crashed", None
-    layer.connection = Connection(sut, slot)
+    outcome, error, reused = "crashed", None, False
+    layer.connection = kept.take(sut, slot) or Connection(sut, slot)
     try:  # from here on, however the run ends (a signal included), the SUT is closed
         layer.connection.start(layer.deliver)
         try:
@@ -196,6 +215,8 @@ def run_external(script: Script, sut: ExternalSut, seed: int, interface: Interfa
         layer.closing = True
         try:
             layer.connection.write(encode("bye"))
+            reused = (error is None and kept.keeping() and layer.reusable(outcome)
+                      and kept.keep(layer.connection, sut, slot))
         except Unresponsive:
             pass  # the run is over; closing the channel ends the SUT
     except LayerMisbehaved as e:
@@ -204,7 +225,8 @@ def run_external(script: Script, sut: ExternalSut, seed: int, interface: Interfa
         outcome, error = "hung", str(e)
     finally:
         layer.closing = True
-        layer.connection.close()
+        if not reused:
+            layer.connection.close()
     if error and layer.connection.stderr:
         error += "\nlast lines of the SUT's stderr:\n" + layer.connection.stderr_tail()
     trace = trace_of(executive, env, Trace(sut=sut.name, seed=seed, outcome=outcome, error=error), wall,
