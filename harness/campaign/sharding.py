@@ -54,13 +54,17 @@ def share(runs: int, shard: list[int] | None) -> int:
     return runs if shard is None else len(range(shard[0] - 1, runs, shard[1]))
 
 
-def _campaign(con, path: str) -> dict:
-    configs = [json.loads(c) for c, in con.execute("select config from campaigns order by campaign_id").fetchall()]
-    sharded = [c for c in configs if c.get("shard")]
-    if len(configs) != 1 or not sharded:
+def _campaign(con, path: str) -> tuple[dict, int, int]:
+    """The shard's campaign config and id, and how many shrinks (campaign --shrink) its store holds beside it."""
+    rows = [(i, json.loads(c)) for i, c in con.execute("select campaign_id, config from campaigns "
+                                                        "order by campaign_id").fetchall()]
+    sharded = [(i, c) for i, c in rows if c.get("shard")]
+    shrinks = [c for _, c in rows if c.get("kind") == "shrink"]
+    if len(sharded) != 1 or len(sharded) + len(shrinks) != len(rows):
         raise StoreError(f"{path} is not the store of one shard of a campaign (campaign --shard I/N, alone in "
                          "its store); merge only the stores the shards wrote")
-    return sharded[0]
+    (campaign_id, config), = sharded
+    return config, campaign_id, len(shrinks)
 
 
 def check(configs: dict[str, dict]) -> None:
@@ -94,13 +98,15 @@ def merge_main(args) -> int:
     out = Path(args.out)
     if out.exists():
         raise UntimelyError(f"{out} exists; merge writes a new store: give another OUT or remove it")
-    configs, paths = {}, [str(Path(s)) for s in args.stores]
+    configs, campaign_ids, shrinks, paths = {}, [], 0, [str(Path(s)) for s in args.stores]
     if len({Path(p).resolve() for p in paths}) != len(paths):
         raise StoreError(f"a store is given twice in {' '.join(paths)}; give each part once")
     for path in paths:
         con = connect(path, read_only=True)
         try:
-            configs[path] = _campaign(con, path)
+            configs[path], campaign_id, shrunk = _campaign(con, path)
+            campaign_ids.append(campaign_id)
+            shrinks += shrunk
             if path == paths[0]:
                 properties_file, interface_file = judged_files(con, args.properties)
                 epsilon = last_epsilon(con)
@@ -113,7 +119,7 @@ def merge_main(args) -> int:
     merged = {k: v for k, v in configs[paths[0]].items() if k != "shard"}
     con = connect(out)
     try:
-        store_merge.copy(con, paths, merged)
+        store_merge.copy(con, paths, campaign_ids, merged)
         interface = load_interface(interface_file)
         analyzer.materialise(con, load_properties(properties_file, interface), epsilon, interface,
                              properties_file, interface_file)
@@ -125,6 +131,9 @@ def merge_main(args) -> int:
     traces = con.execute("select count(*) from traces").fetchone()[0]
     print(f"merged {len(paths)} shards into {out}: {traces} traces, judged against {properties_file} "
           f"(epsilon {epsilon:g} s)\n")
+    if shrinks:
+        print(f"left out: the {shrinks} shrinks the shards stored (campaign --shrink), their runs and reproducers; "
+              f"to shrink the merged findings: untimely campaign --shrink with the shards' options and --db {out}\n")
     print(analyzer.summary(con, epsilon))
     con.close()
     return 0
