@@ -84,3 +84,8 @@ def test_shards_that_shrank_merge_without_their_shrinks(tmp_path, capsys):
     assert main(["merge", str(tmp_path / "plain.duckdb"), str(tmp_path / "plain1.duckdb"),
                  str(tmp_path / "plain2.duckdb")]) == 0
     assert _read(tmp_path / "merged.duckdb") == _read(tmp_path / "plain.duckdb")
+    capsys.readouterr()
+    assert main([*CAMPAIGN, "--shrink", "--db", str(tmp_path / "merged.duckdb")]) == 0  # shrink after merging
+    assert "is complete" in capsys.readouterr().out
+    con = store.connect(tmp_path / "merged.duckdb", read_only=True)
+    assert con.execute("select count(*) from shrink_runs").fetchone()[0] > 0
