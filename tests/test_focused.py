@@ -158,3 +158,32 @@ def test_a_target_folder_outside_the_repository_with_an_external_adapter(tmp_pat
     assert index.index('<h2 id="findings">') < index.index('<h2 id="campaign">')
     assert "DRY(pump.Run)" in index.split('<h2 id="campaign">')[0]
     assert (tmp_path / "report" / "findings.csv").read_text().count("\n") == len(found) + 1
+
+
+def test_a_campaign_stopped_during_a_shrink_stores_its_runs_and_shrinks_again_when_resumed(tmp_path, monkeypatch):
+    """Ctrl-C (or SIGTERM, the same KeyboardInterrupt) in the midst of a shrink: the runs it made are
+    stored, marked interrupted, and counted when the campaign resumes, which shrinks that finding again."""
+    from harness.run import workers
+    args = ["campaign", "--strategy", "focused", "--budget", "8m", "--shrink", "--sut", "genom",
+            "--db", str(tmp_path / "s.duckdb")]
+    real, calls = workers.Setup.run, []
+
+    def stopped_on_the_fifth_shrink_run(setup, task, interface, slot):
+        calls.append(task.trace_id)  # in this process, only shrinks run (the tests run in workers)
+        if len(calls) == 5:
+            raise KeyboardInterrupt
+        return real(setup, task, interface, slot)
+    monkeypatch.setattr(workers.Setup, "run", stopped_on_the_fifth_shrink_run)
+    assert cli(args) == 130  # as after Ctrl-C
+    monkeypatch.undo()
+    con = store.connect(tmp_path / "s.duckdb", read_only=True)
+    (config, runs, runs_s), = con.execute("""select any_value(c.config), count(*), sum(t.sim_s) from campaigns c
+        join traces t using (campaign_id) join shrink_runs using (trace_id) group by campaign_id""").fetchall()
+    con.close()
+    assert '"interrupted": true' in config and runs == 4 and runs_s > 0
+    assert cli(args) == 0
+    con = store.connect(tmp_path / "s.duckdb", read_only=True)
+    shrinks = con.execute("""select config->>'trace', config->>'property', (config->>'interrupted') is not null
+                             from campaigns where config->>'kind' = 'shrink' order by campaign_id""").fetchall()
+    assert shrinks[0][2] and (shrinks[0][0], shrinks[0][1], False) in shrinks[1:]
+    assert con.execute("select shrink_s from campaign_budgets").fetchone()[0] >= runs_s

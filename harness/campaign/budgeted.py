@@ -80,7 +80,7 @@ class FocusedRun:
         self.properties, self.interface, self.shrink_to, self.say = properties, interface, shrink_to, say
         self.judge = Judge(interface, properties)
         self.account = threading.Lock()  # the budget's, shared with shrinks running in the background
-        self.shrinking: list[tuple[shrink.Behaviour, Future]] = []
+        self.shrinking: list[tuple[shrink.Behaviour, MeteredOriginal, Future]] = []
         self.state = {sut: VariantState() for sut in config["sut"]}
         (self.stopped,) = con.execute("select stopped from campaign_budgets where campaign_id = ?",
                                       [campaign_id]).fetchone() or (None,)
@@ -96,9 +96,10 @@ class FocusedRun:
             self.shown.setdefault(trace_id, set()).add((property_id, kind))
         self.stored = {t for (t,) in con.execute("select trace_id from traces where campaign_id = ?",
                                                  [campaign_id]).fetchall()}
-        # what was shrunk, or tried (its runs are stored): a resumed campaign does not try again
+        # what was shrunk, or tried (its runs are stored): a resumed campaign does not try again, unless
+        # the campaign was stopped while it ran
         self.shrunk = {(c["sut"], c["verdict"], c["property"]) for c in (json.loads(text) for (text,) in con.execute(
-            "select config from campaigns where config->>'kind' = 'shrink'").fetchall())}
+            "select config from campaigns where config->>'kind' = 'shrink'").fetchall()) if not c.get("interrupted")}
 
     def account_from_store(self) -> None:
         """What the campaign has spent: the mission seconds of its stored traces and shrink runs
@@ -192,14 +193,27 @@ class FocusedRun:
             behaviour = shrink.Behaviour(task.sut, kind, property_id)
             self.shrunk.add((behaviour.sut, behaviour.verdict, behaviour.property_id))
             start = self.slots.background if self.slots else at_once
-            self.shrinking.append((behaviour, start(shrink.shrunk, metered, behaviour, self.properties)))
+            try:
+                self.shrinking.append((behaviour, metered, start(shrink.shrunk, metered, behaviour, self.properties)))
+            except KeyboardInterrupt:  # stopped in the midst of an in-process shrink
+                shrink.store_shrink(self.con, metered, behaviour, None, len(metered.made), interrupted=True)
+                raise
         self._store_shrunk(wait=False)
+
+    def store_interrupted(self) -> None:
+        """The campaign was stopped: the runs of the shrinks still running are stored, marked
+        interrupted (a resumed campaign counts them against its budget, and shrinks again)."""
+        for behaviour, orig, future in self.shrinking:
+            if not future.done():
+                shrink.store_shrink(self.con, orig, behaviour, None, len(orig.made), interrupted=True)
+        self.shrinking = [s for s in self.shrinking if s[2].done()]
+        self._store_shrunk(wait=True)
 
     def _store_shrunk(self, wait: bool) -> None:
         """Stores the shrinks done (all of them, waiting, if `wait`), in the order they were started,
         each with its runs, even if it failed."""
-        while self.shrinking and (wait or self.shrinking[0][1].done()):
-            behaviour, future = self.shrinking.pop(0)
+        while self.shrinking and (wait or self.shrinking[0][2].done()):
+            behaviour, _, future = self.shrinking.pop(0)
             result = future.result()
             line = shrink.stored(self.con, behaviour, result, self.shrink_to)
             if result.error:

@@ -298,7 +298,11 @@ def _focused(args, con, campaign_id, config, mission, interface, golden, propert
         focused_run = budgeted.FocusedRun(con, campaign_id, config, plan, golden_id,
                                           lambda script_id, body: _tasks([(script_id, body)], golden_id, config),
                                           run_tasks, batches, properties, interface, out, print, slots)
-        reason = focused_run.run()
+        try:
+            reason = focused_run.run()
+        except KeyboardInterrupt:  # Ctrl-C or a stop signal: what the running shrinks made is stored
+            focused_run.store_interrupted()
+            raise
     session.progress.close()
     print(summary(con, campaign_id, session))
     print(budgeted.stopped_line(focused_run, reason))

@@ -208,20 +208,24 @@ def mission_file(out: Path, script_id: int) -> Path:
     return out / f"script-{script_id}.mission"
 
 
-def store_shrink(con, orig: Original, behaviour: Behaviour, script: Script | None, runs: int) -> int | None:
+def store_shrink(con, orig: Original, behaviour: Behaviour, script: Script | None, runs: int,
+                 interrupted: bool = False) -> int | None:
     """Stores a shrink as a campaign of kind "shrink": every run it made (orig.made, as traces linked
-    to the trace it shrinks) and the shrunk script if it came out; returns the script's id."""
+    to the trace it shrinks) and the shrunk script if it came out; returns the script's id. A shrink
+    `interrupted` (Ctrl-C, SIGTERM) keeps the runs it made so far, marked so: it is tried again."""
+    made = list(orig.made)  # a shrink interrupted in another thread may still add to it
     record = {"op": "shrink", "trace": orig.trace_id, "sut": orig.sut, "seed": orig.seed,
               "verdict": behaviour.verdict, "property": behaviour.property_id,
               "steps_before": len(parse(orig.body).steps),
-              **({"steps_after": len(script.steps)} if script else {}), "runs": runs}
-    if script is None and not orig.made:
+              **({"steps_after": len(script.steps)} if script else {}), "runs": runs,
+              **({"interrupted": True} if interrupted else {})}
+    if script is None and not made:
         return None
     with store.transaction(con):
         campaign_id = store.next_id(con, "campaigns", "campaign_id")
         store.add_campaign(con, campaign_id, str(orig.mission), orig.seed,
                            {"kind": "shrink", "max_delay": orig.max_delay, **record})
-        store.add_shrink_runs(con, campaign_id, orig.trace_id, orig.made)
+        store.add_shrink_runs(con, campaign_id, orig.trace_id, made)
         if script is None:
             return None
         script_id = store.next_id(con, "scripts", "script_id")
@@ -293,7 +297,11 @@ def main(args) -> int:
         raise UntimelyError(f"--verdict {args.verdict} needs --property: the property whose verdict to keep")
     behaviour = behaviour_of(orig, properties, args.property, args.verdict)
     with kept_adapters():
-        result = shrunk(orig, behaviour, properties)
+        try:
+            result = shrunk(orig, behaviour, properties)
+        except KeyboardInterrupt:  # Ctrl-C or a stop signal: the runs made are stored all the same
+            store_shrink(con, orig, behaviour, None, len(orig.made), interrupted=True)
+            raise
     line = stored(con, behaviour, result, out)  # its runs, even if it failed
     if result.error:
         raise UntimelyError(result.error)
