@@ -13,7 +13,7 @@ Then the same Dala campaign in real time, at 1x on 8 slots: on the out-of-proces
 best), how close the in-process campaign's mission seconds predicted it, and whether every
 defect was exposed. Figures, not pass or fail: a busy machine gives a smaller speed-up, so the
 load average is printed beside them. UNTIMELY_BENCH_REALTIME chooses (default `sim,ros`; `sim`,
-`ros`, or `none`): the ROS run takes half an hour or more on a loaded 2-core machine.
+`ros`, or `none`): each takes about 10 minutes on a 2-core machine.
 """
 import os
 import subprocess
