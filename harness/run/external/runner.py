@@ -8,7 +8,8 @@ timeline is `events`. The trace clock starts when the SUT has answered hello.
 
 Real-time runs are not reproducible, so each trace records where, when and how fast the
 interface answered (`trace_runs`): the ping round trips give the latency from which a tester
-sets epsilon.
+sets epsilon. A run takes its channel from the adapters kept between runs when one is (kept.py),
+and leaves it there when it ended well on an adapter that offered `reuse`.
 """
 from __future__ import annotations
 
