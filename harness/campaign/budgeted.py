@@ -196,7 +196,7 @@ class FocusedRun:
             try:
                 self.shrinking.append((behaviour, metered, start(shrink.shrunk, metered, behaviour, self.properties)))
             except KeyboardInterrupt:  # stopped in the midst of an in-process shrink
-                shrink.store_shrink(self.con, metered, behaviour, None, len(metered.made), interrupted=True)
+                shrink.store_interrupted(self.con, metered, behaviour)
                 raise
         self._store_shrunk(wait=False)
 
@@ -205,7 +205,7 @@ class FocusedRun:
         interrupted (a resumed campaign counts them against its budget, and shrinks again)."""
         for behaviour, orig, future in self.shrinking:
             if not future.done():
-                shrink.store_shrink(self.con, orig, behaviour, None, len(orig.made), interrupted=True)
+                shrink.store_interrupted(self.con, orig, behaviour)
         self.shrinking = [s for s in self.shrinking if s[2].done()]
         self._store_shrunk(wait=True)
 

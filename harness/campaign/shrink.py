@@ -234,6 +234,11 @@ def store_shrink(con, orig: Original, behaviour: Behaviour, script: Script | Non
     return script_id
 
 
+def store_interrupted(con, orig: Original, behaviour: Behaviour) -> None:
+    """Store the runs a shrink stopped by Ctrl-C or a signal made so far."""
+    store_shrink(con, orig, behaviour, None, len(orig.made), interrupted=True)
+
+
 def header(orig: Original, behaviour: Behaviour, script_id: int, path: Path, runs: int, steps_before: int) -> str:
     return (f"# Shrunk reproducer (script {script_id}): {behaviour}, from trace {orig.trace_id} "
             f"(script {orig.script_id}, {steps_before} steps) in {runs} runs.\n"
@@ -300,7 +305,7 @@ def main(args) -> int:
         try:
             result = shrunk(orig, behaviour, properties)
         except KeyboardInterrupt:  # Ctrl-C or a stop signal: the runs made are stored all the same
-            store_shrink(con, orig, behaviour, None, len(orig.made), interrupted=True)
+            store_interrupted(con, orig, behaviour)
             raise
     line = stored(con, behaviour, result, out)  # its runs, even if it failed
     if result.error:

@@ -76,8 +76,7 @@ class Adapter:
                                        ("world", self.mapping.world_topic)) if topic] + (["reuse"] if reuse else [])
         with self.lock, self.out_lock:
             self.generation += 1
-            self.live = True
-            self.goals, self.goal_ids, self.pending_pings = {}, {}, {}
+            self.live = True  # the goals and pings of the last run were forgotten at its end
             self.replies = Replies(self._writer(self.generation))
             self.hello_epoch = time.time()
             self._write({"op": "hello", "proto": proto, "sut": sut, "caps": caps})
@@ -99,8 +98,10 @@ class Adapter:
         return write
 
     def write(self, message: dict) -> None:
-        """A line of the current run."""
-        self._writer(self.generation)(message)
+        """A line of the current run, if one is on."""
+        with self.out_lock:
+            if self.live:
+                self._write(message)
 
     def wait_for_servers(self, timeout_s: float, alive: Callable[[], str | None]) -> None:
         """Block until every action server and topic is connected (a message published before its
