@@ -125,7 +125,7 @@ class Connection:
             except BlockingIOError:
                 continue
             except OSError as e:  # a TCP peer that resets the connection
-                self.ended = f"the connection failed ({e.strerror or e})"
+                self._failed(e)
                 return
             if not chunk:
                 return
@@ -181,8 +181,14 @@ class Connection:
                 data = data[os.write(self.in_fd, data):]
             except BlockingIOError:
                 continue
+            except ConnectionResetError as e:  # the reset is reported once: to the write, or to the reader
+                self._failed(e)
+                return
             except OSError:
                 return
+
+    def _failed(self, error: OSError) -> None:
+        self.ended = self.ended or f"the connection failed ({error.strerror or error})"
 
     def last_read_text(self) -> str:
         """Where the SUT's output stood, for a message about a SUT that stopped answering."""
