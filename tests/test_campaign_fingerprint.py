@@ -16,7 +16,7 @@ import json
 from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR, cli, store
-from harness.campaign.campaign import campaign_config
+from harness.campaign.config import campaign_config
 from harness.files import read_text
 from harness.mutator import strategies
 from harness.run.workers import script_label

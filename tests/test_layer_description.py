@@ -6,7 +6,7 @@ from types import SimpleNamespace
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
-from harness.campaign.campaign import campaign_config
+from harness.campaign.config import campaign_config
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.target.mission import load_mission

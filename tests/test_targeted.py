@@ -6,7 +6,7 @@ import json
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, store
-from harness.campaign.campaign import campaign_config, find_campaign
+from harness.campaign.config import campaign_config, find_campaign
 from harness.cli import main
 from harness.errors import StoreError, UntimelyError
 from harness.run.executive import run_script

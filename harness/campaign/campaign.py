@@ -15,7 +15,6 @@ store; workers return traces to it.
 from __future__ import annotations
 
 import hashlib
-import json
 import os
 import sys
 import time
@@ -27,105 +26,31 @@ from harness import DEFAULT_MISSION_DIR, store
 from harness.schema import cut
 from harness.analysis import analyzer
 from harness.campaign import budgeted, representatives, sharding, shrink
-from harness.campaign.budget import parse_duration
+from harness.campaign.config import campaign_config, find_campaign
 from harness.campaign.slots import campaign_slots
-from harness.errors import StoreError, UntimelyError
+from harness.errors import StoreError
 from harness.run.executive import run_script
 from harness.files import read_text
 from harness.target.interface import Interface
 from harness.target.mission import load_mission
 from harness.mutator import strategies
-from harness.mutator.operators import Mutant, chosen as chosen_operators
+from harness.mutator.operators import Mutant
 from harness.store.reads import observed_events
 from harness.store.sql import render_query
 from harness.progress import Progress
 from harness.analysis.provenance import last_epsilon
-from harness.run.external.definitions import ExternalSut, resolve
+from harness.run.external.definitions import ExternalSut
 from harness.run.external.kept import kept_adapters
 from harness.trace import Trace
 from harness.run.workers import Pool, Setup, Task, script_label
 
-# Arguments that decide what is run; --jobs, --cluster and --db do not.
-COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "operators",
-            "value_mutations", "max_delay", "budget_s", "files", "shard")
-# What a config stored before a key existed means by its absence.
-ABSENT = {"external": {}, "strategy": "random", "shard": None, "operators": None, "budget_s": None,
-          "value_mutations": False}
 RUN_WALL_LIMIT_S = 600.0  # of a simulated run; a real-time one has the executive's watchdogs
 REALTIME_WALL_LIMIT_S = 3 * 3600.0
 # A transaction per simulated run cost a quarter of a campaign; a killed campaign re-runs at most
 # one batch: up to BATCH_RUNS runs, or those that came in during BATCH_S (a couple of seconds' work).
 BATCH_RUNS = 64
 BATCH_S = 2.0
-# A store of ~300,000 traces, judged in a few GB of memory; generating them takes minutes.
-MAX_MUTANTS = 100_000
 SHOW_GENERATION = 2_000  # from this many mutants on, generating them shows its progress
-
-
-def campaign_config(args) -> dict:
-    """The campaign's identity (stored in campaigns.config); refuses arguments that make no sense."""
-    if not 0 <= args.mutants <= MAX_MUTANTS:
-        raise UntimelyError(f"--mutants {args.mutants}: give a number of mutants from 0 to {MAX_MUTANTS:,}; "
-                            "split a larger study into campaigns of other --seed values")
-    ops_per_mutant = strategies.operations(args.strategy, args.ops_per_mutant, args.time_mutations, args.operators)
-    named = None if args.operators is None else list(chosen_operators(args.operators, args.time_mutations,
-                                                                          getattr(args, "value_mutations", False)))
-    if ops_per_mutant < 1:
-        raise UntimelyError(f"--ops-per-mutant {ops_per_mutant}: give at least 1 operation per mutant")
-    if args.jobs < 0:
-        raise UntimelyError(f"--jobs {args.jobs}: give a number of worker processes, or 0 for all cores")
-    if not args.max_delay >= 0:
-        raise UntimelyError(f"--max-delay {args.max_delay}: give a delay in seconds >= 0")
-    mission = load_mission(args.mission)
-    suts, external = resolve(args.sut or mission.default_suts(), mission.folder, args.time_scale)
-    if mission.simulated and set(suts) - set(external):  # variants: a bad behaviour fails here, not in every run
-        mission.layer.behaviour_module()
-    given = getattr(args, "budget", None)  # callers that build their own arguments may leave it out
-    if given is not None and args.strategy != "focused":
-        raise UntimelyError(f"--budget {given} applies to --strategy focused, whose tests are made as "
-                            f"the campaign goes; a {args.strategy} campaign runs its --mutants")
-    budget = {} if given is None else {"budget_s": parse_duration(given)}
-    return {**budget, "kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
-            "external": {name: sut.config() for name, sut in external.items()},
-            "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,
-            "time_mutations": args.time_mutations, "operators": named,
-            "value_mutations": getattr(args, "value_mutations", False),
-            "max_delay": args.max_delay, "jobs": args.jobs,
-            "files": mission.hashes(), "shard": sharding.parse(getattr(args, "shard", None))}
-
-
-def _difference(stored: dict, wanted: dict) -> str | None:
-    for key in COMPARED:
-        if key == "files":  # a campaign stored before a file was hashed compares those it hashed
-            changed = [n for n in stored["files"] if stored["files"][n] != wanted["files"].get(n)]
-            if not changed:
-                continue
-            return (f"--mission {stored['mission']} had other contents: {', '.join(changed)} "
-                    f"differ from {wanted['mission']}")
-        theirs, ours = stored.get(key, ABSENT.get(key)), wanted.get(key, ABSENT.get(key))
-        if theirs == ours:
-            continue
-        if key == "external":
-            return f"external SUTs {theirs}, not {ours}"
-        listed = lambda v: ",".join(v) if v else "(the default)"  # noqa: E731
-        show = {"sut": listed, "operators": listed, "budget_s": lambda v: "none" if v is None else f"{v:g}s"}.get(key, str)
-        flag = "--budget" if key == "budget_s" else "--" + key.replace("_", "-")
-        return f"{flag} {show(theirs)}, not {show(ours)}"
-    return None
-
-
-def find_campaign(con, config: dict, db) -> int | None:
-    """The store's campaign if it is this one; a campaign with other arguments is refused."""
-    for campaign_id, text in con.execute("select campaign_id, config from campaigns order by campaign_id").fetchall():
-        stored = json.loads(text)
-        if stored.get("kind") != "campaign":
-            continue  # an ad-hoc `run` sharing the store
-        difference = _difference(stored, config)
-        if difference:
-            raise StoreError(f"{db} holds campaign {campaign_id}, made with {difference}; rerun with its "
-                             "arguments to resume it, or pass another --db for a new campaign")
-        return campaign_id
-    return None
 
 
 def run_seed(campaign_seed: int, script_number: int, sut: str) -> int:

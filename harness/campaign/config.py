@@ -1,0 +1,88 @@
+"""A campaign's identity: the config its arguments make (stored in campaigns.config), checked
+before anything runs, and the stored campaign that a rerun with the same arguments resumes."""
+from __future__ import annotations
+
+import json
+
+from harness.campaign import sharding
+from harness.campaign.budget import parse_duration
+from harness.errors import StoreError, UntimelyError
+from harness.mutator import strategies
+from harness.mutator.operators import chosen as chosen_operators
+from harness.run.external.definitions import resolve
+from harness.target.mission import load_mission
+
+# Arguments that decide what is run; --jobs, --cluster and --db do not.
+COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "operators",
+            "value_mutations", "max_delay", "budget_s", "files", "shard")
+# What a config stored before a key existed means by its absence.
+ABSENT = {"external": {}, "strategy": "random", "shard": None, "operators": None, "budget_s": None,
+          "value_mutations": False}
+# A store of ~300,000 traces, judged in a few GB of memory; generating them takes minutes.
+MAX_MUTANTS = 100_000
+
+
+def campaign_config(args) -> dict:
+    """The campaign's identity (stored in campaigns.config); refuses arguments that make no sense."""
+    if not 0 <= args.mutants <= MAX_MUTANTS:
+        raise UntimelyError(f"--mutants {args.mutants}: give a number of mutants from 0 to {MAX_MUTANTS:,}; "
+                            "split a larger study into campaigns of other --seed values")
+    ops_per_mutant = strategies.operations(args.strategy, args.ops_per_mutant, args.time_mutations, args.operators)
+    named = None if args.operators is None else list(chosen_operators(args.operators, args.time_mutations,
+                                                                          getattr(args, "value_mutations", False)))
+    if ops_per_mutant < 1:
+        raise UntimelyError(f"--ops-per-mutant {ops_per_mutant}: give at least 1 operation per mutant")
+    if args.jobs < 0:
+        raise UntimelyError(f"--jobs {args.jobs}: give a number of worker processes, or 0 for all cores")
+    if not args.max_delay >= 0:
+        raise UntimelyError(f"--max-delay {args.max_delay}: give a delay in seconds >= 0")
+    mission = load_mission(args.mission)
+    suts, external = resolve(args.sut or mission.default_suts(), mission.folder, args.time_scale)
+    if mission.simulated and set(suts) - set(external):  # variants: a bad behaviour fails here, not in every run
+        mission.layer.behaviour_module()
+    given = getattr(args, "budget", None)  # callers that build their own arguments may leave it out
+    if given is not None and args.strategy != "focused":
+        raise UntimelyError(f"--budget {given} applies to --strategy focused, whose tests are made as "
+                            f"the campaign goes; a {args.strategy} campaign runs its --mutants")
+    budget = {} if given is None else {"budget_s": parse_duration(given)}
+    return {**budget, "kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
+            "external": {name: sut.config() for name, sut in external.items()},
+            "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,
+            "time_mutations": args.time_mutations, "operators": named,
+            "value_mutations": getattr(args, "value_mutations", False),
+            "max_delay": args.max_delay, "jobs": args.jobs,
+            "files": mission.hashes(), "shard": sharding.parse(getattr(args, "shard", None))}
+
+
+def _difference(stored: dict, wanted: dict) -> str | None:
+    for key in COMPARED:
+        if key == "files":  # a campaign stored before a file was hashed compares those it hashed
+            changed = [n for n in stored["files"] if stored["files"][n] != wanted["files"].get(n)]
+            if not changed:
+                continue
+            return (f"--mission {stored['mission']} had other contents: {', '.join(changed)} "
+                    f"differ from {wanted['mission']}")
+        theirs, ours = stored.get(key, ABSENT.get(key)), wanted.get(key, ABSENT.get(key))
+        if theirs == ours:
+            continue
+        if key == "external":
+            return f"external SUTs {theirs}, not {ours}"
+        listed = lambda v: ",".join(v) if v else "(the default)"  # noqa: E731
+        show = {"sut": listed, "operators": listed, "budget_s": lambda v: "none" if v is None else f"{v:g}s"}.get(key, str)
+        flag = "--budget" if key == "budget_s" else "--" + key.replace("_", "-")
+        return f"{flag} {show(theirs)}, not {show(ours)}"
+    return None
+
+
+def find_campaign(con, config: dict, db) -> int | None:
+    """The store's campaign if it is this one; a campaign with other arguments is refused."""
+    for campaign_id, text in con.execute("select campaign_id, config from campaigns order by campaign_id").fetchall():
+        stored = json.loads(text)
+        if stored.get("kind") != "campaign":
+            continue  # an ad-hoc `run` sharing the store
+        difference = _difference(stored, config)
+        if difference:
+            raise StoreError(f"{db} holds campaign {campaign_id}, made with {difference}; rerun with its "
+                             "arguments to resume it, or pass another --db for a new campaign")
+        return campaign_id
+    return None
