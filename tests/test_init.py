@@ -1,5 +1,5 @@
 """`untimely init DIR [--from-genom FILE.gen]`: a target folder whose golden run completes against
-its own adapter and whose campaign runs; what three GenoM3 descriptions (tests/genom/, written in
+its own adapter and whose campaign runs (keeping the adapter between runs); what three GenoM3 descriptions (tests/genom/, written in
 the style of public components) state, as interface and properties; the refusals."""
 from pathlib import Path
 
@@ -29,8 +29,10 @@ def test_the_example_target_runs_its_golden_mission_and_a_campaign(tmp_path, cap
     con = store.connect(tmp_path / "campaign.duckdb", read_only=True)
     outcomes = con.execute("select outcome, count(*) from traces group by all").fetchall()
     judged = con.execute("select count(*) from verdicts").fetchone()[0]
+    later_runs = con.execute("select count(*) from trace_runs where not ends_with(sut_info, 'run 1')").fetchone()[0]
     con.close()
     assert dict(outcomes).get("completed", 0) >= 2 and judged > 0, outcomes
+    assert later_runs > 0, "the stand-in adapter offers reuse: a campaign of 7 runs keeps it for later runs"
 
 
 def _derived(tmp_path, name):

@@ -7,9 +7,12 @@ what it calls) with calls to your robot's layer (ROS actions, GenoM requests, a 
 
 The protocol (docs/reference/protocol.md), one JSON object per line on stdin/stdout:
   bench -> adapter: hello, request {id, module, service, args}, ping {id}, bye
-  adapter -> bench: hello {proto, sut, caps}, reply {id, kind: intermediate|final, code}, pong {id}
+  adapter -> bench: hello {proto, sut, caps}, reply {id, kind: intermediate|final, code}, pong {id},
+                    bye (offered as the capability "reuse": the run is over, send the next hello)
 Every request gets exactly one final reply whose code is in the interface's catalogue; never
 invent a final reply the layer did not give. Write diagnostics to stderr, never to stdout.
+A campaign keeps an adapter that offers "reuse" for its next run, saving a start per run: put
+your layer back in its initial state before answering bye, or drop "reuse" from the caps.
 
 What this stand-in layer does, from the interface the bench sends in its hello:
 - an init service ends `ok` after INIT_S mission seconds and sets its module up;
@@ -41,6 +44,7 @@ class Layer:
                       if "init" not in services.values()}          # others once their init ends ok
         self.running: dict[int, tuple[str, str, threading.Event]] = {}  # id -> module, service, cut
         self.lock = threading.Lock()
+        self.over = False  # the bench said bye: nothing of this run may be sent any more
 
     def code(self, wanted: str, otherwise: str = "ok") -> str:
         return wanted if wanted in self.codes else otherwise
@@ -65,9 +69,18 @@ class Layer:
         interrupted = cut.wait(lasts / self.scale)
         with self.lock:
             del self.running[rqst_id]
+            if self.over:
+                return
             if kind == "init" and not interrupted:
                 self.ready.add(module)
-        final(rqst_id, self.code("interrupted") if interrupted else "ok")
+            final(rqst_id, self.code("interrupted") if interrupted else "ok")
+
+    def end(self) -> None:
+        """The run is over: its activities stop, and none of them replies after this returns."""
+        with self.lock:
+            self.over = True
+            for _, _, cut in self.running.values():
+                cut.set()
 
 
 _out = threading.Lock()
@@ -84,20 +97,21 @@ def final(rqst_id: int, code: str) -> None:
 
 
 def main() -> None:
-    layer = None
-    for line in sys.stdin:
+    layer, runs = None, 0
+    for line in sys.stdin:  # ends when the bench closes our input: it keeps us no longer
         message = json.loads(line)
         op = message["op"]
         if op == "hello":
-            layer = Layer(message)
-            send(op="hello", proto="untimely/1", caps=[],
-                 sut=f"untimely init stand-in layer (slot {os.environ.get('UNTIMELY_SLOT', '0')})")
+            layer, runs = Layer(message), runs + 1  # a fresh layer: nothing of the last run is left
+            send(op="hello", proto="untimely/1", caps=["reuse"],
+                 sut=f"untimely init stand-in layer (slot {os.environ.get('UNTIMELY_SLOT', '0')}), run {runs}")
         elif op == "request":
             layer.take(message["id"], message["module"], message["service"], message.get("args", {}))
         elif op == "ping":
             send(op="pong", id=message["id"])
         elif op == "bye":
-            break
+            layer.end()
+            send(op="bye")
 
 
 if __name__ == "__main__":
