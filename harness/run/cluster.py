@@ -11,7 +11,9 @@ of harness/ and sql/) and holds the same mission files; that a worker whose proc
 mid-run makes the run fail rather than be re-run elsewhere (the scheduler's
 `allowed-failures` is 0: the run is recorded `crashed`, with the reason); and, for external
 SUTs, that some worker offers the `sut` resource (`dask worker ... --resources sut=K` caps the
-SUT instances one machine runs at once). Runs are never retried (`retries=0`).
+SUT instances one machine runs at once). Runs are never retried (`retries=0`). While the
+campaign is connected, each worker keeps the adapters that offer `reuse` between its runs, as
+a local campaign does (kept.py), and ends them when the campaign disconnects.
 """
 from __future__ import annotations
 
@@ -20,7 +22,7 @@ import importlib.metadata
 import logging
 import threading
 from collections import deque
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from dataclasses import replace
 from functools import lru_cache
 from pathlib import Path
@@ -30,6 +32,7 @@ from harness import MISSIONS_DIR, ROOT, SQL_DIR
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.trace import Trace
+from harness.run.external import kept
 from harness.run.workers import Setup, Task, crashed
 
 PACKAGE = Path(__file__).resolve().parent.parent  # harness/
@@ -98,6 +101,25 @@ def _run_remote(setup: Setup, task: Task) -> Trace | UntimelyError:
     finally:
         with _slots_lock:
             _busy_slots.discard(slot)
+
+
+_campaigns_lock, _campaigns_kept = threading.Lock(), []  # one ExitStack per connected campaign
+
+
+def _keep_adapters() -> None:
+    """Runs on each worker as a campaign connects: its runs keep reusable adapters from now on."""
+    block = ExitStack()
+    block.enter_context(kept.kept_adapters())
+    with _campaigns_lock:
+        _campaigns_kept.append(block)
+
+
+def _end_kept_adapters() -> None:
+    """Runs on each worker as a campaign disconnects; the last one ends the kept adapters."""
+    with _campaigns_lock:
+        block = _campaigns_kept.pop() if _campaigns_kept else None
+    if block is not None:
+        block.close()
 
 
 class Cluster:
@@ -204,11 +226,17 @@ def connect(address: str, setup: Setup, jobs: int):
                 cluster.close()
             raise UntimelyError(f"cannot reach the Dask scheduler at {address} ({e}); start it with "
                                 "`dask scheduler`, or check the address") from None
+    kept_on_workers = False
     try:
         backend = Cluster(client, setup, address)
         backend.check()
+        if setup.external:
+            client.run(_keep_adapters)
+            kept_on_workers = True
         yield backend
     finally:
+        if kept_on_workers:
+            client.run(_end_kept_adapters, on_error="return")
         client.close()
         if cluster:
             cluster.close()
