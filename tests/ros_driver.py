@@ -44,10 +44,11 @@ def ensure_ros_venv() -> Path:
     return VENV_PYTHON
 
 
-def launcher_command(variant: str, mapping: Path = MAPPING) -> list[str]:
+def launcher_command(variant: str, mapping: Path = MAPPING, node: list[str] | None = None) -> list[str]:
+    """The launcher serving `node` (by default the Python Dala node of `variant`)."""
     python = str(ensure_ros_venv())
-    return [python, "-m", LAUNCHER, "--mapping", str(mapping), "--", python, "-m", NODE, "--variant", variant,
-            "--mapping", str(mapping)]
+    return [python, "-m", LAUNCHER, "--mapping", str(mapping), "--",
+            *(node or [python, "-m", NODE, "--variant", variant, "--mapping", str(mapping)])]
 
 
 def hello(time_scale: float) -> dict:
@@ -99,8 +100,10 @@ def alive(pids: set[int]) -> set[int]:
 class Launcher:
     """One launcher process; `lines` collects what it writes, each with its monotonic arrival time."""
 
-    def __init__(self, variant: str = "reference", mapping: Path = MAPPING):
-        self.process = subprocess.Popen(launcher_command(variant, mapping), cwd=ROOT, stdin=subprocess.PIPE,
+    def __init__(self, variant: str = "reference", mapping: Path = MAPPING, node: list[str] | None = None):
+        command = launcher_command(variant, mapping, node)
+        self.node_command = command[command.index("--") + 1:]
+        self.process = subprocess.Popen(command, cwd=ROOT, stdin=subprocess.PIPE,
                                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         self.started = time.monotonic()
         self.lines: list[tuple[float, dict]] = []
@@ -157,10 +160,15 @@ class Launcher:
         return [m for _, m in self.lines if m["op"] == "reply" and m["id"] == rqst_id]
 
     def node_pid(self) -> int:
+        """The node's process: the one below the launcher that runs the node's command."""
         for pid in descendants(self.process.pid):
-            if running_module(pid) == NODE:
+            try:
+                argv = Path(f"/proc/{pid}/cmdline").read_bytes().decode().split("\0")
+            except OSError:
+                continue
+            if argv[:3] == self.node_command[:3]:
                 return pid
-        raise AssertionError("no dala_node process below the launcher")
+        raise AssertionError(f"no process of {' '.join(self.node_command[:3])} below the launcher")
 
     def bye(self, timeout: float = 60.0) -> int:
         """bye, then end of input (as the bench: a launcher that offers reuse waits for a next hello)."""

@@ -216,10 +216,13 @@ def test_a_ros_service_of_a_package_debian_lacks_is_generated_from_its_srv_file(
 
 
 def test_run_after_run_on_one_master_and_node_each_on_a_fresh_layer():
+    assert_run_after_run(Launcher("reference"))
+
+
+def assert_run_after_run(launcher: Launcher) -> None:
     """With the mapping's reset_service: bye is answered, the next hello is served by the same node,
     reset (a TrackSpeedStart before rflex.Init is refused again), and nothing of the first run (its
     request 2, left running at bye) reaches the second."""
-    launcher = Launcher("reference")
     try:
         first = launcher.start(time_scale=1.0)
         assert "reuse" in first["caps"] and first["sut"].endswith("run 1 of this master)"), first

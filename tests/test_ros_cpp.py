@@ -1,14 +1,15 @@
 """The C++ node (harness/adapters/ros/cpp, built by `make ros-cpp`): roscpp and actionlib serving
-MoveBase goals, Trigger calls and generic goals, forwarding each to the simulated layer. A
-campaign through it judges like the simulator in process."""
+MoveBase goals, Trigger calls and generic goals, forwarding each to the simulated layer, and its
+reset service between runs. A campaign through it judges like the simulator in process."""
 import functools
 import subprocess
 
 import pytest
 
-from harness import ROOT
+from harness import DEFAULT_MISSION_DIR, ROOT
 
-from tests.ros_driver import ensure_ros_venv, requires_ros, requires_typed
+from tests.ros_driver import Launcher, ensure_ros_venv, requires_ros, requires_typed
+from tests.test_ros_adapter import assert_run_after_run
 from tests.test_external_campaign import assert_judges_like_in_process, campaign
 
 NODE = ROOT / "build" / "ros_cpp" / "dala_forward_node"
@@ -37,6 +38,17 @@ def test_a_campaign_through_the_cpp_node_judges_like_the_simulator_in_process(tm
     assert campaign(db, "--mutants", "10", "--sut", "reference,ros-cpp-reference", "--jobs", "8",
                     "--time-scale", "2") == 0
     con = assert_judges_like_in_process(db, capsys.readouterr().out, "ros-cpp-reference", 2, min_runs=8)
-    info = con.execute("select any_value(sut_info) from trace_runs join traces using (trace_id) "
-                       "where sut = 'ros-cpp-reference'").fetchone()[0]
-    assert "dala_forward_node" in info
+    infos = [r[0] for r in con.execute("select sut_info from trace_runs join traces using (trace_id) "
+                                        "where sut = 'ros-cpp-reference'").fetchall()]
+    assert all("dala_forward_node" in info for info in infos)
+    # its reset service: run after run on one master and node per slot, each on a fresh layer (the
+    # verdicts above agree with in-process runs, each of which starts a fresh layer)
+    fresh = sum(info.endswith("run 1 of this master)") for info in infos)
+    assert fresh <= 8 < len(infos), infos
+
+
+def test_the_cpp_node_serves_run_after_run_each_on_a_fresh_layer():
+    if cpp_missing():
+        pytest.skip(cpp_missing())
+    layer = [str(ensure_ros_venv()), "-m", "harness.adapters.sim", "--variant", "reference"]
+    assert_run_after_run(Launcher(mapping=DEFAULT_MISSION_DIR / "ros-cpp.toml", node=[str(NODE), "--", *layer]))

@@ -90,12 +90,13 @@ def reset(service: str, timeout_s: float) -> None:
 
 def node_environment(mapping, hello: dict) -> dict[str, str]:
     """What a node learns from the launcher: the time scale; for a node that hands requests on to a
-    layer of its own (cpp/dala_forward_node.cpp), the bench's hello and the routes, one a line:
-    KIND NAME TYPE module.Service."""
+    layer of its own (cpp/dala_forward_node.cpp), the bench's hello, the routes, one a line:
+    KIND NAME TYPE module.Service, and the reset service to serve (empty: none)."""
     routes = mapping.routes(interface_services(hello["interface"]))
     return {"UNTIMELY_TIME_SCALE": repr(hello["time_scale"]),
             "UNTIMELY_HELLO": json.dumps(hello, separators=(",", ":")),
-            "UNTIMELY_ROUTES": "\n".join(f"{r.kind} {r.name} {r.type} {q}" for q, r in routes.items())}
+            "UNTIMELY_ROUTES": "\n".join(f"{r.kind} {r.name} {r.type} {q}" for q, r in routes.items()),
+            "UNTIMELY_RESET_SERVICE": mapping.reset_service or ""}
 
 
 def run(args, out: LineWriter) -> None:
