@@ -76,13 +76,18 @@ def descendants(pid: int) -> set[int]:
     return found
 
 
+def command_line(pid: int) -> list[str]:
+    """The arguments process `pid` runs with ([] once it has gone)."""
+    try:
+        return Path(f"/proc/{pid}/cmdline").read_bytes().decode().split("\0")
+    except OSError:
+        return []
+
+
 def running_module(pid: int) -> str | None:
     """The module a `python -m MODULE ...` process runs, if it is one."""
-    try:
-        argv = Path(f"/proc/{pid}/cmdline").read_bytes().split(b"\0")
-    except OSError:
-        return None
-    return argv[2].decode() if len(argv) > 2 and argv[1] == b"-m" else None
+    argv = command_line(pid)
+    return argv[2] if len(argv) > 2 and argv[1] == "-m" else None
 
 
 def alive(pids: set[int]) -> set[int]:
@@ -162,11 +167,7 @@ class Launcher:
     def node_pid(self) -> int:
         """The node's process: the one below the launcher that runs the node's command."""
         for pid in descendants(self.process.pid):
-            try:
-                argv = Path(f"/proc/{pid}/cmdline").read_bytes().decode().split("\0")
-            except OSError:
-                continue
-            if argv[:3] == self.node_command[:3]:
+            if command_line(pid)[:3] == self.node_command[:3]:
                 return pid
         raise AssertionError(f"no process of {' '.join(self.node_command[:3])} below the launcher")
 

@@ -6,6 +6,7 @@ import cloudpickle
 import pytest
 
 import test_campaign
+import test_kept_adapters
 from harness import DEFAULT_MISSION_DIR, store
 from harness.campaign import campaign
 from harness.run import cluster
@@ -13,8 +14,10 @@ from harness.errors import UntimelyError
 from test_campaign import arguments, dump, failing_runner
 
 distributed = pytest.importorskip("distributed")
-# The test runners live in a test module that Dask workers cannot import: send them by value.
+# The test runners and the census of child processes live in test modules that Dask workers
+# cannot import: send them by value.
 cloudpickle.register_pickle_by_value(test_campaign)
+cloudpickle.register_pickle_by_value(test_kept_adapters)
 
 
 def test_a_simulated_campaign_on_two_workers_stores_what_the_local_pool_stores(tmp_path):
@@ -131,14 +134,6 @@ def test_external_suts_run_on_the_cluster_in_slots_of_their_worker(tmp_path):
     assert infos <= {"faulty test adapter on slot 0", "faulty test adapter on slot 1"} and len(infos) == 2
 
 
-def _adapters_of_this_worker() -> list[int]:
-    """Runs on a Dask worker: its child processes (the adapters it started)."""
-    import os
-    from pathlib import Path
-    tasks = Path(f"/proc/{os.getpid()}/task")
-    return [int(pid) for task in tasks.iterdir() for pid in (task / "children").read_text().split()]
-
-
 def test_a_workers_adapters_that_offer_reuse_serve_run_after_run_and_end_with_the_campaign(tmp_path):
     """On a scheduler that outlives the campaign, as a team's cluster does."""
     from test_external_campaign import FAULTY
@@ -149,11 +144,11 @@ def test_a_workers_adapters_that_offer_reuse_serve_run_after_run_and_end_with_th
         db = tmp_path / "c.duckdb"
         campaign.main(arguments(DEFAULT_MISSION_DIR, db, mutants=3, seed=5, time_scale=20.0, jobs=2,
                                 sut=f"f=cmd:{{python}} {FAULTY} --reuse answer", cluster=local.scheduler_address))
-        left = client.run(_adapters_of_this_worker)
+        left = client.run(test_kept_adapters.adapters)  # the worker's own child processes
     con = store.connect(db, read_only=True)
     outcomes = con.execute("select outcome, count(*) from traces group by all").fetchall()
     infos = [r[0] for r in con.execute("select sut_info from trace_runs").fetchall()]
     con.close()
     assert [outcome for outcome, _ in outcomes] == ["completed"]
     assert sum(info.endswith(", run 1") for info in infos) <= 2 < len(infos), infos  # one start per slot
-    assert list(left.values()) == [[]], "a kept adapter outlived the campaign on its worker"
+    assert list(left.values()) == [set()], "a kept adapter outlived the campaign on its worker"

@@ -1,6 +1,7 @@
 """`untimely init DIR [--from-genom FILE.gen]`: a target folder whose golden run completes against
-its own adapter and whose campaign runs (keeping the adapter between runs); what three GenoM3 descriptions (tests/genom/, written in
-the style of public components) state, as interface and properties; the refusals."""
+its own adapter and whose campaign runs (keeping the adapter between runs); what three GenoM3
+descriptions (tests/genom/, written in the style of public components) state, as interface and
+properties; the refusals."""
 from pathlib import Path
 
 import pytest
