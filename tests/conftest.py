@@ -21,3 +21,14 @@ def campaign_store(tmp_path_factory):
     assert cli.main(["campaign", "--mutants", "5", "--sut", "genom,bip-a", "--seed", "7", "--jobs", "1",
                      "--db", str(db)]) == 0
     return db
+
+
+def pytest_report_header():
+    """The versions of the project's dependencies this run tests (a fresh .venv has the newest its ranges allow)."""
+    import re
+    import tomllib
+    from importlib.metadata import version
+    from pathlib import Path
+    project = tomllib.loads((Path(__file__).parents[1] / "pyproject.toml").read_text())["project"]
+    names = [re.match(r"[\w.-]+", r).group(0) for r in project["dependencies"]]
+    return "untimely dependencies: " + ", ".join(f"{n} {version(n)}" for n in names)

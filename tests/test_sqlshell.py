@@ -3,7 +3,7 @@ import pytest
 
 from harness.cli import main
 from harness.errors import StoreError
-from harness.store.sqlshell import run
+from harness.store.sqlshell import READ_ONLY, run
 from harness.store.database import connect
 from traces.fixtures import HERE, judged_store, load
 
@@ -48,7 +48,7 @@ def test_the_command_writes_no_file_and_attaches_nothing(db, tmp_path, capsys):
         assert main(["sql", "--db", str(db), query]) == 2, query
         err = capsys.readouterr().err
         assert err.startswith("error: query failed: ") and "Traceback" not in err, err
-        assert "disabled by configuration" in err or "configuration has been locked" in err, err
+        assert READ_ONLY in err, err
     assert db.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == [db.name]
     assert main(["sql", "--db", str(db), "select count(*) as n from verdicts"]) == 0

@@ -10,6 +10,11 @@ from harness.errors import StoreError
 from harness.store.database import connect
 from harness.textable import format_table
 
+# Said with every failure, in the bench's words: DuckDB words its refusals differently from one
+# version to the next, so the remedy must not depend on its sentence.
+READ_ONLY = ("the sql command is read-only: it writes nothing and reaches no file outside the store; "
+             "`untimely export FOLDER` writes the store's tables out as files")
+
 
 def run(con: duckdb.DuckDBPyConnection, query: str) -> str:
     try:
@@ -22,7 +27,7 @@ def run(con: duckdb.DuckDBPyConnection, query: str) -> str:
     except duckdb.Error as e:
         tables = ", ".join(r[0] for r in con.execute(
             "select table_name from information_schema.tables order by table_name").fetchall())
-        raise StoreError(f"query failed: {e}\nthe store has: {tables}") from None
+        raise StoreError(f"query failed: {e}\n{READ_ONLY}\nthe store has: {tables}") from None
     return f"{format_table(columns, rows)}\n({len(rows)} row{'' if len(rows) == 1 else 's'})"
 
 

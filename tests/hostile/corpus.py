@@ -235,9 +235,9 @@ def _keep(p: Place, analysed: bool = True) -> None:
 
 STORES = [
     Case("sql: copy to the store itself", lambda p: ["sql", f"copy events to '{p.db}'", "--db", str(p.db)],
-         "disabled by configuration", prepare=_keep, check=_unchanged_store),
+         "the sql command is read-only: it writes nothing", prepare=_keep, check=_unchanged_store),
     Case("sql: attach", lambda p: ["sql", f"attach '{p.root / 'other.duckdb'}' as o", "--db", str(p.db)],
-         "disabled by configuration", prepare=_keep, check=_unchanged_store),
+         "the sql command is read-only: it writes nothing", prepare=_keep, check=_unchanged_store),
     Case("diff: a never analysed store", _flag("diff"), "has no analysis to compare; run python -m harness analyze",
          prepare=lambda p: _keep(p, analysed=False), check=_unchanged_store),
     Case("explain: a never analysed store", _flag("explain", "1", "PEX(rflex)"), "has no verdicts to explain; run "
