@@ -144,6 +144,8 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("dir", help="the folder to write (created; existing files are never overwritten)")
     c.add_argument("--from-genom", metavar="FILE.gen", help="derive the interface and properties from a "
                    "GenoM3 component description")
+    c.add_argument("--include", "-I", action="append", default=[], metavar="DIR",
+                   help="with --from-genom: a folder #include searches, after the .gen file's own (repeatable)")
 
     c = command("shrink", "reduce a bad trace's script to the smallest one showing the same bad behaviour",
                 "harness.campaign.shrink:main")
