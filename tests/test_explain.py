@@ -90,3 +90,43 @@ def test_a_property_whose_oracle_fails_is_not_explained_and_the_others_are(tmp_p
     assert failed and all(t.splitlines()[1] == '  not explained: the property\'s oracle failed (Binder Error: '
                           'Referenced column "no_such_column" not found in FROM clause!); fix its template, then '
                           'analyze again' for t in failed)
+
+
+SELF_INTERRUPTING = """component selfish {
+  activity X() { interrupts X; };
+};
+"""
+
+
+def test_explain_report_and_junit_never_crash_on_an_ee_verdict_without_a_y_request(tmp_path, capsys):
+    """An activity that interrupts itself, requested twice: every verdict of the run can be
+    explained, reported and written as JUnit (the crash of issue 34 was a missing y request)."""
+    gen = tmp_path / "selfish.gen"
+    gen.write_text(SELF_INTERRUPTING)
+    folder, db = tmp_path / "selfish", tmp_path / "s.duckdb"
+    assert main(["init", str(folder), "--from-genom", str(gen)]) == 0
+    script = folder / "trace.mission"  # beside the target's interface and suts.toml
+    script.write_text("send selfish.X as a\nsleep 0.2\nsend selfish.X as b\nwait all\n")
+    assert main(["run", str(script), "--sut", "adapter", "--db", str(db)]) == 0
+    assert main(["analyze", "--db", str(db), "--properties", str(folder / "properties.toml"),
+                 "--junit", str(tmp_path / "j.xml")]) == 0
+    con = connect(db, read_only=True)
+    verdicts = con.execute("select trace_id, property_id, rqst_id, verdict from verdicts").fetchall()
+    con.close()
+    assert {v[1] for v in verdicts} == {"AIB(selfish.X)"}, verdicts
+    capsys.readouterr()
+    for trace_id, property_id, rqst_id, _ in verdicts:
+        assert main(["explain", str(trace_id), property_id, str(rqst_id), "--db", str(db)]) == 0
+    out = capsys.readouterr()
+    assert "Traceback" not in out.err and "AIB(selfish.X)" in out.out
+    assert main(["report", "--db", str(db), "--out", str(tmp_path / "report")]) == 0
+    assert (tmp_path / "j.xml").read_text().startswith("<?xml")
+
+
+def test_a_crash_exits_with_its_own_status_not_the_finding_status(tmp_path, capsys, monkeypatch):
+    def broken(args):
+        raise AttributeError("'NoneType' object has no attribute 'startswith'")
+    monkeypatch.setattr(explain, "main", broken)
+    assert main(["explain", "1", "P", "--db", str(tmp_path / "none.duckdb")]) == 3
+    err = capsys.readouterr().err
+    assert "crashed (a bug, not a finding)" in err and "AttributeError" in err
