@@ -94,26 +94,28 @@ def test_a_property_whose_oracle_fails_is_not_explained_and_the_others_are(tmp_p
 
 SELF_INTERRUPTING = """component selfish {
   activity X() { interrupts X; };
+  activity Y();
 };
 """
 
 
 def test_explain_report_and_junit_never_crash_on_an_ee_verdict_without_a_y_request(tmp_path, capsys):
-    """An activity that interrupts itself, requested twice: every verdict of the run can be
-    explained, reported and written as JUnit (the crash of issue 34 was a missing y request)."""
+    """An activity that interrupts itself, requested twice, and one that only genom3's kill
+    interrupts (no request of it in the trace): every verdict is explained, reported and written
+    as JUnit (explain crashed on the verdict no y request decided)."""
     gen = tmp_path / "selfish.gen"
     gen.write_text(SELF_INTERRUPTING)
     folder, db = tmp_path / "selfish", tmp_path / "s.duckdb"
     assert main(["init", str(folder), "--from-genom", str(gen)]) == 0
     script = folder / "trace.mission"  # beside the target's interface and suts.toml
-    script.write_text("send selfish.X as a\nsleep 0.2\nsend selfish.X as b\nwait all\n")
+    script.write_text("send selfish.Y as y\nsleep 0.2\nsend selfish.X as a\nsleep 0.2\nsend selfish.X as b\nwait all\n")
     assert main(["run", str(script), "--sut", "adapter", "--db", str(db)]) == 0
     assert main(["analyze", "--db", str(db), "--properties", str(folder / "properties.toml"),
                  "--junit", str(tmp_path / "j.xml")]) == 0
     con = connect(db, read_only=True)
     verdicts = con.execute("select trace_id, property_id, rqst_id, verdict from verdicts").fetchall()
     con.close()
-    assert {v[1] for v in verdicts} == {"AIB(selfish.X)"}, verdicts
+    assert {v[1] for v in verdicts} == {"AIB(selfish.X)", "AIB(selfish.Y)"}, verdicts
     capsys.readouterr()
     for trace_id, property_id, rqst_id, _ in verdicts:
         assert main(["explain", str(trace_id), property_id, str(rqst_id), "--db", str(db)]) == 0
