@@ -6,6 +6,7 @@ interface, and are listed. Every line of the result keeps the file and line it c
 from __future__ import annotations
 
 import io
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -46,11 +47,11 @@ class _Pass(Preprocessor):
             self.add_path(str(folder))
 
     def on_error(self, file, line, msg):
-        raise InputFileError(file, line, f"{msg}; genom3's preprocessor would refuse it too: fix the line")
+        raise InputFileError(os.path.abspath(file), line, f"{msg}; genom3's preprocessor would refuse it too: fix the line")
 
     def on_include_not_found(self, is_malformed, is_system_include, curdir, includepath):
         directive = self.lastdirective
-        raise InputFileError(directive.source, directive.lineno, f"#include {includepath!r} not found beside the "
+        raise InputFileError(os.path.abspath(directive.source), directive.lineno, f"#include {includepath!r} not found beside the "
                              "file nor in any --include folder; give its folder with --include DIR (-I DIR)")
 
     def on_file_open(self, is_system_include, includepath):
@@ -63,9 +64,9 @@ class _Pass(Preprocessor):
     def on_directive_unknown(self, directive, toks, ifpassthru, precedingtoks):
         if directive.value == "pragma":
             words = "".join(t.value for t in toks).strip()
-            self.pragmas.append((Origin(directive.source, directive.lineno), words))
+            self.pragmas.append((Origin(os.path.abspath(directive.source), directive.lineno), words))
             raise OutputDirective(Action.IgnoreAndRemove)
-        raise InputFileError(directive.source, directive.lineno, f"unknown directive #{directive.value}; "
+        raise InputFileError(os.path.abspath(directive.source), directive.lineno, f"unknown directive #{directive.value}; "
                              "genom3's preprocessor knows #include, #define, #if..., #pragma")
 
 
@@ -98,11 +99,11 @@ def _unterminated_comment(text: str) -> int | None:
 def _located(output: str, first: str, pragmas: list) -> Source:
     """The preprocessor's output with its #line marks blanked, and where each line came from."""
     lines, origins = [], []
-    file, line = first, 1
+    file, line = os.path.abspath(first), 1
     for text in output.split("\n"):
         mark = LINE_MARK.fullmatch(text.strip())
         if mark:
-            line, file = int(mark.group(1)), mark.group(2)
+            line, file = int(mark.group(1)), os.path.abspath(mark.group(2))
             lines.append("")
             origins.append(Origin(file, line))
             continue
