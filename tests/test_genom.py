@@ -1,0 +1,128 @@
+"""The GenoM3 reader (harness/target/genom/) on one hand-made description per construct: what it
+reads right, and what it refuses naming the file, the line and the construct."""
+import tomllib
+
+import pytest
+
+from harness.cli import main
+from harness.target.interface import load_interface, load_properties
+from harness.target.mission import load_mission
+
+
+def _init(tmp_path, text, capsys=None, files=None):
+    gen = tmp_path / "c.gen"
+    gen.write_text(text)
+    for name, content in (files or {}).items():
+        (tmp_path / name).write_text(content)
+    folder = tmp_path / "t"
+    status = main(["init", str(folder), "--from-genom", str(gen)])
+    return status, folder, gen
+
+
+def _properties(folder):
+    interface = load_interface(folder / "interface.toml")
+    return interface, {p.id: p for p in load_properties(folder / "properties.toml", interface)}
+
+
+def test_braces_in_a_default_value_keep_the_clauses_that_follow(tmp_path):
+    status, folder, _ = _init(tmp_path, """component c {
+  function S();
+  activity A(in string<64> serial[2] = { "a", "b" }: "ports", in double v = 1.0) {
+    interrupts A;
+    after S;
+  };
+};""")
+    assert status == 0
+    _, properties = _properties(folder)
+    assert properties["AIB(c.A)"].y == ("c.A", "c.kill")
+    assert properties["PEX(c)"].q == ("c.S",) and properties["PEX(c)"].r_p == "disallowed"
+
+
+def test_comment_markers_inside_strings_are_text(tmp_path):
+    status, folder, _ = _init(tmp_path, """component c {
+  activity A(in string<8> tag = "#1") {
+    doc "see http://example.org/a // not a comment";
+    interrupts A;
+  };
+  activity B() { doc "# neither"; interrupts B; };
+};""")
+    assert status == 0
+    interface, properties = _properties(folder)
+    assert {"c.A", "c.B"} <= set(interface.services)
+    assert not any(p.startswith(("PRE", "PEX")) for p in properties), "no precondition is invented"
+    assert properties["AIB(c.B)"].y == ("c.B", "c.kill")
+
+
+def test_before_is_a_precondition_of_the_listed_services_citing_its_line(tmp_path):
+    status, folder, gen = _init(tmp_path, """component c {
+  activity Go();
+  activity Look();
+  function Setup() {
+    before Look;
+  };
+};""")
+    assert status == 0
+    _, properties = _properties(folder)
+    assert properties["PRE(c.Look)"].q == ("c.Setup",) and "PRE(c.Go)" not in properties
+    assert "#   from c.gen:5: c.Setup before Look" in (folder / "properties.toml").read_text()
+    golden = (folder / "golden.mission").read_text()
+    assert golden.index("send c.Setup") < golden.index("send c.Look")
+
+
+def test_provides_of_an_included_interface_brings_its_services(tmp_path):
+    status, folder, _ = _init(tmp_path, """#include "iface.gen"
+component c {
+  provides iface;
+  activity Own();
+};""", files={"iface.gen": "interface iface {\n  activity Run() { interrupts Run; };\n  function Halt() { interrupts Run; };\n};\n"})
+    assert status == 0
+    interface, properties = _properties(folder)
+    assert interface.services["c.Run"].kind == "exec" and interface.services["c.Halt"].kind == "control"
+    assert set(properties["AIB(c.Run)"].y) == {"c.Run", "c.Halt", "c.kill"}
+
+
+def test_pragma_provides_applies_to_every_component(tmp_path):
+    status, folder, _ = _init(tmp_path, """interface iface { activity Run(); };
+component c { activity Own(); };
+#pragma provides iface
+""")
+    assert status == 0
+    assert "c.Run" in load_interface(folder / "interface.toml").services
+
+
+def test_exceptions_with_nested_members_make_valid_toml_and_validate_only_ones_are_rejections(tmp_path):
+    status, folder, _ = _init(tmp_path, """component c {
+  exception e_x { struct inner { double a; } s; long n; }, e_y;
+  exception e_range;
+  attribute set(in v = 1.0) { validate check(local in v); throw e_range; };
+  activity A() { throw e_x, e_y; };
+};""")
+    assert status == 0
+    replies = tomllib.loads((folder / "interface.toml").read_text())["replies"]
+    assert (replies["e_x"], replies["e_y"], replies["e_range"]) == ("T", "T", "R")
+
+
+def test_services_differing_by_case_are_two_services_and_the_golden_run_completes(tmp_path, capsys):
+    status, folder, _ = _init(tmp_path, "component c { activity Move(); activity move(); };")
+    assert status == 0
+    assert {"c.Move", "c.move"} <= set(load_mission(folder).interface.services)
+    assert main(["run", str(folder / "golden.mission"), "--sut", "adapter", "--db", str(tmp_path / "r.duckdb")]) == 0
+    assert "outcome    completed" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("text, files, line, words", [
+    ("component c {\n  exception e_a e_b;\n  activity A();\n};", {}, 2, "cannot read"),
+    ("component c { activity A(); };\n\ncomponent c { activity B(); };", {}, 3, "declared twice (first at c.gen:1)"),
+    ('#include "loop.gen"\ncomponent c { activity A(); };', {"loop.gen": '#include "loop.gen"\n'}, None,
+     "an #include loop"),
+    ("component c {\n  activity A();\n  /* never closed\n};", {}, 3, "comment that never ends"),
+    ('#include "absent.gen"\ncomponent c { activity A(); };', {}, 1, "give its folder with --include DIR"),
+    ("component c { provides nowhere; activity A(); };", {}, 1, "an interface that no file read declares"),
+    ("component c { function f(); attribute g(); };", {}, 1, "states no property untimely can judge"),
+])
+def test_what_cannot_be_read_is_refused_naming_file_line_and_construct(tmp_path, capsys, text, files, line, words):
+    status, folder, gen = _init(tmp_path, text, files=files)
+    out = capsys.readouterr()
+    assert status == 2 and words in out.err, out.err
+    assert str(gen if line else tmp_path) in out.err and (line is None or f"{gen}:{line}:" in out.err)
+    assert not folder.exists() and "next:" not in out.out
