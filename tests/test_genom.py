@@ -1,6 +1,7 @@
 """The GenoM3 reader (harness/target/genom/) on one hand-made description per construct: what it
 reads right, and what it refuses naming the file, the line and the construct."""
 import tomllib
+from pathlib import Path
 
 import pytest
 
@@ -126,3 +127,32 @@ def test_what_cannot_be_read_is_refused_naming_file_line_and_construct(tmp_path,
     assert status == 2 and words in out.err, out.err
     assert str(gen if line else tmp_path) in out.err and (line is None or f"{gen}:{line}:" in out.err)
     assert not folder.exists() and "next:" not in out.out
+
+
+def test_three_hand_made_components_read_as_their_clauses_say(tmp_path, capsys):
+    """tests/genom/{wheelbase,quadmotors,maneuver2}.gen, checked by hand against their lines."""
+    genom = Path(__file__).parent / "genom"
+    found = {}
+    for name in ("wheelbase", "quadmotors", "maneuver2"):
+        assert main(["init", str(tmp_path / name), "--from-genom", str(genom / f"{name}.gen"),
+                     "--include", str(genom / "include")]) == 0
+        found[name] = _properties(tmp_path / name)
+    out = capsys.readouterr().out
+    interface, p = found["wheelbase"]
+    assert {s: interface.services[s].kind for s in interface.services if s.endswith(("Init", "Track", "Stop"))} == {
+        "wheelbase.Init": "init", "wheelbase.Track": "exec", "wheelbase.Stop": "control"}
+    assert (p["PEX(wheelbase)"].x, p["PEX(wheelbase)"].q) == (("wheelbase.Track", "wheelbase.Goto"), ("wheelbase.Init",))
+    assert p["PRE(wheelbase.Track)"].q == ("wheelbase.SetSpeedLimits",), "after Init (line 49) is PEX's"
+    assert p["AIB(wheelbase.Goto)"].y == ("wheelbase.Track", "wheelbase.Goto", "wheelbase.Stop", "wheelbase.kill")
+    assert interface.replies["e_emergency"] == "T" and interface.replies["e_sys"] == "T"
+    interface, p = found["quadmotors"]
+    assert "PEX(quadmotors)" not in p, "stop (line 39) comes after nothing: no service every activity needs"
+    assert p["PRE(quadmotors.start)"].q == ("quadmotors.init",) and p["PRE(quadmotors.servo)"].q == ("quadmotors.start",)
+    assert "quadmotors.servo (quadmotors.gen:36) interrupts 'spin_down', which the component does not declare" in out
+    assert "e_started" in interface.replies, "an exception declared after one with members"
+    _, p = found["maneuver2"]
+    assert p["PRE(maneuver2.goto)"].q == ("maneuver2.set_current_state", "maneuver2.set_bounds")
+    assert p["PRE(maneuver2.waypoint)"].q == ("maneuver2.goto",)
+    assert p["AIB(maneuver2.set_current_state)"].y == ("maneuver2.stop", "maneuver2.kill"), "stop interrupts all"
+    assert main(["run", str(tmp_path / "wheelbase" / "golden.mission"), "--sut", "adapter", "--db",
+                 str(tmp_path / "w.duckdb")]) == 0

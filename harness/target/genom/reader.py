@@ -123,7 +123,9 @@ def read_scopes(path: Path, includes: list[Path]) -> tuple[list[GenomScope], lis
                                  f"{seen[component.name]}); a .gen file declares each component once")
         seen[component.name] = component.where
     if not components:
-        raise InputFileError(path, "", "no `component NAME { ... };` found; give a GenoM3 component description")
+        declared = f" (it declares the interfaces {', '.join(s.name for s in scopes)})" if scopes else ""
+        raise InputFileError(path, "", f"no `component NAME {{ ... }};` found{declared}; give the .gen file of a "
+                             "GenoM3 component")
     return components, interfaces, source
 
 
