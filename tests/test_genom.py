@@ -82,6 +82,19 @@ component c {
     assert set(properties["AIB(c.Run)"].y) == {"c.Run", "c.Halt", "c.kill"}
 
 
+def test_defines_and_conditionals_are_preprocessed(tmp_path):
+    status, folder, _ = _init(tmp_path, """#define STOPPER halt
+#ifdef NOT_DEFINED
+component broken {
+#endif
+component c {
+  activity Go();
+  function STOPPER() { interrupts Go; };
+};""")
+    assert status == 0
+    assert set(_properties(folder)[1]["AIB(c.Go)"].y) == {"c.halt", "c.kill"}
+
+
 def test_pragma_provides_applies_to_every_component(tmp_path):
     status, folder, _ = _init(tmp_path, """interface iface { activity Run(); };
 component c { activity Own(); };
@@ -112,7 +125,9 @@ def test_services_differing_by_case_are_two_services_and_the_golden_run_complete
 
 
 @pytest.mark.parametrize("text, files, line, words", [
-    ("component c {\n  exception e_a e_b;\n  activity A();\n};", {}, 2, "cannot read"),
+    ("component c {\n  exception e_a e_b;\n  activity A();\n};", {}, 2,
+     "cannot read 'exception e_a e_b;' at column 17: the dotgen grammar expects ',' or '{' or ';' there"),
+    ("component c {\n  activity A() {\n    interrupts A;\n", {}, 3, "the file ends inside a declaration"),
     ("component c { activity A(); };\n\ncomponent c { activity B(); };", {}, 3, "declared twice (first at c.gen:1)"),
     ('#include "loop.gen"\ncomponent c { activity A(); };', {"loop.gen": '#include "loop.gen"\n'}, None,
      "an #include loop"),

@@ -96,17 +96,41 @@ def _scope(tree: Tree, source: Source) -> GenomScope:
     return scope
 
 
+MAX_EXPECTED = 8  # past this, the list says less than the line itself
+WORDS = {"NAME": "a name", "WORD": "a word or number", "STRING": "a string", "CHAR": "a character",
+         "OPERATOR": "an operator", "KIND": "attribute, function or activity", "DIRECTION": "in, out or inout"}
+
+
+def _described(terminals) -> str:
+    """The terminals the parser expected, as a user writes them: ',' rather than COMMA."""
+    said = []
+    for name in sorted(terminals)[:MAX_EXPECTED]:
+        pattern = _parser().get_terminal(name).pattern
+        said.append(repr(pattern.value) if pattern.type == "str" else WORDS.get(name, name.lower()))
+    return " or ".join(said) or "something else"
+
+
 def _parse(source: Source, path: Path) -> list[GenomScope]:
     try:
         tree = _parser().parse(source.text)
     except UnexpectedInput as e:
-        where = source.origins[max(e.line, 1) - 1] if e.line and e.line > 0 else Origin(str(path), 0)
-        near = source.text.split("\n")[e.line - 1].strip() if e.line and e.line > 0 else ""
-        expected = sorted(getattr(e, "expected", None) or getattr(e, "allowed", None) or [])
-        raise InputFileError(where.file, where.line, f"cannot read {near[:80]!r} (column {e.column}): the dotgen "
-                             f"grammar expects {', '.join(expected[:8]) or 'something else'} there; check the "
-                             "declaration against genom3's grammar (genom3 must accept the file)") from None
+        raise _unreadable(e, source, path) from None
     return [_scope(t, source) for t in tree.children if isinstance(t, Tree) and t.data in ("component", "interface")]
+
+
+def _unreadable(e: UnexpectedInput, source: Source, path: Path) -> InputFileError:
+    """The refusal of what the grammar cannot read: where, what is written there, what it expected."""
+    lines = source.text.split("\n")
+    if getattr(getattr(e, "token", None), "type", None) == "$END" or not e.line or e.line < 1:
+        last = max((n for n, text in enumerate(lines) if text.strip()), default=0)
+        where = source.origins[last] if source.origins else Origin(str(path), 0)
+        return InputFileError(where.file, where.line, "the file ends inside a declaration: a '}' or a ';' is "
+                              "missing; close every brace and end every declaration with ';'")
+    where = source.origins[e.line - 1]
+    expected = _described(getattr(e, "expected", None) or getattr(e, "allowed", None) or [])
+    return InputFileError(where.file, where.line, f"cannot read {lines[e.line - 1].strip()[:80]!r} at column "
+                          f"{e.column}: the dotgen grammar expects {expected} there; write the declaration as "
+                          "genom3's grammar says (genom3 must accept the file)")
 
 
 def read_scopes(path: Path, includes: list[Path]) -> tuple[list[GenomScope], list[GenomScope], Source]:
