@@ -60,7 +60,6 @@ def test_a_gen_file_that_cannot_be_read_is_refused_naming_it(tmp_path, capsys, t
     assert not (tmp_path / "t").exists()
 
 
-@pytest.mark.parametrize("error", [errno.ENOSPC, errno.EROFS])
 @pytest.mark.parametrize("extra, message", [
     (["--include", "."], "--include is for the #include lines of --from-genom FILE.gen"),
     (["--from-genom", "GEN", "--include", "no/such/folder"], "--include 'no/such/folder': no such folder"),
@@ -72,6 +71,7 @@ def test_include_folders_are_checked(tmp_path, capsys, extra, message):
     assert message in capsys.readouterr().err and not (tmp_path / "t").exists()
 
 
+@pytest.mark.parametrize("error", [errno.ENOSPC, errno.EROFS])
 def test_a_full_disk_or_a_read_only_place_leaves_nothing_half_written(tmp_path, capsys, monkeypatch, error):
     """The third file fails to be written: init says why, leaves none of its files, and a second
     init (once there is room) writes the whole target."""
