@@ -47,7 +47,7 @@ def test_an_existing_target_is_never_overwritten(tmp_path, capsys):
 @pytest.mark.parametrize("text, message", [
     (None, "no such file; give a GenoM3 .gen file"),
     ("/* nothing */ struct s { long a; };", "no `component NAME { ... };` found"),
-    ("component c { version \"1\";", "cannot read"),
+    ("component c { version \"1\";", "the file ends inside a declaration"),
     ("component c { version \"1\"; };", "component c states no property untimely can judge"),
 ])
 def test_a_gen_file_that_cannot_be_read_is_refused_naming_it(tmp_path, capsys, text, message):
