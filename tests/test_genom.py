@@ -37,6 +37,7 @@ def test_braces_in_a_default_value_keep_the_clauses_that_follow(tmp_path):
     _, properties = _properties(folder)
     assert properties["AIB(c.A)"].y == ("c.A", "c.kill")
     assert properties["PEX(c)"].q == ("c.S",) and properties["PEX(c)"].r_p == "disallowed"
+    assert "#   from c.gen:5: c.A after S\n[[property]]\nid = \"PEX(c)\"" in (folder / "properties.toml").read_text()
 
 
 def test_comment_markers_inside_strings_are_text(tmp_path):
@@ -61,10 +62,18 @@ def test_before_is_a_precondition_of_the_listed_services_citing_its_line(tmp_pat
   function Setup() {
     before Look;
   };
+};
+component d {
+  activity Go();
+  function Setup() { before Go; };
 };""")
     assert status == 0
     _, properties = _properties(folder)
     assert properties["PRE(c.Look)"].q == ("c.Setup",) and "PRE(c.Go)" not in properties
+    assert "PEX(c)" not in properties, "Go needs nothing: Setup is no init service"
+    assert properties["PEX(d)"].q == ("d.Setup",) and properties["PEX(d)"].x == ("d.Go",)
+    assert "#   from c.gen:10: d.Setup before Go\n[[property]]\nid = \"PEX(d)\"" in \
+        (folder / "properties.toml").read_text()
     assert "#   from c.gen:5: c.Setup before Look" in (folder / "properties.toml").read_text()
     golden = (folder / "golden.mission").read_text()
     assert golden.index("send c.Setup") < golden.index("send c.Look")

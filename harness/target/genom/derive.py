@@ -31,9 +31,9 @@ def _cite(service, clause: str) -> str:
     return f"{service.lines[clause]}: {service.scope}.{service.name} {clause} {', '.join(service.listed(clause))}"
 
 
-def _needs(c: GenomScope, services: dict, draft: Draft) -> dict[str, tuple[list[str], list[str]]]:
-    """service -> (the services it needs an earlier ok of, the clauses that say so)."""
-    needs: dict[str, tuple[list[str], list[str]]] = {}
+def _needs(c: GenomScope, services: dict, draft: Draft) -> dict[str, dict[str, list[str]]]:
+    """service -> the services it needs an earlier ok of -> the clauses that say so."""
+    needs: dict[str, dict[str, list[str]]] = {}
     for s in services.values():
         for clause in ("after", "before"):
             for named in s.listed(clause):
@@ -42,8 +42,7 @@ def _needs(c: GenomScope, services: dict, draft: Draft) -> dict[str, tuple[list[
                                        "component does not declare: left out")
                     continue
                 x, q = (s.name, named) if clause == "after" else (named, s.name)
-                first, cites = needs.setdefault(x, ([], []))
-                first += [q] if q not in first else []
+                cites = needs.setdefault(x, {}).setdefault(q, [])
                 cites += [_cite(s, clause)] if _cite(s, clause) not in cites else []
     return needs
 
@@ -51,19 +50,17 @@ def _needs(c: GenomScope, services: dict, draft: Draft) -> dict[str, tuple[list[
 def _preconditions(c: GenomScope, services: dict, draft: Draft) -> None:
     needs = _needs(c, services, draft)
     activities = [s for s in services if services[s].kind == "activity"]
-    common = [q for q in {q for first, _ in needs.values() for q in first}
-              if all(q in needs.get(a, ([], []))[0] for a in activities if a != q)]
+    common = sorted(q for q in {q for first in needs.values() for q in first}
+                    if all(q in needs.get(a, {}) for a in activities if a != q))
     if activities and common:
-        init = sorted(common)[0]
+        init = common[0]
         draft.modules[c.name][init] = "init"
-        cites = [cite for a in activities if a != init for cite in needs[a][1] if f" {init}" in cite]
+        cites = [cite for a in activities if a != init for cite in needs[a].pop(init)]
         draft.properties.append(pex(draft, c.name, init, "disallowed", tuple(dict.fromkeys(cites))))
-        for a in activities:
-            if a != init:
-                needs[a][0].remove(init)
-    for x, (first, cites) in needs.items():
+    for x, first in needs.items():
         if first:
-            draft.properties.append(pre(f"{c.name}.{x}", [f"{c.name}.{q}" for q in first], tuple(cites)))
+            cites = tuple(dict.fromkeys(cite for q in first for cite in first[q]))
+            draft.properties.append(pre(f"{c.name}.{x}", [f"{c.name}.{q}" for q in first], cites))
 
 
 def _dominators(c: GenomScope, services: dict, draft: Draft) -> None:
