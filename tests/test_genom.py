@@ -6,6 +6,7 @@ from pathlib import Path
 import pytest
 
 from harness.cli import main
+from harness.store import connect
 from harness.target.interface import load_interface, load_properties
 from harness.target.mission import load_mission
 
@@ -178,5 +179,14 @@ def test_three_hand_made_components_read_as_their_clauses_say(tmp_path, capsys):
     assert p["PRE(maneuver2.goto)"].q == ("maneuver2.set_current_state", "maneuver2.set_bounds")
     assert p["PRE(maneuver2.waypoint)"].q == ("maneuver2.goto",)
     assert p["AIB(maneuver2.set_current_state)"].y == ("maneuver2.stop", "maneuver2.kill"), "stop interrupts all"
-    assert main(["run", str(tmp_path / "wheelbase" / "golden.mission"), "--sut", "adapter", "--db",
-                 str(tmp_path / "w.duckdb")]) == 0
+    db = tmp_path / "w.duckdb"
+    assert main(["campaign", "--mission", str(tmp_path / "wheelbase"), "--sut", "adapter", "--mutants", "10",
+                 "--db", str(db)]) == 0
+    con = connect(db, read_only=True)
+    golden = con.execute("select count(*) filter (verdict in ('FN', 'FP')), count(*) filter (verdict = 'TN') "
+                         "from verdicts join traces using (trace_id) join scripts using (script_id) "
+                         "where kind = 'golden'").fetchone()
+    certain = con.execute("select count(*) from verdicts where verdict in ('FN', 'FP') and certain").fetchone()[0]
+    con.close()
+    assert golden[0] == 0 and golden[1] > 0, "the golden run waits for each ok another request needs"
+    assert certain == 0, "the stand-in follows PEX, PRE and AIB"

@@ -1,6 +1,6 @@
 """`untimely init --from-genom` on component descriptions as their authors wrote them (tests/genom/real/,
 sources in tests/genom/SOURCES.md): what each states, checked by hand against the file, and a
-10-mutant campaign on the stand-in adapter with at most 30% invalid mutants, no FN and no FP."""
+10-mutant campaign on the stand-in adapter with at most 30% invalid mutants and no certain FN or FP."""
 from pathlib import Path
 
 import pytest
@@ -51,7 +51,8 @@ def test_a_real_component_gives_its_clauses_and_a_campaign_that_runs(tmp_path, c
     assert main(["campaign", "--mission", str(folder), "--sut", "adapter", "--mutants", "10", "--db", str(db)]) == 0
     con = store.connect(db, read_only=True)
     invalid = con.execute("select count(*) filter (not valid), count(*) from scripts where kind = 'mutant'").fetchone()
-    bad = con.execute("select count(*) from verdicts where verdict in ('FN', 'FP')").fetchone()[0]
+    # a suspicious FN (an ok and a request closer than the interface latency) is the bench's own doubt
+    bad = con.execute("select count(*) from verdicts where verdict in ('FN', 'FP') and certain").fetchone()[0]
     outcomes = dict(con.execute("select outcome, count(*) from traces group by all").fetchall())
     con.close()
     assert invalid[1] == 10 and invalid[0] <= 3, invalid

@@ -115,16 +115,19 @@ def _ordered(draft: Draft, module: str) -> list[str]:
 
 
 def golden_text(draft: Draft) -> str:
-    """Every service once, each after those it needs: an activity is awaited with `wait all`
-    before the next one starts, control requests go out between them. No request has a handle,
-    so that deleting or swapping a request (the mutation operators) leaves a valid script."""
+    """Every service once, each after those it needs: an activity, and a service another one needs,
+    is awaited with `wait all` before the next request; other control requests go out between
+    them. No request has a handle, so that deleting or swapping a request (the mutation
+    operators) leaves a valid script."""
+    needed = {q for p in draft.properties if p["type"] == "PC" for q in p["q"]}
     lines = ["# The golden mission (docs/reference/mission-language.md): a valid run the mutants start from.",
-             "# Each service once, after the services it needs; `wait all` after each activity."]
+             "# Each service once, after the services it needs; `wait all` after each activity and after",
+             "# each service another one needs (its ok must have come back before that one is sent)."]
     for module, services in draft.modules.items():
         lines += ["", f"# {module}"]
         for service in _ordered(draft, module):
             lines.append(f"send {service}")
-            if services[service.split(".", 1)[1]] != "control":
+            if services[service.split(".", 1)[1]] != "control" or service in needed:
                 lines.append(f"wait all timeout={WAIT_TIMEOUT_S}")
     lines.append(f"wait all timeout={WAIT_TIMEOUT_S}")
     return "\n".join(lines) + "\n"
