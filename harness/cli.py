@@ -247,6 +247,14 @@ def _stopped(how: str = "Ctrl-C", signum: int = 2) -> int:
     return 128 + signum
 
 
+def _crashed(command: str) -> int:
+    """A bug: its own status, so that a CI gate never takes it for a finding (status 1)."""
+    traceback.print_exc()
+    print(f"error: untimely {command} crashed (a bug, not a finding); please report the traceback above",
+          file=sys.stderr)
+    return CRASHED
+
+
 def _not_utf8(text: str) -> bool:
     try:
         text.encode("utf-8")
@@ -268,16 +276,11 @@ def _run(args) -> int:
     except KeyboardInterrupt as e:
         return _stopped(e.args[0], e.signum) if isinstance(e, processes.Stopped) else _stopped()
     except RuntimeError as e:
-        if not str(e).startswith(DUCKDB_INTERRUPTED):
-            raise
-        return _stopped()
+        return _stopped() if str(e).startswith(DUCKDB_INTERRUPTED) else _crashed(args.command)
     except BrokenPipeError:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
-    except Exception:  # a bug: its own status, so that a CI gate never takes it for a finding (1)
-        traceback.print_exc()
-        print(f"error: untimely {args.command} crashed (a bug, not a finding); please report the traceback above",
-              file=sys.stderr)
-        return CRASHED
+    except Exception:
+        return _crashed(args.command)
     finally:
         os.environ.pop(ROSBAG_ENV, None)
