@@ -7,7 +7,7 @@ from harness.analysis.analyzer import materialise
 from harness.analysis.explain import Explainer, judged_properties
 from harness.cli import main
 from harness.store.database import connect
-from traces.fixtures import HERE, INTERFACE, load, judged_store
+from traces.fixtures import HERE, INTERFACE, all_fixtures, load, judged_store
 
 EPSILON = 0.01
 
@@ -132,3 +132,22 @@ def test_a_crash_exits_with_its_own_status_not_the_finding_status(tmp_path, caps
     assert main(["explain", "1", "P", "--db", str(tmp_path / "none.duckdb")]) == 3
     err = capsys.readouterr().err
     assert "crashed (a bug, not a finding)" in err and "AttributeError" in err
+
+
+def test_every_verdict_of_every_fixture_is_explained(tmp_path):
+    """The hand-made traces cover every verdict cell of every type: each verdict row gets an
+    explanation naming its property and verdict, none a traceback."""
+    explained = set()
+    for n, fixture in enumerate(all_fixtures()):
+        con = judged_store(fixture, EPSILON, tmp_path / f"{n}.duckdb")
+        rows = con.execute("select trace_id, property_id, rqst_id, verdict from verdicts").fetchall()
+        texts = Explainer(con, fixture.interface, {p.id: p for p in fixture.properties}).explain(
+            [(t, p, r) for t, p, r, _ in rows])
+        con.close()
+        types = {p.id: p.type for p in fixture.properties}
+        for trace_id, property_id, rqst_id, verdict in rows:
+            assert texts[(trace_id, property_id, rqst_id)].startswith(
+                f"{property_id} on request {rqst_id} of trace {trace_id}: {verdict}"), fixture.path
+            explained.add((types[property_id], verdict))
+    assert {t for t, _ in explained} == {"PC", "ES", "EE", "EX", "MX_R", "MX_I", "VAL"}
+    assert {v for _, v in explained} >= {"TN", "TP", "FN", "FP"}
