@@ -105,13 +105,15 @@ component c {
     assert set(_properties(folder)[1]["AIB(c.Go)"].y) == {"c.halt", "c.kill"}
 
 
-def test_pragma_provides_applies_to_every_component(tmp_path):
-    status, folder, _ = _init(tmp_path, """interface iface { activity Run(); };
+def test_pragma_provides_applies_to_every_component_and_other_pragmas_are_named(tmp_path, capsys):
+    status, folder, _ = _init(tmp_path, """#pragma require "openrobots2-idl >= 2.0"
+interface iface { activity Run(); };
 component c { activity Own(); };
 #pragma provides iface
 """)
     assert status == 0
     assert "c.Run" in load_interface(folder / "interface.toml").services
+    assert '#pragma require "openrobots2-idl >= 2.0" (c.gen:1) concerns genom3\'s build' in capsys.readouterr().out
 
 
 def test_exceptions_with_nested_members_make_valid_toml_and_validate_only_ones_are_rejections(tmp_path):

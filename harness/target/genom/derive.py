@@ -115,6 +115,8 @@ def from_genom(path: Path, includes: list[Path]) -> Draft:
             raise InputFileError(c.where.file, c.where.line, f"component {c.name} states no property untimely can "
                                  "judge (no activity, so nothing to interrupt, and no after or before clause); "
                                  "write the target by hand from `untimely init DIR` (without --from-genom)")
+    draft.notes += [f"#pragma {words} ({where}) concerns genom3's build, not the interface: ignored"
+                    for where, words in source.pragmas if words.split()[:1] != ["provides"]]
     draft.notes += ["service inputs (the args of interface.toml) and their domains (what validate codels check) "
                     "are not derived: add args to interface.toml and values to golden.mission",
                     "which activities run until stopped is not derived: the golden mission waits for each "
