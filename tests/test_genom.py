@@ -67,12 +67,17 @@ def test_before_is_a_precondition_of_the_listed_services_citing_its_line(tmp_pat
 component d {
   activity Go();
   function Setup() { before Go; };
+};
+component e {
+  activity Only();
+  function Then() { after Only; };
 };""")
     assert status == 0
     _, properties = _properties(folder)
     assert properties["PRE(c.Look)"].q == ("c.Setup",) and "PRE(c.Go)" not in properties
     assert "PEX(c)" not in properties, "Go needs nothing: Setup is no init service"
     assert properties["PEX(d)"].q == ("d.Setup",) and properties["PEX(d)"].x == ("d.Go",)
+    assert "PEX(e)" not in properties and properties["PRE(e.Then)"].q == ("e.Only",), "no activity needs Only"
     assert "#   from c.gen:10: d.Setup before Go\n[[property]]\nid = \"PEX(d)\"" in \
         (folder / "properties.toml").read_text()
     assert "#   from c.gen:5: c.Setup before Look" in (folder / "properties.toml").read_text()

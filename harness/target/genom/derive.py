@@ -51,7 +51,7 @@ def _preconditions(c: GenomScope, services: dict, draft: Draft) -> None:
     needs = _needs(c, services, draft)
     activities = [s for s in services if services[s].kind == "activity"]
     common = sorted(q for q in {q for first in needs.values() for q in first}
-                    if all(q in needs.get(a, {}) for a in activities if a != q))
+                    if any(a != q for a in activities) and all(q in needs.get(a, {}) for a in activities if a != q))
     if activities and common:
         init = common[0]
         draft.modules[c.name][init] = "init"
