@@ -50,8 +50,9 @@ def _needs(c: GenomScope, services: dict, draft: Draft) -> dict[str, dict[str, l
 def _preconditions(c: GenomScope, services: dict, draft: Draft) -> None:
     needs = _needs(c, services, draft)
     activities = [s for s in services if services[s].kind == "activity"]
-    common = sorted(q for q in {q for first in needs.values() for q in first}
-                    if any(a != q for a in activities) and all(q in needs.get(a, {}) for a in activities if a != q))
+    needed = {q for first in needs.values() for q in first}
+    common = sorted(q for q in needed if any(a != q for a in activities)
+                    and all(q in needs.get(a, {}) for a in activities if a != q))
     if activities and common:
         init = common[0]
         draft.modules[c.name][init] = "init"
@@ -83,8 +84,9 @@ def _exceptions(c: GenomScope, services: dict, draft: Draft) -> None:
         throwers = [s for s in services.values() if code in s.listed("throws")]
         rejects = bool(throwers) and all(s.validate and not s.codels for s in throwers)
         mixed = [s.name for s in throwers if s.validate and s.codels]
-        draft.replies[code] = ("R", f"{c.name}: only validate codels throw it ({', '.join(s.name for s in throwers)})") \
-            if rejects else ("T", f"exception {code} of {c.name} ({where}): the service ended with it")
+        by = ", ".join(s.name for s in throwers)
+        draft.replies[code] = ("R", f"{c.name}: only validate codels throw it ({by})") if rejects else \
+            ("T", f"exception {code} of {c.name} ({where}): the service ended with it")
         if mixed and not rejects:
             draft.notes.append(f"{c.name}: {code} may come from the validate codel of {', '.join(mixed)} (a "
                                "rejection) or from their other codels (an end): catalogued T")

@@ -47,12 +47,14 @@ class _Pass(Preprocessor):
             self.add_path(str(folder))
 
     def on_error(self, file, line, msg):
-        raise InputFileError(os.path.abspath(file), line, f"{msg}; genom3's preprocessor would refuse it too: fix the line")
+        raise InputFileError(os.path.abspath(file), line, f"{msg}; genom3's preprocessor would refuse it too: "
+                             "fix the line")
 
     def on_include_not_found(self, is_malformed, is_system_include, curdir, includepath):
         directive = self.lastdirective
-        raise InputFileError(os.path.abspath(directive.source), directive.lineno, f"#include {includepath!r} not found beside the "
-                             "file nor in any --include folder; give its folder with --include DIR (-I DIR)")
+        raise InputFileError(os.path.abspath(directive.source), directive.lineno, f"#include {includepath!r} not "
+                             "found beside the file nor in any --include folder; give its folder with --include DIR "
+                             "(-I DIR)")
 
     def on_file_open(self, is_system_include, includepath):
         self.opens[includepath] = self.opens.get(includepath, 0) + 1
@@ -66,8 +68,8 @@ class _Pass(Preprocessor):
             words = "".join(t.value for t in toks).strip()
             self.pragmas.append((Origin(os.path.abspath(directive.source), directive.lineno), words))
             raise OutputDirective(Action.IgnoreAndRemove)
-        raise InputFileError(os.path.abspath(directive.source), directive.lineno, f"unknown directive #{directive.value}; "
-                             "genom3's preprocessor knows #include, #define, #if..., #pragma")
+        raise InputFileError(os.path.abspath(directive.source), directive.lineno, f"unknown directive "
+                             f"#{directive.value}; genom3's preprocessor knows #include, #define, #if..., #pragma")
 
 
 def preprocess(path: Path, includes: list[Path]) -> Source:

@@ -86,8 +86,8 @@ def _scope(tree: Tree, source: Source) -> GenomScope:
         if item.data == "service":
             service = _service(item, source, scope.name)
             if service.name in scope.services:
-                raise InputFileError(where.file, where.line, f"service {service.name} is declared twice in {scope.name} "
-                                     f"(first at {scope.services[service.name].where}); keep one")
+                raise InputFileError(where.file, where.line, f"service {service.name} is declared twice in "
+                                     f"{scope.name} (first at {scope.services[service.name].where}); keep one")
             scope.services[service.name] = service
         elif item.data == "exception":
             scope.exceptions.update({str(m.children[0]): where for m in item.children})
