@@ -152,6 +152,7 @@ def test_services_differing_by_case_are_two_services_and_the_golden_run_complete
     ("component c {\n  activity A();\n  /* never closed\n};", {}, 3, "comment that never ends"),
     ('#include "absent.gen"\ncomponent c { activity A(); };', {}, 1, "give its folder with --include DIR"),
     ("component c { provides nowhere; activity A(); };", {}, 1, "an interface that no file read declares"),
+    ("component c {\n  activity A();\n  function A();\n};", {}, 3, "service A is declared twice in c (first at c.gen:2)"),
     ("component c { function f(); attribute g(); };", {}, 1, "states no property untimely can judge"),
 ])
 def test_what_cannot_be_read_is_refused_naming_file_line_and_construct(tmp_path, capsys, text, files, line, words):
