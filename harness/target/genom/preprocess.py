@@ -2,7 +2,7 @@
 preprocessor in pure Python): `#include` searched beside the including file, then in the `-I`
 folders; `#define` and `#if`; comments removed. `#pragma` lines are kept aside: `#pragma provides`
 means what a `provides` of every component means; the others concern genom3's build, not the
-interface, and are listed. Every line of the result keeps the file and line it came from."""
+interface (derive.py names them as ignored). Every line of the result keeps the file and line it came from."""
 from __future__ import annotations
 
 import io
