@@ -7,6 +7,7 @@ import importlib
 import os
 import re
 import sys
+import traceback
 from pathlib import Path
 
 from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR, __version__
@@ -144,6 +145,8 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("dir", help="the folder to write (created; existing files are never overwritten)")
     c.add_argument("--from-genom", metavar="FILE.gen", help="derive the interface and properties from a "
                    "GenoM3 component description")
+    c.add_argument("--include", "-I", action="append", default=[], metavar="DIR",
+                   help="with --from-genom: a folder #include searches, after the .gen file's own (repeatable)")
 
     c = command("shrink", "reduce a bad trace's script to the smallest one showing the same bad behaviour",
                 "harness.campaign.shrink:main")
@@ -235,12 +238,21 @@ def entry() -> None:
     sys.exit(main())
 
 
+CRASHED = 3  # the exit status of an unexpected error (a bug)
 DUCKDB_INTERRUPTED = "Query interrupt"  # how DuckDB's RuntimeError begins when Ctrl-C stops one of its queries
 
 
 def _stopped(how: str = "Ctrl-C", signum: int = 2) -> int:
     print(f"stopped ({how}); the store keeps every finished transaction", file=sys.stderr)
     return 128 + signum
+
+
+def _crashed(command: str) -> int:
+    """A bug: its own status, so that a CI gate never takes it for a finding (status 1)."""
+    traceback.print_exc()
+    print(f"error: untimely {command} crashed (a bug, not a finding); please report the traceback above",
+          file=sys.stderr)
+    return CRASHED
 
 
 def _not_utf8(text: str) -> bool:
@@ -264,11 +276,11 @@ def _run(args) -> int:
     except KeyboardInterrupt as e:
         return _stopped(e.args[0], e.signum) if isinstance(e, processes.Stopped) else _stopped()
     except RuntimeError as e:
-        if not str(e).startswith(DUCKDB_INTERRUPTED):
-            raise
-        return _stopped()
+        return _stopped() if str(e).startswith(DUCKDB_INTERRUPTED) else _crashed(args.command)
     except BrokenPipeError:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
+    except Exception:
+        return _crashed(args.command)
     finally:
         os.environ.pop(ROSBAG_ENV, None)

@@ -7,7 +7,7 @@ from harness.analysis.analyzer import materialise
 from harness.analysis.explain import Explainer, judged_properties
 from harness.cli import main
 from harness.store.database import connect
-from traces.fixtures import HERE, INTERFACE, load, judged_store
+from traces.fixtures import HERE, INTERFACE, all_fixtures, load, judged_store
 
 EPSILON = 0.01
 
@@ -90,3 +90,64 @@ def test_a_property_whose_oracle_fails_is_not_explained_and_the_others_are(tmp_p
     assert failed and all(t.splitlines()[1] == '  not explained: the property\'s oracle failed (Binder Error: '
                           'Referenced column "no_such_column" not found in FROM clause!); fix its template, then '
                           'analyze again' for t in failed)
+
+
+SELF_INTERRUPTING = """component selfish {
+  activity X() { interrupts X; };
+  activity Y();
+};
+"""
+
+
+def test_explain_report_and_junit_never_crash_on_an_ee_verdict_without_a_y_request(tmp_path, capsys):
+    """An activity that interrupts itself, requested twice, and one that only genom3's kill
+    interrupts (no request of it in the trace): every verdict is explained, reported and written
+    as JUnit (explain crashed on the verdict no y request decided)."""
+    gen = tmp_path / "selfish.gen"
+    gen.write_text(SELF_INTERRUPTING)
+    folder, db = tmp_path / "selfish", tmp_path / "s.duckdb"
+    assert main(["init", str(folder), "--from-genom", str(gen)]) == 0
+    script = folder / "trace.mission"  # beside the target's interface and suts.toml
+    script.write_text("send selfish.Y as y\nsleep 0.2\nsend selfish.X as a\nsleep 0.2\nsend selfish.X as b\nwait all\n")
+    assert main(["run", str(script), "--sut", "adapter", "--db", str(db)]) == 0
+    assert main(["analyze", "--db", str(db), "--properties", str(folder / "properties.toml"),
+                 "--junit", str(tmp_path / "j.xml")]) == 0
+    con = connect(db, read_only=True)
+    verdicts = con.execute("select trace_id, property_id, rqst_id, verdict from verdicts").fetchall()
+    con.close()
+    assert {v[1] for v in verdicts} == {"AIB(selfish.X)", "AIB(selfish.Y)"}, verdicts
+    capsys.readouterr()
+    for trace_id, property_id, rqst_id, _ in verdicts:
+        assert main(["explain", str(trace_id), property_id, str(rqst_id), "--db", str(db)]) == 0
+    out = capsys.readouterr()
+    assert "Traceback" not in out.err and "AIB(selfish.X)" in out.out
+    assert main(["report", "--db", str(db), "--out", str(tmp_path / "report")]) == 0
+    assert (tmp_path / "j.xml").read_text().startswith("<?xml")
+
+
+def test_a_crash_exits_with_its_own_status_not_the_finding_status(tmp_path, capsys, monkeypatch):
+    def broken(args):
+        raise AttributeError("'NoneType' object has no attribute 'startswith'")
+    monkeypatch.setattr(explain, "main", broken)
+    assert main(["explain", "1", "P", "--db", str(tmp_path / "none.duckdb")]) == 3
+    err = capsys.readouterr().err
+    assert "crashed (a bug, not a finding)" in err and "AttributeError" in err
+
+
+def test_every_verdict_of_every_fixture_is_explained(tmp_path):
+    """The hand-made traces cover every verdict cell of every type: each verdict row gets an
+    explanation naming its property and verdict, none a traceback."""
+    explained = set()
+    for n, fixture in enumerate(all_fixtures()):
+        con = judged_store(fixture, EPSILON, tmp_path / f"{n}.duckdb")
+        rows = con.execute("select trace_id, property_id, rqst_id, verdict from verdicts").fetchall()
+        texts = Explainer(con, fixture.interface, {p.id: p for p in fixture.properties}).explain(
+            [(t, p, r) for t, p, r, _ in rows])
+        con.close()
+        types = {p.id: p.type for p in fixture.properties}
+        for trace_id, property_id, rqst_id, verdict in rows:
+            assert texts[(trace_id, property_id, rqst_id)].startswith(
+                f"{property_id} on request {rqst_id} of trace {trace_id}: {verdict}"), fixture.path
+            explained.add((types[property_id], verdict))
+    assert {t for t, _ in explained} == {"PC", "ES", "EE", "EX", "MX_R", "MX_I", "VAL"}
+    assert {v for _, v in explained} >= {"TN", "TP", "FN", "FP"}

@@ -126,6 +126,8 @@ class Explainer:
             if prop.type == "PC":
                 found = sorted(oks.get((trace_id, pair["item"]), []))
                 what, events = f"q {pair['item']}", "ok at " + (", ".join(map(_seconds, found)) or "never")
+            elif pair["item"] is None:  # a verdict no y request decided (x interrupted by nothing of y)
+                what, events = "no y request", "the trace holds no request of y"
             elif pair["item"].startswith(ARGUMENT_ITEM):  # a value-domain oracle's argument of x(i)
                 service, *_, args = requests[(trace_id, rqst_id)]
                 name = pair["item"][len(ARGUMENT_ITEM):]

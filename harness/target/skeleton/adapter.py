@@ -14,72 +14,79 @@ invent a final reply the layer did not give. Write diagnostics to stderr, never 
 A campaign keeps an adapter that offers "reuse" for its next run, saving a start per run: put
 your layer back in its initial state before answering bye, or drop "reuse" from the caps.
 
-What this stand-in layer does, from the interface the bench sends in its hello:
-- an init service ends `ok` after INIT_S mission seconds and sets its module up;
-- before that, any other exec request of the module is rejected `wait_init` (if catalogued;
-  a module without an init service is set up from the start);
-- a control service ends `ok` at once;
-- an exec service runs ACTIVITY_S mission seconds, then ends `ok`; a new request of the same
-  service, or of a service named Stop, interrupts the module's running activity of that service
-  (all of them for Stop, which then ends after STOP_S) with `interrupted` (if catalogued).
-It checks no other precondition: a campaign finds what such a layer lets through.
+What this stand-in layer does: the rules of standin.toml beside it (written by `untimely init`
+with the properties), on the interface the bench sends in its hello:
+- a request of a service some [[requires]] entry names in x is rejected with its reply until
+  every service of its q has ended ok once;
+- an accepted control request ends `ok` at once; an accepted init or exec request runs INIT_S or
+  ACTIVITY_S mission seconds, then ends `ok`;
+- an accepted request of a service some [[interrupts]] entry names as `by` interrupts the running
+  activities of that entry's x first, which end with its reply.
+It checks no argument: a campaign finds what such a layer lets through.
 """
 import json
 import os
 import sys
 import threading
+import tomllib
 
 INIT_S = 0.3       # mission seconds an init service takes
 ACTIVITY_S = 1.0   # mission seconds an exec activity runs
-STOP = "Stop"      # the service that interrupts every activity of its module...
-STOP_S = 0.1       # ...and then ends, this many mission seconds later
+RULES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "standin.toml")
 
 
 class Layer:
-    def __init__(self, hello: dict):
+    def __init__(self, hello: dict, rules: dict):
         self.kinds = hello["interface"]["modules"]          # module -> service -> kind
-        self.codes = set(hello["interface"]["replies"])     # the reply catalogue
         self.scale = float(hello.get("time_scale", 1.0))    # mission seconds per wall second
-        self.ready = {m for m, services in self.kinds.items()  # set up: a module without an init service,
-                      if "init" not in services.values()}          # others once their init ends ok
-        self.running: dict[int, tuple[str, str, threading.Event]] = {}  # id -> module, service, cut
+        self.requires = rules.get("requires", [])           # [{x, q, reply}]
+        self.interrupts = rules.get("interrupts", [])       # [{by, x, reply}]
+        self.done: set[str] = set()                         # "module.Service" that ended ok once
+        self.running: dict[int, tuple[str, threading.Event, list]] = {}  # id -> service, cut, reply
         self.lock = threading.Lock()
         self.over = False  # the bench said bye: nothing of this run may be sent any more
 
-    def code(self, wanted: str, otherwise: str = "ok") -> str:
-        return wanted if wanted in self.codes else otherwise
+    def rejection(self, service: str) -> str | None:
+        for rule in self.requires:
+            if service in rule["x"] and not set(rule["q"]) <= self.done:
+                return rule["reply"]
+        return None
 
     def take(self, rqst_id: int, module: str, service: str, args: dict) -> None:
         """A request crosses the interface: decide, then reply (here, in a thread of its own)."""
-        kind = self.kinds[module][service]
-        if kind == "control":
-            return final(rqst_id, "ok")
-        if kind == "exec" and module not in self.ready and "wait_init" in self.codes:
-            return final(rqst_id, "wait_init")
-        cut = threading.Event()
+        name, kind = f"{module}.{service}", self.kinds[module][service]
         with self.lock:
-            for m, s, other_cut in list(self.running.values()):
-                if m == module and (s == service or service == STOP and self.kinds[m][s] == "exec"):
-                    other_cut.set()
-            self.running[rqst_id] = (module, service, cut)
-        threading.Thread(target=self.activity, args=(rqst_id, module, service, kind, cut), daemon=True).start()
+            rejected = self.rejection(name)
+            if rejected:
+                return final(rqst_id, rejected)
+            for rule in self.interrupts:
+                if rule["by"] == name:
+                    for other, other_cut, reply in self.running.values():
+                        if other in rule["x"] and not other_cut.is_set():
+                            reply.append(rule["reply"])
+                            other_cut.set()
+            if kind == "control":
+                self.done.add(name)
+                return final(rqst_id, "ok")
+            cut = threading.Event()
+            self.running[rqst_id] = (name, cut, [])
+        threading.Thread(target=self.activity, args=(rqst_id, kind, cut), daemon=True).start()
 
-    def activity(self, rqst_id: int, module: str, service: str, kind: str, cut: threading.Event) -> None:
-        lasts = INIT_S if kind == "init" else STOP_S if service == STOP else ACTIVITY_S
-        interrupted = cut.wait(lasts / self.scale)
+    def activity(self, rqst_id: int, kind: str, cut: threading.Event) -> None:
+        interrupted = cut.wait((INIT_S if kind == "init" else ACTIVITY_S) / self.scale)
         with self.lock:
-            del self.running[rqst_id]
+            name, _, reply = self.running.pop(rqst_id)
             if self.over:
                 return
-            if kind == "init" and not interrupted:
-                self.ready.add(module)
-            final(rqst_id, self.code("interrupted") if interrupted else "ok")
+            if not interrupted:
+                self.done.add(name)
+            final(rqst_id, reply[0] if interrupted else "ok")
 
     def end(self) -> None:
         """The run is over: its activities stop, and none of them replies after this returns."""
         with self.lock:
             self.over = True
-            for _, _, cut in self.running.values():
+            for _, cut, _ in self.running.values():
                 cut.set()
 
 
@@ -98,11 +105,13 @@ def final(rqst_id: int, code: str) -> None:
 
 def main() -> None:
     layer, runs = None, 0
+    with open(RULES, "rb") as f:
+        rules = tomllib.load(f)
     for line in sys.stdin:  # ends when the bench closes our input: it keeps us no longer
         message = json.loads(line)
         op = message["op"]
         if op == "hello":
-            layer, runs = Layer(message), runs + 1  # a fresh layer: nothing of the last run is left
+            layer, runs = Layer(message, rules), runs + 1  # a fresh layer: nothing of the last run is left
             send(op="hello", proto="untimely/1", caps=["reuse"],
                  sut=f"untimely init stand-in layer (slot {os.environ.get('UNTIMELY_SLOT', '0')}), run {runs}")
         elif op == "request":

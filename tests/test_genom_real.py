@@ -1,0 +1,66 @@
+"""`untimely init --from-genom` on component descriptions as their authors wrote them (tests/genom/real/,
+sources in tests/genom/SOURCES.md): what each states, checked by hand against the file, and a
+10-mutant campaign on the stand-in adapter with at most 30% invalid mutants and no certain FN or FP."""
+from pathlib import Path
+
+import pytest
+
+from harness import store
+from harness.cli import main
+from harness.target.interface import load_interface, load_properties
+
+GENOM = Path(__file__).parent / "genom"
+INCLUDE = GENOM / "include"
+
+# component -> (services in the interface, an AIB property and its dominators, as the .gen file says);
+# REJECTIONS: the exceptions only validate codels throw (class R), the others are class T
+EXPECTED = {
+    # drone driver: connect/pconnect, the set_velocity/set_throttle functions and stop interrupt servo (305-...)
+    "rotorcraft": (33, "servo", {"connect", "pconnect", "servo", "set_velocity", "set_throttle", "stop", "kill"}),
+    # flight controller: servo is interrupted by itself and the functions that set a new reference
+    "nhfc": (25, "servo", {"servo", "set_state", "set_position", "set_current_position", "stop", "kill"}),
+    # planner: waypoint by take_off (152), goto (173), waypoint (197), replay (236), stop (263); not velocity (216)
+    "maneuver": (21, "waypoint", {"take_off", "goto", "waypoint", "replay", "stop", "kill"}),
+    # rover: 13 services and kill; Track is interrupted by JoystickOn (167), Track (192), Stop (203),
+    # DirectTrack (224) and kill
+    "rmp440": (14, "Track", {"JoystickOn", "Track", "Stop", "DirectTrack", "kill"}),
+    # camera: no interrupts clause; kill interrupts connect
+    "d435": (8, "connect", {"kill"}),
+    "arucotag": (12, "add_marker", {"kill"}),
+    # arm controller: servo by itself, set_state, set_position, set_current_position, set_velocity, stop
+    "wamctrl": (29, "servo", {"servo", "set_state", "set_position", "set_current_position", "set_velocity",
+                              "stop", "kill"}),
+}
+
+# rotorcraft: e_range only by set_battery_limits (line 173), an attribute whose one codel is its validate
+# (line 171); wamctrl's e_inval comes from set_saturation_weights, whose validate has a codel beside it: T
+REJECTIONS = {"rotorcraft": {"e_range"}}
+STANDARD_R = {"wait_init", "disallowed", "bad_params", "too_many_activities"}
+
+
+@pytest.mark.parametrize("name", sorted(EXPECTED))
+def test_a_real_component_gives_its_clauses_and_a_campaign_that_runs(tmp_path, capsys, name):
+    folder = tmp_path / name
+    assert main(["init", str(folder), "--from-genom", str(GENOM / "real" / f"{name}.gen"), "-I", str(INCLUDE)]) == 0
+    interface = load_interface(folder / "interface.toml")
+    properties = {p.id: p for p in load_properties(folder / "properties.toml", interface)}
+    count, activity, dominators = EXPECTED[name]
+    services = [s for s in interface.services if s.startswith(name + ".")]
+    assert len(services) == count, services
+    assert f"{name}.kill" in services and f"{name}.abort_activity" not in services
+    aib = properties[f"AIB({name}.{activity})"]
+    assert {y.split(".", 1)[1] for y in aib.y} == dominators
+    assert {c for c, cls in interface.replies.items() if cls == "R"} - STANDARD_R == REJECTIONS.get(name, set())
+    text = (folder / "properties.toml").read_text()
+    assert f"{name}.gen:" in text or "genom3's standard service kill" in text, "each property cites its clause"
+    db = tmp_path / "c.duckdb"
+    assert main(["campaign", "--mission", str(folder), "--sut", "adapter", "--mutants", "10", "--db", str(db)]) == 0
+    con = store.connect(db, read_only=True)
+    invalid = con.execute("select count(*) filter (not valid), count(*) from scripts where kind = 'mutant'").fetchone()
+    # a suspicious FN (an ok and a request closer than the interface latency) is the bench's own doubt
+    bad = con.execute("select count(*) from verdicts where verdict in ('FN', 'FP') and certain").fetchone()[0]
+    outcomes = dict(con.execute("select outcome, count(*) from traces group by all").fetchall())
+    con.close()
+    assert invalid[1] == 10 and invalid[0] <= 3, invalid
+    assert bad == 0, "the stand-in does what the description says: no FN, no FP"
+    assert set(outcomes) == {"completed"}, outcomes
