@@ -6,7 +6,8 @@ bench's environment (harness/adapters/ros2/environment.py):
                                             # introspection on where the distro has it; prints "ready"
     python tests/ros2_peer.py call          # one service call and one goal (a feedback, a result);
                                             # prints their replies and timings as JSON
-    python tests/ros2_peer.py nodes SECONDS # prints the names of the nodes it sees after SECONDS, as JSON
+    python tests/ros2_peer.py nodes SECONDS [NAME]  # the names of the nodes it sees after SECONDS
+                                            # (or once it sees NAME), as JSON
 """
 import json
 import signal
@@ -69,19 +70,21 @@ def call() -> None:
                       "phases": phases, "discovery_s": discovered - started, "call_ms": call_ms}), flush=True)
 
 
-def nodes(seconds: float) -> None:
+def nodes(seconds: float, awaited: str = "") -> None:
     node = rclpy.create_node("untimely_watcher")
     deadline = time.monotonic() + seconds
-    while time.monotonic() < deadline:
+    names = []
+    while time.monotonic() < deadline and awaited not in names:
         rclpy.spin_once(node, timeout_sec=0.1)
-    print(json.dumps(sorted(name for name, _ in node.get_node_names_and_namespaces())), flush=True)
+        names = sorted(name for name, _ in node.get_node_names_and_namespaces())
+    print(json.dumps(names), flush=True)
 
 
 def main(argv: list[str]) -> None:
     signal.signal(signal.SIGTERM, lambda *_: rclpy.try_shutdown())
     rclpy.init()
     try:
-        {"serve": lambda: serve(argv[2]), "call": call, "nodes": lambda: nodes(float(argv[2]))}[argv[1]]()
+        {"serve": lambda: serve(argv[2]), "call": call, "nodes": lambda: nodes(float(argv[2]), *argv[3:])}[argv[1]]()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:

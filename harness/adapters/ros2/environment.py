@@ -111,9 +111,11 @@ class Ros2Environment:
             "_ROS_WHEELS_BOOTSTRAP_COMPLETE": "1",
             "ROS_LOG_DIR": str(self.log_dir),
             "ROS_DOMAIN_ID": str(self.domain_id),
-            "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST",
+            "ROS_AUTOMATIC_DISCOVERY_RANGE": "SUBNET",
+            "ROS_DISTRO": self.distro,
             "RMW_IMPLEMENTATION": "rmw_fastrtps_cpp",
-            "FASTDDS_DEFAULT_PROFILES_FILE": str(PROFILE),
+            "FASTDDS_DEFAULT_PROFILES_FILE": str(PROFILE),  # Fast DDS 3 (Kilted)
+            "FASTRTPS_DEFAULT_PROFILES_FILE": str(PROFILE),  # Fast DDS 2 (Jazzy)
             "RMW_FASTRTPS_USE_QOS_FROM_XML": "0",
         })
         env.pop("ROS_LOCALHOST_ONLY", None)  # deprecated; it would override the discovery range
