@@ -19,7 +19,7 @@ import psutil
 import pytest
 
 from harness import ROOT
-from harness.adapters.ros2.environment import DEFAULT_DISTRO, Ros2Environment, installed
+from harness.adapters.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment, installed
 
 PEER, SNIFF = ROOT / "tests" / "ros2_peer.py", ROOT / "tests" / "ros2_sniff.py"
 UNCONFINED = ("FASTDDS_DEFAULT_PROFILES_FILE", "FASTRTPS_DEFAULT_PROFILES_FILE")
@@ -81,8 +81,11 @@ def sniffed(prefix: list[str], env: dict) -> tuple[dict, dict]:
     return replies, counts
 
 
-def test_a_run_sends_no_ros_packet_on_a_non_loopback_interface_and_an_unconfined_one_does(namespace):
-    with Ros2Environment(ROOT, DEFAULT_DISTRO, slot=0) as ros:
+@pytest.mark.parametrize("distro", DISTROS)
+def test_a_run_sends_no_ros_packet_on_a_non_loopback_interface_and_an_unconfined_one_does(namespace, distro):
+    if installed(ROOT, distro):
+        pytest.skip(installed(ROOT, distro))
+    with Ros2Environment(ROOT, distro, slot=0) as ros:
         replies, confined = sniffed(namespace, ros.env)
         assert (replies["code"], replies["goal"], replies["phases"]) == ("ok:Init", "done:GotoPosition", ["running"])
         assert confined["rtps"] == 0, f"ROS 2 traffic on a non-loopback interface: {confined}"

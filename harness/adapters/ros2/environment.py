@@ -37,6 +37,8 @@ DEFAULT_DISTRO = "jazzy"
 DOMAIN_IDS = range(1, 102)
 LOCK_DIR = Path(tempfile.gettempdir()) / "untimely-ros2-domains"
 PROFILE = Path(__file__).resolve().parent / "fastdds.xml"
+# Fast DDS 2 (Jazzy) reads the first; Fast DDS 3 (Kilted) the second, and warns on the first.
+PROFILE_VARIABLE = {"jazzy": "FASTRTPS_DEFAULT_PROFILES_FILE", "kilted": "FASTDDS_DEFAULT_PROFILES_FILE"}
 PYTHON_DIR = f"python{sys.version_info.major}.{sys.version_info.minor}"
 
 
@@ -114,8 +116,7 @@ class Ros2Environment:
             "ROS_AUTOMATIC_DISCOVERY_RANGE": "SUBNET",
             "ROS_DISTRO": self.distro,
             "RMW_IMPLEMENTATION": "rmw_fastrtps_cpp",
-            "FASTDDS_DEFAULT_PROFILES_FILE": str(PROFILE),  # Fast DDS 3 (Kilted)
-            "FASTRTPS_DEFAULT_PROFILES_FILE": str(PROFILE),  # Fast DDS 2 (Jazzy)
+            PROFILE_VARIABLE[self.distro]: str(PROFILE),
             "RMW_FASTRTPS_USE_QOS_FROM_XML": "0",
         })
         env.pop("ROS_LOCALHOST_ONLY", None)  # deprecated; it would override the discovery range
