@@ -54,9 +54,19 @@ def service_topics(name: str, service_type: str) -> list[tuple[str, str]]:
 
 
 def message_class(msgtype: str):
-    """The Python class of `pkg/kind/Name` (kind: msg, srv or action)."""
+    """The Python class of `pkg/kind/Name`; rosidl nests a service's or action's derived types in
+    its class (Call.Event, Request.Impl.FeedbackMessage, Request.Impl.SendGoalService.Event)."""
     package, kind, name = msgtype.split("/")
-    return getattr(importlib.import_module(f"{package}.{kind}"), name)
+    module = importlib.import_module(f"{package}.{kind}")
+    if kind == "msg":
+        return getattr(module, name)
+    _, _, base, service, part = DERIVED.fullmatch(msgtype).groups()
+    owner = getattr(module, base)
+    if service:
+        owner = getattr(owner.Impl, f"{service[1:]}Service")
+    elif part in ("_FeedbackMessage",):
+        owner = owner.Impl
+    return getattr(owner, part[1:]) if part else owner
 
 
 def _interface_file(package: str, kind: str, name: str) -> Path:
