@@ -5,7 +5,8 @@ The wheels' exported CMake files name the Python headers and NumPy of the machin
 (`/opt/python/cp311-cp311/...`): `fix_cmake_paths` rewrites them to this venv's, once (a second
 call finds nothing to rewrite). Then CMake (its PyPI wheel) and Ninja build every `.action`,
 `.srv` and `.msg` file of `untimely_msgs/` into `build/ros2/<distro>/install`; the seconds it took
-go to `build/ros2/<distro>/build-seconds`, and `.built` marks it done.
+go to `build/ros2/<distro>/build-seconds`, CMake's output to `build.log` beside it, and
+`install/.built` marks it done.
 """
 from __future__ import annotations
 
@@ -52,11 +53,13 @@ def build(root: Path, distro: str) -> float:
                LD_LIBRARY_PATH=f"{prefix / 'lib'}{os.pathsep}{os.environ.get('LD_LIBRARY_PATH', '')}")
     env.pop("ROS_DISTRO", None)
     started = time.monotonic()
-    for argv in (["cmake", "-S", str(SOURCE), "-B", str(work), "-G", "Ninja", "-DBUILD_TESTING=OFF",
-                  f"-DCMAKE_INSTALL_PREFIX={install}", f"-DPython3_EXECUTABLE={sys.executable}",
-                  "-DCMAKE_BUILD_TYPE=Release"],
-                 ["cmake", "--build", str(work)], ["cmake", "--install", str(work)]):
-        subprocess.run(argv, env=env, check=True)
+    work.mkdir(parents=True)
+    with open(install.parent / "build.log", "w") as log:  # CMake's hundreds of lines; shown on failure
+        for argv in (["cmake", "-S", str(SOURCE), "-B", str(work), "-G", "Ninja", "-DBUILD_TESTING=OFF",
+                      f"-DCMAKE_INSTALL_PREFIX={install}", f"-DPython3_EXECUTABLE={sys.executable}",
+                      "-DCMAKE_BUILD_TYPE=Release"],
+                     ["cmake", "--build", str(work)], ["cmake", "--install", str(work)]):
+            subprocess.run(argv, env=env, check=True, stdout=log, stderr=subprocess.STDOUT)
     seconds = time.monotonic() - started
     (install.parent / "build-seconds").write_text(f"{seconds:.1f}\n")
     (install / ".built").write_text(f"untimely_msgs for ROS 2 {distro}, {PYTHON_DIR}\n")
@@ -70,8 +73,10 @@ def main(argv: list[str]) -> int:
     try:
         seconds = build(Path.cwd(), argv[1])
     except subprocess.CalledProcessError as failed:
+        log = install_prefix(Path.cwd(), argv[1]).parent / "build.log"
+        print("\n".join(log.read_text().splitlines()[-40:]), file=sys.stderr)
         print(f"building untimely_msgs for ROS 2 {argv[1]} failed: `{' '.join(failed.cmd)}` exited with "
-              f"{failed.returncode} (its output is above); `make clean ros2` starts over", file=sys.stderr)
+              f"{failed.returncode}; its output is in {log} (the end above)", file=sys.stderr)
         return 1
     print(f"untimely_msgs built for ROS 2 {argv[1]} in {seconds:.1f} s")
     return 0
