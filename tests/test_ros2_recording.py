@@ -7,6 +7,8 @@ import subprocess
 from pathlib import Path
 
 import pytest
+from rosbags.rosbag2 import Reader
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from harness import ROOT
 from harness.adapters.ros2.environment import DISTROS, Ros2Environment, installed
@@ -65,3 +67,15 @@ def test_a_recorded_run_imports_to_the_exchange_that_happened(tmp_path, interfac
     # Each service's rows in their order; between services, the order is the recorder's receive
     # order of different topics, which may differ by a few milliseconds from the order of events.
     assert sorted(imported(bag, interface), key=lambda row: row[1]) == EXPECTED[distro]
+    stored, announced = status_definition_hashes(bag)
+    assert stored == announced and announced.startswith("RIHS01_") and announced != "RIHS01_" + "0" * 64
+
+
+def status_definition_hashes(bag: Path) -> tuple[str, str]:
+    """The hash of the status topic's stored definition (with the messages it uses), and the hash
+    its publisher announced: equal when the definition is the one the node was built with."""
+    with Reader(bag) as reader:
+        status = next(c for c in reader.connections if c.topic.endswith("/_action/status"))
+    store = get_typestore(Stores.EMPTY)
+    store.register(get_types_from_msg(status.msgdef.data, status.msgtype))
+    return store.hash_rihs01(status.msgtype), status.digest
