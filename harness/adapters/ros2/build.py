@@ -24,18 +24,18 @@ import numpy
 from harness.adapters.ros2.environment import DISTROS, PYTHON_DIR, install_prefix, venv
 
 SOURCE = Path(__file__).resolve().parent / "untimely_msgs"
-# The build machine's interpreter prefix, as the manylinux images name it (cp311-cp311, cp312-cp312...).
-FOREIGN_PREFIX = re.compile(r"/opt/python/cp\d+-cp\d+t?")
+# The build machine's Python headers and NumPy headers, under its interpreter's prefix as the
+# manylinux images name it (cp311-cp311, cp312-cp312...).
+FOREIGN = re.compile(r"/opt/python/cp\d+-cp\d+t?/(include/python[\d.]+t?|lib/python[\d.]+t?/site-packages/numpy/_core/include)")
 
 
 def fix_cmake_paths(prefix: Path) -> list[Path]:
     """Rewrites the build machine's Python and NumPy include folders in the wheels' CMake files."""
-    foreign = re.compile(FOREIGN_PREFIX.pattern + r"/(include/python[\d.]+t?|lib/python[\d.]+t?/site-packages/numpy/_core/include)")
     local = {"include": sysconfig.get_paths()["include"], "numpy": numpy.get_include()}
     fixed = []
     for path in sorted((prefix / "share").glob("*/cmake/*.cmake")):
         text = path.read_text()
-        new = foreign.sub(lambda m: local["numpy" if "numpy" in m.group(1) else "include"], text)
+        new = FOREIGN.sub(lambda m: local["numpy" if "numpy" in m.group(1) else "include"], text)
         if new != text:
             path.write_text(new)
             fixed.append(path)
