@@ -79,3 +79,15 @@ def status_definition_hashes(bag: Path) -> tuple[str, str]:
     store = get_typestore(Stores.EMPTY)
     store.register(get_types_from_msg(status.msgdef.data, status.msgtype))
     return store.hash_rihs01(status.msgtype), status.digest
+
+
+def test_a_malformed_topic_argument_is_refused_naming_it_and_the_form(tmp_path):
+    if installed(ROOT, DISTROS[0]):
+        pytest.skip(installed(ROOT, DISTROS[0]))
+    with Ros2Environment(ROOT, DISTROS[0], slot=0) as ros:
+        done = subprocess.run([str(ros.python), "-m", "harness.adapters.ros2.recorder", str(tmp_path / "bag"),
+                               "--service", "ndd/set_params=Call"], env=ros.env, capture_output=True, text=True,
+                              timeout=TIMEOUT_S, cwd=ROOT)
+    assert done.returncode != 0 and "Traceback" not in done.stderr
+    assert "'ndd/set_params=Call'" in done.stderr and "/NAME=package/kind/Type" in done.stderr
+    assert not (tmp_path / "bag").exists()
