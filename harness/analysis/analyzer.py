@@ -16,7 +16,7 @@ import duckdb
 
 from harness import SQL_DIR
 from harness.analysis import diff
-from harness.analysis.oracles import render_property, render_unknown
+from harness.analysis.oracles import render_property, render_requests, render_unknown
 from harness.analysis.provenance import default_properties, last_epsilon, sources
 from harness.errors import InputFileError, PropertyError, StoreError
 from harness.store.analyses import (OracleFailure, drop_staged, keep_previous, publish, record, replace_old_analysis,
@@ -66,8 +66,15 @@ def render_oracles(properties: list[Property], epsilon: float, interface: Interf
     if not properties:
         raise PropertyError("no properties to judge; give a properties file with [[property]] entries")
     return [Oracle(p, events, target, render_property(p, events, epsilon, interface, peers=properties,
-                                                      into=staged(target)))
+                                                      into=staged(target), shared=staged(events)))
             for events, target in SOURCES for p in properties]
+
+
+def _stage(con) -> None:
+    """Empty staging tables, and each events table's requests aggregated once for every oracle."""
+    for events, target in SOURCES:
+        stage(con, target)
+        con.execute(render_requests(events, staged(events)))
 
 
 def _stage_all(con, rendered: list[Oracle]) -> bool:
@@ -75,8 +82,7 @@ def _stage_all(con, rendered: list[Oracle]) -> bool:
     some 15% of an analysis); False, with nothing staged, if one failed."""
     try:
         with transaction(con):
-            for _, target in SOURCES:
-                stage(con, target)
+            _stage(con)
             for oracle in rendered:
                 con.execute(oracle.sql)
     except duckdb.Error:
@@ -90,8 +96,7 @@ def _judge(con, rendered: list[Oracle]) -> list[OracleFailure]:
     if _stage_all(con, rendered):
         return []
     failures = []
-    for _, target in SOURCES:
-        stage(con, target)
+    _stage(con)
     for oracle in rendered:
         error = try_statement(con, oracle.sql)
         if error is not None:
@@ -111,12 +116,13 @@ def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsi
     rendered = render_oracles(properties, epsilon, interface)  # a property that cannot be rendered stops us here
     try:
         failures = _judge(con, rendered)
+        for _, target in SOURCES:  # on the temporary table: an update of the published one fills the WAL
+            con.execute(render_view("shared_codes", target=staged(target)))
         with transaction(con):
             replace_old_analysis(con)
             keep_previous(con)
             for _, target in SOURCES:
                 publish(con, target)
-                con.execute(render_view("shared_codes", target=target))
             con.execute(render_view("properties", properties=properties))
             for name in view_order():
                 con.execute(render_view(name))
@@ -125,8 +131,9 @@ def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsi
     except duckdb.Error as e:
         raise StoreError(f"the oracle queries failed on this store: {e}; the previous verdicts are kept") from None
     finally:
-        for _, target in SOURCES:
-            drop_staged(con, target)
+        for staging in SOURCES:
+            for name in staging:
+                drop_staged(con, name)
     return seconds
 
 

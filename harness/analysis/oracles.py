@@ -65,17 +65,20 @@ def _table_name(name: str, role: str) -> None:
 def render_property(prop: Property, events: str = "events", epsilon: float = DEFAULT_EPSILON_S,
                     interface: Interface | None = None, explain: list[tuple[int, int]] = (),
                     peers: list[Property] = (), runs: bool = True, taken: bool = True,
-                    into: str | None = None) -> str:
+                    into: str | None = None, shared: str | None = None) -> str:
     """The oracle query of one property over the events table `events`: the verdicts columns.
     The interface, when given, says which requests may end an activity, and `peers` (the properties
     judged with it) on which other modules an interruption may come from (see sql/oracles/ee.sql).
     `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions.
     `runs`: whether the store has trace_runs, whose pings give a real-time trace its epsilon;
     `taken`: whether it has taken_events, where an SUT's `taken` replies place its requests.
-    `into`: a verdicts table; then the statement inserting the rows into it."""
+    `into`: a verdicts table; then the statement inserting the rows into it. `shared`: the table
+    of render_requests holding `events`'s requests, which the query reads instead of aggregating them."""
     _table_name(events, "events source")
     if into is not None:
         _table_name(into, "verdicts table")
+    if shared is not None:
+        _table_name(shared, "requests table")
     if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
         raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
     parameters = _parameters(prop)
@@ -85,7 +88,7 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
     template = _template(prop)
     try:
         return ENV.get_template("oracles/_oracle.sql").render(
-            template=template, into=into, id=prop.id, family=prop.family, events=events,
+            template=template, into=into, shared=shared, services=services, id=prop.id, family=prop.family, events=events,
             epsilon=round(float(epsilon), 6), parameters=parameters, enders=enders, runs=runs, taken=taken,
             modules=sorted(own | {service.split(".")[0] for *_, service in enders}),
             until_stopped=interface.until_stopped if interface else [],
@@ -108,6 +111,14 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
     except TypeError as e:
         raise PropertyError(f"property {prop.id!r} of type {prop.type}: {e} "
                             "(the type does not use it); remove it from the property's entry") from None
+
+
+def render_requests(events: str, into: str, taken: bool = True) -> str:
+    """The statement aggregating every request of `events` into the temporary table `into`, once
+    per analysis, for the oracles rendered with `shared=into` (sql/oracles/_requests.sql)."""
+    _table_name(events, "events source")
+    _table_name(into, "requests table")
+    return ENV.get_template("oracles/_requests.sql").render(events=events, into=into, taken=taken)
 
 
 def render_unknown(prop: Property, events: str, into: str) -> str:

@@ -24,8 +24,10 @@ class OracleFailure:
     error: str
 
 
-def staged(target: str) -> str:
-    return f"{target}_staged"
+def staged(name: str) -> str:
+    """The temporary table an analysis stages for `name`: a verdicts table's rows before they are
+    published, or an events table's requests, aggregated once for every oracle."""
+    return f"{name}_staged"
 
 
 def stage(con, target: str) -> None:
