@@ -33,11 +33,12 @@ def checkout(revision: str, into: Path) -> Path:
     return into
 
 
-def analyse(code: Path | None, store: Path) -> None:
+def analyse(code: Path | None, store: Path, properties: Path | None) -> None:
     """`analyze` of the store by the code under `code` (None: this checkout, as installed)."""
     env = dict(os.environ, **({"PYTHONPATH": str(code)} if code else {}))
-    done = subprocess.run([sys.executable, "-m", "harness", "analyze", "--db", str(store)], cwd=store.parent,
-                          env=env, capture_output=True, text=True)
+    given = ["--properties", str(properties.resolve())] if properties else []
+    done = subprocess.run([sys.executable, "-m", "harness", "analyze", "--db", str(store), *given],
+                          cwd=store.parent, env=env, capture_output=True, text=True)
     if done.returncode:
         raise SystemExit(f"analyze of {store} with {code} failed:\n{done.stderr}")
 
@@ -61,6 +62,7 @@ def differences(before: Path, after: Path) -> list[str]:
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--before", default="main", help="the revision to compare with (default: %(default)s)")
+    p.add_argument("--properties", type=Path, help="for stores that record no target folder (synthetic ones)")
     p.add_argument("stores", nargs="+", type=Path)
     args = p.parse_args()
     different = False
@@ -70,7 +72,7 @@ def main() -> int:
             copies = [Path(tmp) / f"{side}-{store.name}" for side in ("before", "after")]
             for code, copy in zip((old, None), copies):
                 shutil.copy(store, copy)
-                analyse(code, copy)
+                analyse(code, copy, args.properties)
             found = differences(*copies)
             different |= any("DIFFERENT" in line for line in found)
             print(f"{store} ({args.before} / this checkout):\n  " + "\n  ".join(found), flush=True)

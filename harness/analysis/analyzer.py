@@ -16,7 +16,7 @@ import duckdb
 
 from harness import SQL_DIR
 from harness.analysis import diff
-from harness.analysis.oracles import render_property, render_requests, render_unknown
+from harness.analysis.oracles import Shared, render_property, render_shared, render_unknown
 from harness.analysis.provenance import default_properties, last_epsilon, sources
 from harness.errors import InputFileError, PropertyError, StoreError
 from harness.store.analyses import (OracleFailure, drop_staged, keep_previous, publish, record, replace_old_analysis,
@@ -62,42 +62,60 @@ class Oracle:
                              f"{message}{where}")
 
 
-def render_oracles(properties: list[Property], epsilon: float, interface: Interface | None = None) -> list[Oracle]:
+def _shared_names(events: str) -> tuple[str, str]:
+    return events, f"{events}_causes"
+
+
+def _shared(events: str) -> Shared:
+    """The tables the oracles on `events` share in an analysis, staged as its verdicts are."""
+    return Shared(*map(staged, _shared_names(events)))
+
+
+@dataclass
+class Rendered:
+    """An analysis's statements: what its oracles share (made first), then every oracle."""
+    shared: list[str]
+    oracles: list[Oracle]
+
+
+def render_oracles(properties: list[Property], epsilon: float, interface: Interface | None = None) -> Rendered:
     if not properties:
         raise PropertyError("no properties to judge; give a properties file with [[property]] entries")
-    return [Oracle(p, events, target, render_property(p, events, epsilon, interface, peers=properties,
-                                                      into=staged(target), shared=staged(events)))
-            for events, target in SOURCES for p in properties]
+    return Rendered([render_shared(properties, events, epsilon, interface, _shared(events)) for events, _ in SOURCES],
+                    [Oracle(p, events, target, render_property(p, events, epsilon, interface, peers=properties,
+                                                               into=staged(target), shared=_shared(events)))
+                     for events, target in SOURCES for p in properties])
 
 
-def _stage(con) -> None:
-    """Empty staging tables, and each events table's requests aggregated once for every oracle."""
-    for events, target in SOURCES:
+def _stage(con, rendered: Rendered) -> None:
+    """Empty staging tables, and what the oracles share."""
+    for _, target in SOURCES:
         stage(con, target)
-        con.execute(render_requests(events, staged(events)))
+    for statement in rendered.shared:
+        con.execute(statement)
 
 
-def _stage_all(con, rendered: list[Oracle]) -> bool:
+def _stage_all(con, rendered: Rendered) -> bool:
     """Every oracle's rows staged in one transaction (committing each statement on its own costs
     some 15% of an analysis); False, with nothing staged, if one failed."""
     try:
         with transaction(con):
-            _stage(con)
-            for oracle in rendered:
+            _stage(con, rendered)
+            for oracle in rendered.oracles:
                 con.execute(oracle.sql)
     except duckdb.Error:
         return False
     return True
 
 
-def _judge(con, rendered: list[Oracle]) -> list[OracleFailure]:
+def _judge(con, rendered: Rendered) -> list[OracleFailure]:
     """Every oracle's rows staged; when one fails, each oracle again on its own (DuckDB aborts a
     transaction at its first error), a failing one getting 'unknown' rows instead."""
     if _stage_all(con, rendered):
         return []
     failures = []
-    _stage(con)
-    for oracle in rendered:
+    _stage(con, rendered)
+    for oracle in rendered.oracles:
         error = try_statement(con, oracle.sql)
         if error is not None:
             failures.append(oracle.failure(error))
@@ -131,8 +149,8 @@ def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsi
     except duckdb.Error as e:
         raise StoreError(f"the oracle queries failed on this store: {e}; the previous verdicts are kept") from None
     finally:
-        for staging in SOURCES:
-            for name in staging:
+        for events, target in SOURCES:
+            for name in (target, *_shared_names(events)):
                 drop_staged(con, name)
     return seconds
 

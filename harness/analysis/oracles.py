@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import dataclass
 
 import jinja2
 
@@ -20,6 +21,14 @@ from harness.target.property_types import PARAMETERS, property_types
 
 _TABLE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _SERVICE = re.compile(r"[^.\s']+\.[^.\s']+")
+
+
+@dataclass(frozen=True)
+class Shared:
+    """The temporary tables that every oracle of an analysis reads, made once per events table
+    (render_shared): its requests, and the candidate causes of their ends."""
+    requests: str
+    causes: str
 
 
 def _parameters(prop: Property) -> dict:
@@ -65,20 +74,21 @@ def _table_name(name: str, role: str) -> None:
 def render_property(prop: Property, events: str = "events", epsilon: float = DEFAULT_EPSILON_S,
                     interface: Interface | None = None, explain: list[tuple[int, int]] = (),
                     peers: list[Property] = (), runs: bool = True, taken: bool = True,
-                    into: str | None = None, shared: str | None = None) -> str:
+                    into: str | None = None, shared: Shared | None = None) -> str:
     """The oracle query of one property over the events table `events`: the verdicts columns.
     The interface, when given, says which requests may end an activity, and `peers` (the properties
     judged with it) on which other modules an interruption may come from (see sql/oracles/ee.sql).
     `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions.
     `runs`: whether the store has trace_runs, whose pings give a real-time trace its epsilon;
     `taken`: whether it has taken_events, where an SUT's `taken` replies place its requests.
-    `into`: a verdicts table; then the statement inserting the rows into it. `shared`: the table
-    of render_requests holding `events`'s requests, which the query reads instead of aggregating them."""
+    `into`: a verdicts table; then the statement inserting the rows into it. `shared`: the tables
+    of render_shared, which the query reads instead of aggregating the requests and searching causes."""
     _table_name(events, "events source")
     if into is not None:
         _table_name(into, "verdicts table")
     if shared is not None:
-        _table_name(shared, "requests table")
+        _table_name(shared.requests, "requests table")
+        _table_name(shared.causes, "causes table")
     if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
         raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
     parameters = _parameters(prop)
@@ -88,7 +98,8 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
     template = _template(prop)
     try:
         return ENV.get_template("oracles/_oracle.sql").render(
-            template=template, into=into, shared=shared, services=services, id=prop.id, family=prop.family, events=events,
+            template=template, into=into, shared=shared and shared.requests, shared_causes=shared and shared.causes,
+            services=services, id=prop.id, family=prop.family, events=events,
             epsilon=round(float(epsilon), 6), parameters=parameters, enders=enders, runs=runs, taken=taken,
             modules=sorted(own | {service.split(".")[0] for *_, service in enders}),
             until_stopped=interface.until_stopped if interface else [],
@@ -113,12 +124,20 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
                             "(the type does not use it); remove it from the property's entry") from None
 
 
-def render_requests(events: str, into: str, taken: bool = True) -> str:
-    """The statement aggregating every request of `events` into the temporary table `into`, once
-    per analysis, for the oracles rendered with `shared=into` (sql/oracles/_requests.sql)."""
+def render_shared(properties: list[Property], events: str, epsilon: float, interface: Interface | None,
+                  into: Shared) -> str:
+    """The statements making what every oracle of an analysis shares, once per events table
+    (sql/oracles/_requests.sql): the tables `into` of `events`'s requests and of the candidate
+    causes of their ends; the oracles read them when rendered with `shared=into`."""
     _table_name(events, "events source")
-    _table_name(into, "requests table")
-    return ENV.get_template("oracles/_requests.sql").render(events=events, into=into, taken=taken)
+    _table_name(into.requests, "requests table")
+    _table_name(into.causes, "causes table")
+    services = {s for p in properties for v in _parameters(p).values() if isinstance(v, list) for s in v}
+    return ENV.get_template("oracles/_requests.sql").render(
+        events=events, into=into.requests, shared_causes=into.causes, taken=True, runs=True, epsilon=round(float(epsilon), 6),
+        enders=interrupters(properties), modules=sorted({s.split(".")[0] for s in services}),
+        until_stopped=interface.until_stopped if interface else [],
+        control=interface.of_kind("control") if interface else [])
 
 
 def render_unknown(prop: Property, events: str, into: str) -> str:

@@ -83,8 +83,10 @@ def keep_previous(con) -> None:
     for the diff views; the caller owns the transaction."""
     if exists(con, "verdicts"):
         con.execute(render_view("table_values"))
-        con.execute("create or replace table verdicts_previous as from verdicts")
         con.execute("create or replace table table_values_previous as from table_values")
+        # renamed, not copied: the new verdicts are published under the name right after
+        con.execute("drop table if exists verdicts_previous")
+        con.execute("alter table verdicts rename to verdicts_previous")
     else:
         con.execute(render_view("verdicts", target="verdicts_previous"))
         con.execute("create or replace table table_values_previous (sut varchar, family varchar, "
