@@ -57,6 +57,8 @@ def main() -> int:
           f"(fixed part {small_rss - slope * small / 2**20:,.0f} MB)")
     print(f"this machine     {ram / 2**30:,.1f} GB of RAM: about {ram / slope / 1e6:,.0f} million events "
           "at that growth")
+    print(f"README: analysis memory (`bench/analyzer_memory_bench.py`) | linear, about {slope:,.0f} bytes per event "
+          f"over {small_rss - slope * small / 2**20:,.0f} MB | linear")
     return 0
 
 
