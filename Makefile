@@ -77,12 +77,7 @@ $(ROS_CPP_NODE): $(ROS_CPP_SRC) harness/adapters/ros/untimely_msgs/Request.actio
 test: system $(STAMP) ros ros-cpp
 	$(PY) -m pytest
 
-# What only the benchmarks need (reelay), installed the first time make bench runs.
-$(VENV)/.bench: $(STAMP)
-	$(PY) -m pip install --quiet -e '.[bench]'
-	touch $@
-
-bench: $(VENV)/.bench ros
+bench: $(STAMP) ros
 	$(PY) bench/run.py
 
 campaign: $(STAMP)
