@@ -49,6 +49,11 @@ def _parameters(prop: Property) -> dict:
     return given
 
 
+def _services(parameters: dict) -> list[str]:
+    """Every "module.Service" a property's parameters name (x, y, q), sorted."""
+    return sorted({s for v in parameters.values() if isinstance(v, list) for s in v})
+
+
 def interrupters(properties: list[Property]) -> list[tuple[str, str, str]]:
     """(x service, interruption code, y service) for every request that a property says may end an
     x activity with that code: the y of EE, EX and MX_I properties (both ways for MX_I). The
@@ -92,7 +97,7 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
     if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
         raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
     parameters = _parameters(prop)
-    services = sorted({s for v in parameters.values() if isinstance(v, list) for s in v})
+    services = _services(parameters)
     own = {s.split(".")[0] for s in services}
     enders = [e for e in interrupters([prop, *peers]) if e[0] in prop.x or e[0] in prop.y]
     template = _template(prop)
@@ -132,10 +137,10 @@ def render_shared(properties: list[Property], events: str, epsilon: float, inter
     _table_name(events, "events source")
     _table_name(into.requests, "requests table")
     _table_name(into.causes, "causes table")
-    services = {s for p in properties for v in _parameters(p).values() if isinstance(v, list) for s in v}
+    modules = sorted({s.split(".")[0] for p in properties for s in _services(_parameters(p))})
     return ENV.get_template("oracles/_requests.sql").render(
-        events=events, into=into.requests, shared_causes=into.causes, taken=True, runs=True, epsilon=round(float(epsilon), 6),
-        enders=interrupters(properties), modules=sorted({s.split(".")[0] for s in services}),
+        events=events, into=into.requests, shared_causes=into.causes, taken=True, runs=True,
+        epsilon=round(float(epsilon), 6), enders=interrupters(properties), modules=modules,
         until_stopped=interface.until_stopped if interface else [],
         control=interface.of_kind("control") if interface else [])
 

@@ -26,7 +26,7 @@ class OracleFailure:
 
 def staged(name: str) -> str:
     """The temporary table an analysis stages for `name`: a verdicts table's rows before they are
-    published, or an events table's requests, aggregated once for every oracle."""
+    published, or what the oracles on an events table share (its requests, their causes)."""
     return f"{name}_staged"
 
 
