@@ -94,6 +94,10 @@ def judge(path: Path, properties, threads: int) -> Judged:
     return Judged(events, len(properties), threads, wall_s, cpu_s, before + calibrate())
 
 
+def on_threads(threads: int) -> str:
+    return f"{threads} thread{'s' * (threads != 1)}"
+
+
 def beside(value: float, recorded: float | None) -> str:
     if recorded is None:
         return "no baseline"
@@ -104,13 +108,13 @@ def beside(value: float, recorded: float | None) -> str:
 
 def report(what: str, judged: Judged, baseline: dict, limit: float | None = None) -> None:
     """One line per analysis, its loops beside the recorded baseline (and the target, `limit`)."""
-    recorded = baseline.get(f"{what}, {judged.threads} thread{'s' * (judged.threads != 1)}", {})
+    recorded = baseline.get(f"{what}, {on_threads(judged.threads)}", {})
     target = "" if limit is None else f"; target <= {limit:.0f}: {'met' if judged.loops <= limit else 'NOT met'}"
-    print(f"{what}, DuckDB on {judged.threads} thread{'s' * (judged.threads != 1)}: {judged.events:,} events x "
+    print(f"{what}, DuckDB on {on_threads(judged.threads)}: {judged.events:,} events x "
           f"{judged.properties} properties in {judged.wall_s:.2f} s ({judged.cpu_s:.2f} s CPU) = "
           f"{judged.mpe_s:.2f} M property-events/s\n"
-          f"    {judged.loops:.1f} loops of {judged.loop.wall_s * 1000:.0f} ms ({beside(judged.loops, recorded.get('loops'))}"
-          f"{target}); CPU {judged.cpu_loops:.1f} loops of {judged.loop.cpu_s * 1000:.0f} ms "
+          f"    {judged.loops:.1f} loops of {judged.loop.wall_s * 1000:.0f} ms "
+          f"({beside(judged.loops, recorded.get('loops'))}{target}); CPU {judged.cpu_loops:.1f} loops of {judged.loop.cpu_s * 1000:.0f} ms "
           f"({beside(judged.cpu_loops, recorded.get('cpu_loops'))})", flush=True)
 
 
@@ -119,7 +123,7 @@ def readme(results: dict[str, Judged]) -> None:
     for what, title, target in (("campaign-sized store", "analysis of a campaign-sized store", "≤ 3 s"),
                                 ("large store", "analysis of a synthetic store", "≤ 130 loops on 2 cores")):
         found = [j for name, j in results.items() if name.startswith(what + ",")]
-        said = "; ".join(f"DuckDB on {j.threads} thread{'s' * (j.threads != 1)} {j.wall_s:.2f} s = {j.loops:.0f} loops, "
+        said = "; ".join(f"DuckDB on {on_threads(j.threads)} {j.wall_s:.2f} s = {j.loops:.0f} loops, "
                          f"{j.mpe_s:.1f} M property-events/s (CPU {j.cpu_s:.1f} s = {j.cpu_loops:.0f} loops)"
                          for j in found)
         print(f"README: {title} (`bench/analyzer_bench.py`) | {found[0].events:,} events, {found[0].properties} "
@@ -164,7 +168,7 @@ def main() -> int:
         for what, path, limit in stores:
             for threads in sorted({os.cpu_count() or 1, 1}, reverse=True):
                 judged = judge(path, properties, threads)
-                results[f"{what}, {threads} thread{'s' * (threads != 1)}"] = judged
+                results[f"{what}, {on_threads(threads)}"] = judged
                 report(what, judged, baseline, limit if threads > 1 else None)
     readme(results)
     if args.record:

@@ -42,7 +42,8 @@ def main() -> int:
         add_reply_codes(con, interface)
         started, cpu = time.perf_counter(), time.process_time()
         for first in range(1, args.runs + 1, BATCH_RUNS):
-            batch = [(n, None, traces[n % len(traces)], None) for n in range(first, min(first + BATCH_RUNS, args.runs + 1))]
+            last = min(first + BATCH_RUNS, args.runs + 1)
+            batch = [(n, None, traces[n % len(traces)], None) for n in range(first, last)]
             with transaction(con):
                 insert_traces(con, 1, batch)
         wall, cpu = time.perf_counter() - started, time.process_time() - cpu

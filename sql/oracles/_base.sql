@@ -39,7 +39,8 @@
 logged as (
     select trace_id, rqst_id, module, service, kind, t, seq, reply{{ ', args' if args }}
     from {{ events }}
-    where kind in ('request', 'final') and {{ where }}{% if traces %} and trace_id in ({{ traces | join(', ') }}){% endif %}
+    where kind in ('request', 'final') and {{ where }}
+          {%- if traces %} and trace_id in ({{ traces | join(', ') }}){% endif %}
 
 ),
 -- one row per request (a request id is unique within its trace): when it was sent, and when
