@@ -54,6 +54,16 @@ def _services(parameters: dict) -> list[str]:
     return sorted({s for v in parameters.values() if isinstance(v, list) for s in v})
 
 
+def _scope(prop: Property, enders: list[tuple[str, str, str]]) -> tuple[list[str], list[str] | None]:
+    """What the property's oracle reads (sql/oracles/_base.sql's `scope`): the requests of the
+    modules of its services and of those that may interrupt them (`enders`), or, for a type whose
+    template declares `{% set scope = 'services' %}`, of its own services alone (then given too)."""
+    services = _services(_parameters(prop))
+    modules = sorted({s.split(".")[0] for s in services} | {y.split(".")[0] for *_, y in enders})
+    own = getattr(ENV.get_template(_template(prop)).module, "scope", "modules") == "services"
+    return modules, services if own else None
+
+
 def interrupters(properties: list[Property]) -> list[tuple[str, str, str]]:
     """(x service, interruption code, y service) for every request that a property says may end an
     x activity with that code: the y of EE, EX and MX_I properties (both ways for MX_I). The
@@ -97,16 +107,15 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
     if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
         raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
     parameters = _parameters(prop)
-    services = _services(parameters)
-    own = {s.split(".")[0] for s in services}
     enders = [e for e in interrupters([prop, *peers]) if e[0] in prop.x or e[0] in prop.y]
     template = _template(prop)
     try:
+        modules, services = _scope(prop, enders)
         return ENV.get_template("oracles/_oracle.sql").render(
             template=template, into=into, shared=shared and shared.requests, shared_causes=shared and shared.causes,
             services=services, id=prop.id, family=prop.family, events=events,
             epsilon=round(float(epsilon), 6), parameters=parameters, enders=enders, runs=runs, taken=taken,
-            modules=sorted(own | {service.split(".")[0] for *_, service in enders}),
+            modules=modules,
             until_stopped=interface.until_stopped if interface else [],
             control=interface.of_kind("control") if interface else [],
             **({"domains": {name: {a.name: a.spec() for a in s.args.values()}
@@ -137,10 +146,14 @@ def render_shared(properties: list[Property], events: str, epsilon: float, inter
     _table_name(events, "events source")
     _table_name(into.requests, "requests table")
     _table_name(into.causes, "causes table")
-    modules = sorted({s.split(".")[0] for p in properties for s in _services(_parameters(p))})
+    enders = interrupters(properties)
+    scopes = [_scope(p, [e for e in enders if e[0] in p.x or e[0] in p.y]) for p in properties]
+    # the requests every oracle reads, and no more: whole modules for those that search causes
+    modules = sorted({m for ms, services in scopes if services is None for m in ms})
+    services = sorted({s for _, ss in scopes for s in ss or () if s.split(".")[0] not in modules})
     return ENV.get_template("oracles/_requests.sql").render(
         events=events, into=into.requests, shared_causes=into.causes, taken=True, runs=True,
-        epsilon=round(float(epsilon), 6), enders=interrupters(properties), modules=modules,
+        epsilon=round(float(epsilon), 6), enders=enders, modules=modules, services=services,
         until_stopped=interface.until_stopped if interface else [],
         control=interface.of_kind("control") if interface else [])
 

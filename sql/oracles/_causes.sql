@@ -55,7 +55,7 @@
     from {{ ended }} x
     join {{ name }}_enders e on e.x_service = x.module || '.' || x.service and e.reply = x.reply
     where x.class = 'Z'
-{% if until_stopped %}
+{% if until_stopped and modules %}
     union
     select x.trace_id, x.rqst_id, x.t, x.seq, x.final_t, x.final_seq, m.module, null, false
     from {{ ended }} x

@@ -9,7 +9,7 @@
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/_epsilon.sql' as eps %}
 {% import template as oracle with context %}
-{% set where = base.scope(modules, services if oracle.scope | default('modules') == 'services' else none) %}
+{% set where = base.scope(modules, services) %}
 {% if into %}
 insert into {{ into }} by name
 {% endif %}
