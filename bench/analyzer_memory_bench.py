@@ -13,7 +13,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from analyzer_bench import synthesise
+from analyzer_bench import synthesise, traces_for
 
 from harness import DEFAULT_MISSION_DIR, ROOT
 from harness.target.interface import load_interface
@@ -42,9 +42,11 @@ def main() -> int:
         for wanted in (int(n) for n in args.events.split(",")):
             db = Path(tmp) / f"store-{wanted}.duckdb"
             con = connect(db)
-            events = synthesise(con, interface, -(-wanted // (2 * REQUESTS) * 100 // 98), REQUESTS, args.seed)
+            events = synthesise(con, interface, traces_for(wanted, REQUESTS), REQUESTS, args.seed)
             con.close()
-            rss = peak_rss_mb([sys.executable, "-m", "harness", "analyze", "--db", str(db)])
+            # a synthetic store records no target folder: its properties are named
+            rss = peak_rss_mb([sys.executable, "-m", "harness", "analyze", "--db", str(db),
+                               "--properties", str(DEFAULT_MISSION_DIR / "properties.toml")])
             measured.append((events, rss))
             print(f"{events:>12,} events: peak {rss:,.0f} MB, {rss * 2**20 / events:,.0f} bytes per event in all")
             db.unlink()
@@ -55,6 +57,8 @@ def main() -> int:
           f"(fixed part {small_rss - slope * small / 2**20:,.0f} MB)")
     print(f"this machine     {ram / 2**30:,.1f} GB of RAM: about {ram / slope / 1e6:,.0f} million events "
           "at that growth")
+    print(f"README: analysis memory (`bench/analyzer_memory_bench.py`) | linear, about {slope:,.0f} bytes per event "
+          f"over {small_rss - slope * small / 2**20:,.0f} MB | linear")
     return 0
 
 

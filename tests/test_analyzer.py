@@ -15,7 +15,6 @@ from harness.analysis.analyzer import materialise, summary
 from harness.cli import main
 from harness.errors import PropertyError, StoreError
 from harness.target.interface import Property
-from harness.analysis.oracles import render_property
 from harness.trace import Trace
 from traces.fixtures import HERE, PROPERTIES, judged_store, judged_traces, load
 
@@ -187,7 +186,9 @@ def test_a_typo_in_a_template_names_the_property_the_template_and_the_rendered_l
     monkeypatch.setattr(analyzer, "SQL_DIR", sql)
     aib = PROPERTIES["AIB(ndd.GotoPosition)"]
     materialise(con, [PEX, aib], EPSILON)
-    line = next(n for n, text in enumerate(render_property(aib).splitlines(), 1) if "y_klass" in text)
+    ran = next(o.sql for o in analyzer.render_oracles([PEX, aib], EPSILON).oracles if o.prop == aib)
+    query = ran.split("\n", 1)[1]  # the statement less its first line, `insert into`
+    line = next(n for n, text in enumerate(query.splitlines(), 1) if "y_klass" in text)
     failures = con.execute("select analysis_id, property_id, source, template, error from oracle_failures "
                            "order by source").fetchall()
     assert [f[:4] for f in failures] == [(2, "AIB(ndd.GotoPosition)", "events", "sql/oracles/ee.sql"),

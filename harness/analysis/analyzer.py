@@ -16,7 +16,7 @@ import duckdb
 
 from harness import SQL_DIR
 from harness.analysis import diff
-from harness.analysis.oracles import render_property, render_unknown
+from harness.analysis.oracles import Shared, render_property, render_shared, render_unknown
 from harness.analysis.provenance import default_properties, last_epsilon, sources
 from harness.errors import InputFileError, PropertyError, StoreError
 from harness.store.analyses import (OracleFailure, drop_staged, keep_previous, publish, record, replace_old_analysis,
@@ -62,37 +62,60 @@ class Oracle:
                              f"{message}{where}")
 
 
-def render_oracles(properties: list[Property], epsilon: float, interface: Interface | None = None) -> list[Oracle]:
+def _shared_names(events: str) -> tuple[str, str]:
+    return events, f"{events}_causes"
+
+
+def _shared(events: str) -> Shared:
+    """The tables the oracles on `events` share in an analysis, staged as its verdicts are."""
+    return Shared(*map(staged, _shared_names(events)))
+
+
+@dataclass
+class Rendered:
+    """An analysis's statements: what its oracles share (made first), then every oracle."""
+    shared: list[str]
+    oracles: list[Oracle]
+
+
+def render_oracles(properties: list[Property], epsilon: float, interface: Interface | None = None) -> Rendered:
     if not properties:
         raise PropertyError("no properties to judge; give a properties file with [[property]] entries")
-    return [Oracle(p, events, target, render_property(p, events, epsilon, interface, peers=properties,
-                                                      into=staged(target)))
-            for events, target in SOURCES for p in properties]
+    return Rendered([render_shared(properties, events, epsilon, interface, _shared(events)) for events, _ in SOURCES],
+                    [Oracle(p, events, target, render_property(p, events, epsilon, interface, peers=properties,
+                                                               into=staged(target), shared=_shared(events)))
+                     for events, target in SOURCES for p in properties])
 
 
-def _stage_all(con, rendered: list[Oracle]) -> bool:
+def _stage(con, rendered: Rendered) -> None:
+    """Empty staging tables, and what the oracles share."""
+    for _, target in SOURCES:
+        stage(con, target)
+    for statement in rendered.shared:
+        con.execute(statement)
+
+
+def _stage_all(con, rendered: Rendered) -> bool:
     """Every oracle's rows staged in one transaction (committing each statement on its own costs
     some 15% of an analysis); False, with nothing staged, if one failed."""
     try:
         with transaction(con):
-            for _, target in SOURCES:
-                stage(con, target)
-            for oracle in rendered:
+            _stage(con, rendered)
+            for oracle in rendered.oracles:
                 con.execute(oracle.sql)
     except duckdb.Error:
         return False
     return True
 
 
-def _judge(con, rendered: list[Oracle]) -> list[OracleFailure]:
+def _judge(con, rendered: Rendered) -> list[OracleFailure]:
     """Every oracle's rows staged; when one fails, each oracle again on its own (DuckDB aborts a
     transaction at its first error), a failing one getting 'unknown' rows instead."""
     if _stage_all(con, rendered):
         return []
     failures = []
-    for _, target in SOURCES:
-        stage(con, target)
-    for oracle in rendered:
+    _stage(con, rendered)
+    for oracle in rendered.oracles:
         error = try_statement(con, oracle.sql)
         if error is not None:
             failures.append(oracle.failure(error))
@@ -111,12 +134,13 @@ def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsi
     rendered = render_oracles(properties, epsilon, interface)  # a property that cannot be rendered stops us here
     try:
         failures = _judge(con, rendered)
+        for _, target in SOURCES:  # on the temporary table: an update of the published one fills the WAL
+            con.execute(render_view("shared_codes", target=staged(target)))
         with transaction(con):
             replace_old_analysis(con)
             keep_previous(con)
             for _, target in SOURCES:
                 publish(con, target)
-                con.execute(render_view("shared_codes", target=target))
             con.execute(render_view("properties", properties=properties))
             for name in view_order():
                 con.execute(render_view(name))
@@ -125,8 +149,9 @@ def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsi
     except duckdb.Error as e:
         raise StoreError(f"the oracle queries failed on this store: {e}; the previous verdicts are kept") from None
     finally:
-        for _, target in SOURCES:
-            drop_staged(con, target)
+        for events, target in SOURCES:
+            for name in (target, *_shared_names(events)):
+                drop_staged(con, name)
     return seconds
 
 

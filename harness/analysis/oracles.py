@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import dataclass
 
 import jinja2
 
@@ -20,6 +21,14 @@ from harness.target.property_types import PARAMETERS, property_types
 
 _TABLE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _SERVICE = re.compile(r"[^.\s']+\.[^.\s']+")
+
+
+@dataclass(frozen=True)
+class Shared:
+    """The temporary tables that every oracle of an analysis reads, made once per events table
+    (render_shared): its requests, and the candidate causes of their ends."""
+    requests: str
+    causes: str
 
 
 def _parameters(prop: Property) -> dict:
@@ -38,6 +47,21 @@ def _parameters(prop: Property) -> dict:
         if value:
             given[name] = value
     return given
+
+
+def _services(parameters: dict) -> list[str]:
+    """Every "module.Service" a property's parameters name (x, y, q), sorted."""
+    return sorted({s for v in parameters.values() if isinstance(v, list) for s in v})
+
+
+def _scope(prop: Property, enders: list[tuple[str, str, str]]) -> tuple[list[str], list[str] | None]:
+    """What the property's oracle reads (sql/oracles/_base.sql's `scope`): the requests of the
+    modules of its services and of those that may interrupt them (`enders`), or, for a type whose
+    template declares `{% set scope = 'services' %}`, of its own services alone (then given too)."""
+    services = _services(_parameters(prop))
+    modules = sorted({s.split(".")[0] for s in services} | {y.split(".")[0] for *_, y in enders})
+    own = getattr(ENV.get_template(_template(prop)).module, "scope", "modules") == "services"
+    return modules, services if own else None
 
 
 def interrupters(properties: list[Property]) -> list[tuple[str, str, str]]:
@@ -65,29 +89,33 @@ def _table_name(name: str, role: str) -> None:
 def render_property(prop: Property, events: str = "events", epsilon: float = DEFAULT_EPSILON_S,
                     interface: Interface | None = None, explain: list[tuple[int, int]] = (),
                     peers: list[Property] = (), runs: bool = True, taken: bool = True,
-                    into: str | None = None) -> str:
+                    into: str | None = None, shared: Shared | None = None) -> str:
     """The oracle query of one property over the events table `events`: the verdicts columns.
     The interface, when given, says which requests may end an activity, and `peers` (the properties
     judged with it) on which other modules an interruption may come from (see sql/oracles/ee.sql).
     `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions.
     `runs`: whether the store has trace_runs, whose pings give a real-time trace its epsilon;
     `taken`: whether it has taken_events, where an SUT's `taken` replies place its requests.
-    `into`: a verdicts table; then the statement inserting the rows into it."""
+    `into`: a verdicts table; then the statement inserting the rows into it. `shared`: the tables
+    of render_shared, which the query reads instead of aggregating the requests and searching causes."""
     _table_name(events, "events source")
     if into is not None:
         _table_name(into, "verdicts table")
+    if shared is not None:
+        _table_name(shared.requests, "requests table")
+        _table_name(shared.causes, "causes table")
     if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
         raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
     parameters = _parameters(prop)
-    services = sorted({s for v in parameters.values() if isinstance(v, list) for s in v})
-    own = {s.split(".")[0] for s in services}
     enders = [e for e in interrupters([prop, *peers]) if e[0] in prop.x or e[0] in prop.y]
     template = _template(prop)
     try:
+        modules, services = _scope(prop, enders)
         return ENV.get_template("oracles/_oracle.sql").render(
-            template=template, into=into, id=prop.id, family=prop.family, events=events,
+            template=template, into=into, shared=shared and shared.requests, shared_causes=shared and shared.causes,
+            services=services, id=prop.id, family=prop.family, events=events,
             epsilon=round(float(epsilon), 6), parameters=parameters, enders=enders, runs=runs, taken=taken,
-            modules=sorted(own | {service.split(".")[0] for *_, service in enders}),
+            modules=modules,
             until_stopped=interface.until_stopped if interface else [],
             control=interface.of_kind("control") if interface else [],
             **({"domains": {name: {a.name: a.spec() for a in s.args.values()}
@@ -108,6 +136,26 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
     except TypeError as e:
         raise PropertyError(f"property {prop.id!r} of type {prop.type}: {e} "
                             "(the type does not use it); remove it from the property's entry") from None
+
+
+def render_shared(properties: list[Property], events: str, epsilon: float, interface: Interface | None,
+                  into: Shared) -> str:
+    """The statements making what every oracle of an analysis shares, once per events table
+    (sql/oracles/_requests.sql): the tables `into` of `events`'s requests and of the candidate
+    causes of their ends; the oracles read them when rendered with `shared=into`."""
+    _table_name(events, "events source")
+    _table_name(into.requests, "requests table")
+    _table_name(into.causes, "causes table")
+    enders = interrupters(properties)
+    scopes = [_scope(p, [e for e in enders if e[0] in p.x or e[0] in p.y]) for p in properties]
+    # the requests every oracle reads, and no more: whole modules for those that search causes
+    modules = sorted({m for ms, services in scopes if services is None for m in ms})
+    services = sorted({s for _, ss in scopes for s in ss or () if s.split(".")[0] not in modules})
+    return ENV.get_template("oracles/_requests.sql").render(
+        events=events, into=into.requests, shared_causes=into.causes, taken=True, runs=True,
+        epsilon=round(float(epsilon), 6), enders=enders, modules=modules, services=services,
+        until_stopped=interface.until_stopped if interface else [],
+        control=interface.of_kind("control") if interface else [])
 
 
 def render_unknown(prop: Property, events: str, into: str) -> str:

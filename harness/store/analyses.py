@@ -24,8 +24,10 @@ class OracleFailure:
     error: str
 
 
-def staged(target: str) -> str:
-    return f"{target}_staged"
+def staged(name: str) -> str:
+    """The temporary table an analysis stages for `name`: a verdicts table's rows before they are
+    published, or what the oracles on an events table share (its requests, their causes)."""
+    return f"{name}_staged"
 
 
 def stage(con, target: str) -> None:
@@ -81,8 +83,10 @@ def keep_previous(con) -> None:
     for the diff views; the caller owns the transaction."""
     if exists(con, "verdicts"):
         con.execute(render_view("table_values"))
-        con.execute("create or replace table verdicts_previous as from verdicts")
         con.execute("create or replace table table_values_previous as from table_values")
+        # renamed, not copied: the new verdicts are published under the name right after
+        con.execute("drop table if exists verdicts_previous")
+        con.execute("alter table verdicts rename to verdicts_previous")
     else:
         con.execute(render_view("verdicts", target="verdicts_previous"))
         con.execute("create or replace table table_values_previous (sut varchar, family varchar, "

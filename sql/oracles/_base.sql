@@ -25,15 +25,22 @@
 ({{ a }}t < {{ b }}t or ({{ a }}t = {{ b }}t and {{ a }}seq < {{ b }}seq))
 {%- endmacro %}
 
-{% macro requests(events, modules=none, traces=none, args=false, taken=true) -%}
--- request and final-reply events (intermediate replies decide nothing) of `modules`: those of
--- the property's services, and those that may interrupt its activities (see ee.sql); `args`:
--- with the requests' arguments (only a value-domain oracle reads them); `taken`: the store has
--- taken_events (one read as it is may lack them)
+{#- The requests an oracle reads: of its own `services` when its template declares
+    `{% set scope = 'services' %}` (a type that searches no cause: PC, VAL), else of their
+    `modules` and of every module that may interrupt them (the cause search, _causes.sql). -#}
+{% macro scope(modules=none, services=none) -%}
+{% if services %}{{ among(services) }}{% elif modules %}module in ({{ modules | map('lit') | join(', ') }}){% else %}true{% endif %}
+{%- endmacro %}
+
+{% macro requests(events, where='true', traces=none, args=false, taken=true) -%}
+-- request and final-reply events (intermediate replies decide nothing) that `where` keeps (the
+-- requests an oracle reads, see `scope`); `args`: with the requests' arguments (only a
+-- value-domain oracle reads them); `taken`: the store has taken_events (one read as it is may lack them)
 logged as (
     select trace_id, rqst_id, module, service, kind, t, seq, reply{{ ', args' if args }}
     from {{ events }}
-    where kind in ('request', 'final'){% if modules %} and module in ({{ modules | map('lit') | join(', ') }}){% endif %}{% if traces %} and trace_id in ({{ traces | join(', ') }}){% endif %}
+    where kind in ('request', 'final') and {{ where }}
+          {%- if traces %} and trace_id in ({{ traces | join(', ') }}){% endif %}
 
 ),
 -- one row per request (a request id is unique within its trace): when it was sent, and when

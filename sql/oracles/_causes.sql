@@ -1,9 +1,37 @@
 {#- What ended an activity (docs/analyzer.md, rule 4), for ee.sql's causality rule and for the
-    orders it proves (rule 7). Imported `with context` (enders, control, until_stopped). -#}
+    orders it proves (rule 7). Imported `with context` (enders, control, until_stopped, shared_causes).
+    An analysis searches the causes of every request once (`search` over all requests, in the
+    table _requests.sql makes, named by `shared_causes`); each oracle then keeps those of its own
+    requests. Without that table (explain, the in-memory judge) an oracle searches its own. -#}
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/_judge.sql' as judge with context %}
 
 {% macro ctes(name, ended, modules) -%}
+{% if shared_causes %}
+-- the causes of the requests of the CTEs `ended`, from the analysis's search: an interruption's,
+-- and an end of an activity that runs until stopped from one of `modules`
+{{ name }}_candidates as (
+    select trace_id, rqst_id, cause_id, module, service
+    from {{ shared_causes }}
+    semi join ({% for e in ended %}select trace_id, rqst_id from {{ e }}{{ ' union all ' if not loop.last }}{% endfor %}) using (trace_id, rqst_id)
+    where interrupted or module in ({{ modules | map('lit') | join(', ') }})
+),
+{% else %}
+{{ name }}_ended as (
+    {% for e in ended %}select * from {{ e }}{{ ' union ' if not loop.last }}{% endfor %}
+
+),
+{{ search(name, name ~ '_ended', modules) }},
+{% endif %}
+-- an end with a single candidate cause orders it: the ended request was taken before its cause,
+-- and the cause before that end, whatever the observed order
+{{ name }}_sole as (
+    select trace_id, rqst_id, any_value(cause_id) as cause_id
+    from {{ name }}_candidates group by trace_id, rqst_id having count(*) = 1
+)
+{%- endmacro %}
+
+{% macro search(name, ended, modules) -%}
 -- An interruption, or the end of an activity that runs until stopped, has a cause: a request
 -- sent while it ran (or within epsilon before its request or after its end) and still being
 -- processed then (not ended more than epsilon before it). An interruption comes from a request
@@ -22,21 +50,22 @@
 -- per request of `ended` whose end needs a cause, the modules it may come from (service NULL: any)
 {{ name }}_sources as (
     select x.trace_id, x.rqst_id, x.t, x.seq, x.final_t, x.final_seq, split_part(e.y_service, '.', 1) as module,
-           case when split_part(e.y_service, '.', 1) <> x.module then split_part(e.y_service, '.', 2) end as service
+           case when split_part(e.y_service, '.', 1) <> x.module then split_part(e.y_service, '.', 2) end as service,
+           true as interrupted
     from {{ ended }} x
     join {{ name }}_enders e on e.x_service = x.module || '.' || x.service and e.reply = x.reply
     where x.class = 'Z'
-{% if until_stopped %}
+{% if until_stopped and modules %}
     union
-    select x.trace_id, x.rqst_id, x.t, x.seq, x.final_t, x.final_seq, m.module, null
+    select x.trace_id, x.rqst_id, x.t, x.seq, x.final_t, x.final_seq, m.module, null, false
     from {{ ended }} x
     cross join (values {% for m in modules %}({{ m | lit }}){{ ', ' if not loop.last }}{% endfor %}) as m(module)
     where x.class is distinct from 'Z' and {{ base.among(until_stopped, 'x.') }}
 {% endif %}
 ),
--- every candidate cause c of each such end
+-- every candidate cause c of each such end (`interrupted`: x(i) was)
 {{ name }}_candidates as (
-    select distinct x.trace_id, x.rqst_id, c.rqst_id as cause_id, c.module, c.service
+    select distinct x.trace_id, x.rqst_id, c.rqst_id as cause_id, c.module, c.service, x.interrupted
     from {{ name }}_sources x
     left join epsilons e on e.trace_id = x.trace_id
     join {{ name }}_callers c on c.trace_id = x.trace_id and c.module = x.module and c.rqst_id <> x.rqst_id
@@ -45,11 +74,5 @@
          and (coalesce({{ base.before('c.', 'x.final_') }}, true) or {{ judge.near('c.t - x.final_t') }})
          and (c.final_t is null or not {{ base.before('c.final_', 'x.final_') }}
               or {{ judge.near('x.final_t - c.final_t') }})
-),
--- an end with a single candidate cause orders it: the ended request was taken before its cause,
--- and the cause before that end, whatever the observed order
-{{ name }}_sole as (
-    select trace_id, rqst_id, any_value(cause_id) as cause_id
-    from {{ name }}_candidates group by trace_id, rqst_id having count(*) = 1
 )
 {%- endmacro %}

@@ -1,16 +1,24 @@
-{#- One property's oracle query (DESIGN §6): the requests of its modules in `events` (the
+{#- One property's oracle query (DESIGN §6): the requests of its scope in `events` (the
     observed `events` or the ground-truth `internal_events`), its type's CTE chain from
     `template`, and its verdict rows with the contract columns; with `explain`, the pairs that
     decided the condition of some requests instead (explain.requests: (trace_id, rqst_id) pairs);
-    with `into`, the statement inserting the verdict rows into that table. Rendered by
+    with `into`, the statement inserting the verdict rows into that table; with `shared`, the
+    table of _requests.sql that holds `events`'s requests, read instead of aggregating them again
+    (a type that reads arguments, VAL, still aggregates the few requests it needs). Rendered by
     harness/analysis/oracles.py. -#}
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/_epsilon.sql' as eps %}
 {% import template as oracle with context %}
+{% set where = base.scope(modules, services) %}
 {% if into %}
 insert into {{ into }} by name
 {% endif %}
-with {{ base.requests(events, modules, explain.traces if explain else none, oracle.needs_args is defined, taken) }},
+{% if shared and oracle.needs_args is not defined %}
+-- the analysis's requests, aggregated once for every oracle (_requests.sql)
+with requests as (select * from {{ shared }} where {{ where }}),
+{% else %}
+with {{ base.requests(events, where, explain.traces if explain else none, oracle.needs_args is defined, taken) }},
+{% endif %}
 {{ eps.per_trace(runs) }},
 {{ oracle.ctes('p', **parameters) }}
 {% if explain %}

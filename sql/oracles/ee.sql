@@ -9,10 +9,7 @@
 {% macro ctes(name, x, y, z_p) -%}
 {{ base.relevant(name, 'x', x) }},
 {{ base.relevant(name, 'y', y) }},
-{{ name }}_xy as (
-    select * from {{ name }}_x union select * from {{ name }}_y
-),
-{{ causes.ctes(name, name ~ '_xy', (x + y) | modules) }},
+{{ causes.ctes(name, [name ~ '_x', name ~ '_y'], (x + y) | modules) }},
 -- When every candidate cause of x(i)'s end is a y(j), one of them stays before the end whatever
 -- the observed order: C is false with a conflict that was not rejected (`caused`).
 {{ name }}_caused as (

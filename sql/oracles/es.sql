@@ -14,10 +14,7 @@
 {% macro chain(name, x, y, r_p, mutual=false) -%}
 {{ base.relevant(name, 'x', x) }},
 {{ base.relevant(name, 'y', y) }},
-{{ name }}_xy as (
-    select * from {{ name }}_x union select * from {{ name }}_y
-),
-{{ causes.ctes(name, name ~ '_xy', (x + y) | modules) }},
+{{ causes.ctes(name, [name ~ '_x', name ~ '_y'], (x + y) | modules) }},
 -- rule 8: a y(j) rejected with r_P by a mutual exclusion was taken while an x ran; when a single
 -- x(i) could have run then (not rejected, sent before y(j)'s rejection was observed, its own final
 -- reply not observed before y(j) was sent), x(i) was taken before y(j)

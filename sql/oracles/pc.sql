@@ -3,6 +3,7 @@
     any other rejection op; no final reply omega. -#}
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/_judge.sql' as judge with context %}
+{% set scope = 'services' %}{# it reads only its own services' requests: it searches no cause #}
 
 {% macro ctes(name, x, q, r_p) -%}
 {{ base.relevant(name, 'x', x) }},

@@ -9,6 +9,7 @@
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/_judge.sql' as judge with context %}
 {% set needs_args = true %}
+{% set scope = 'services' %}{# it reads only its own services' requests: it searches no cause #}
 
 {% macro legal(value, spec) -%}
 {%- set text = 'json_extract_string(' ~ value ~ ", '$')" -%}

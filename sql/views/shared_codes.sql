@@ -4,7 +4,7 @@
 -- with the same code called for on the same request (TP) was enforced for that other property:
 -- it is 'op', not FP. Such a verdict hinges on the other one: when no certain TP explains it but
 -- an uncertain TP or FP (an FP that may really be a TP) could, the other of FP and op is one of
--- its alternatives too.
+-- its alternatives too. Only an FP changes: filtering them first spares joining the whole table.
 update {{ target }} as v
 set verdict = s.verdict,
     alternatives = s.alternatives,
@@ -23,4 +23,4 @@ from (
         group by f.trace_id, f.rqst_id, f.property_id
     )
 ) as s
-where v.trace_id = s.trace_id and v.rqst_id = s.rqst_id and v.property_id = s.property_id
+where v.verdict = 'FP' and v.trace_id = s.trace_id and v.rqst_id = s.rqst_id and v.property_id = s.property_id
