@@ -123,6 +123,7 @@ class Adapter(Bridge):
                 raise UntimelyError(problem or f"no echo on {self.mapping.pong_topic} within {timeout_s:g} s")
 
     def start_probing(self) -> None:
+        self.answered = time.monotonic()  # the start-up's waits were no silence of the executor
         if self.probe:
             threading.Thread(target=self._probing, name="probe", daemon=True).start()
 
