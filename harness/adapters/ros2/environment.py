@@ -37,6 +37,8 @@ DEFAULT_DISTRO = "jazzy"
 DOMAIN_IDS = range(1, 102)
 LOCK_DIR = Path(tempfile.gettempdir()) / "untimely-ros2-domains"
 PROFILE = Path(__file__).resolve().parent / "fastdds.xml"
+# Fast DDS 2 (Jazzy) reads the first; Fast DDS 3 (Kilted) the second, and warns on the first.
+PROFILE_VARIABLE = {"jazzy": "FASTRTPS_DEFAULT_PROFILES_FILE", "kilted": "FASTDDS_DEFAULT_PROFILES_FILE"}
 PYTHON_DIR = f"python{sys.version_info.major}.{sys.version_info.minor}"
 
 
@@ -78,7 +80,7 @@ class Ros2Environment:
         self._lock = None
 
     def open(self) -> Ros2Environment:
-        self._lock, self.domain_id = _hold_domain_id(self.slot)
+        self._lock, self.domain_id = hold_domain_id(self.slot)
         self.log_dir = Path(tempfile.mkdtemp(prefix=f"untimely-ros2-log-{self.domain_id}-"))
         self.env = self._environment()
         return self
@@ -111,9 +113,10 @@ class Ros2Environment:
             "_ROS_WHEELS_BOOTSTRAP_COMPLETE": "1",
             "ROS_LOG_DIR": str(self.log_dir),
             "ROS_DOMAIN_ID": str(self.domain_id),
-            "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST",
+            "ROS_AUTOMATIC_DISCOVERY_RANGE": "SUBNET",
+            "ROS_DISTRO": self.distro,
             "RMW_IMPLEMENTATION": "rmw_fastrtps_cpp",
-            "FASTDDS_DEFAULT_PROFILES_FILE": str(PROFILE),
+            PROFILE_VARIABLE[self.distro]: str(PROFILE),
             "RMW_FASTRTPS_USE_QOS_FROM_XML": "0",
         })
         env.pop("ROS_LOCALHOST_ONLY", None)  # deprecated; it would override the discovery range
@@ -124,8 +127,9 @@ def _joined(first: list[Path], rest: str | None) -> str:
     return os.pathsep.join([str(p) for p in first] + ([rest] if rest else []))
 
 
-def _hold_domain_id(slot: int):
-    """An open lock file whose flock holds a domain id for this process, and the id."""
+def hold_domain_id(slot: int):
+    """An open lock file whose flock holds a domain id (searched from `slot` on) until it is
+    closed or the process ends, and the id."""
     LOCK_DIR.mkdir(mode=0o1777, exist_ok=True)
     ids = list(DOMAIN_IDS)
     start = slot % len(ids)
