@@ -107,12 +107,13 @@ class DalaNode(LifecycleNode):
                     server.configure_introspection(self.get_clock(), QOS, ServiceIntrospectionState.CONTENTS)
             else:
                 service = self.create_service(kind, route.name, self._serve_for(qualified, route), callback_group=group)
-                service.configure_introspection(self.get_clock(), QOS, ServiceIntrospectionState.METADATA)
+                service.configure_introspection(self.get_clock(), QOS, ServiceIntrospectionState.CONTENTS)
         if self.mapping.ping_topic:
             self.create_subscription(String, self.mapping.ping_topic, self._ping, QOS, callback_group=group)
 
     # -- lifecycle -----------------------------------------------------------------------------
     def on_configure(self, state) -> TransitionCallbackReturn:
+        self.calls: dict[str, int] = {}  # service -> calls received since the layer was made
         self.host = LayerHost(self.variant, self.interface, self.world_file, self.time_scale,
                               on_world=self._world, on_error=self._failed)
         return TransitionCallbackReturn.SUCCESS
@@ -163,7 +164,10 @@ class DalaNode(LifecycleNode):
             if not self.active or args is None:
                 code = "inactive" if not self.active else f"{route.name} cannot read {request}"
             else:
-                ending = Ending(self.executor, "")
+                # A call carries no id: the n-th call of a service (one client, in order) is named
+                # "SERVICE#n" in the ground truth, as the adapter names the n-th it made.
+                self.calls[route.name] = self.calls.get(route.name, 0) + 1
+                ending = Ending(self.executor, f"{route.name}#{self.calls[route.name]}")
                 self._request(qualified, args, ending)
                 code = await ending.ended
             if route.code or route.generic:
