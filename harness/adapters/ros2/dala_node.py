@@ -22,7 +22,6 @@ module is deadlocked, and only once each of its topics has its subscriber.
 """
 from __future__ import annotations
 
-import argparse
 import itertools
 import json
 import os
@@ -40,8 +39,8 @@ from rclpy.service_introspection import ServiceIntrospectionState
 from rclpy.task import Future
 from std_msgs.msg import String
 
-from harness import DEFAULT_MISSION_DIR
 from harness.adapters.ros.mapping import load_mapping
+from harness.adapters.ros.node_args import dala_arguments
 from harness.adapters.ros.routes import Route, read_field
 from harness.adapters.ros2.types import route_class
 from harness.errors import UntimelyError
@@ -224,18 +223,10 @@ class DalaNode(LifecycleNode):
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="dala_node", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--variant", required=True, help="a variant of the mission folder's layer.toml "
-                                                         "(Dala: genom, bip-a, bip-b, bare, reference)")
-    parser.add_argument("--time-scale", type=float, default=float(os.environ.get("UNTIMELY_TIME_SCALE", "1")),
-                        help="mission seconds per wall second (default: $UNTIMELY_TIME_SCALE, else 1)")
-    parser.add_argument("--mission", type=Path, default=DEFAULT_MISSION_DIR,
-                        help="folder of interface.toml, world.toml and ros2.toml")
-    parser.add_argument("--mapping", type=Path, help="the mapping file (default: the mission folder's ros2.toml)")
-    args = parser.parse_args(argv)
+    args = dala_arguments(argv, __doc__.split("\n\n")[0], "ros2.toml")
     rclpy.init()
     try:
-        node = DalaNode(args.variant, args.mission, args.mapping or args.mission / "ros2.toml", args.time_scale)
+        node = DalaNode(args.variant, args.mission, args.mapping, args.time_scale)
     except (UntimelyError, ValueError) as e:
         print(f"dala_node: {e}", file=sys.stderr, flush=True)
         return 2
