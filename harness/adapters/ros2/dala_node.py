@@ -18,6 +18,11 @@ Liveness: the node's executor serves `/dala/get_parameters`, which the adapter p
 echoes the adapter's pings (ping_topic -> pong_topic) once the layer answers them, never while a
 module is deadlocked, and only once each of its topics has its subscriber.
 
+Ground truth: each reply of the layer is published on internal_topic, a goal's named by its UUID,
+a call's as "SERVICE#n" (the n-th call of that service since the layer was made). Introspection:
+its services publish their events (with contents) from Jazzy on, its action servers from Kilted on,
+so the adapter can relay `taken` replies and a recorder can name every request.
+
     python -m harness.adapters.ros2.dala_node --variant reference [--mission DIR] [--mapping FILE]
 """
 from __future__ import annotations
