@@ -21,8 +21,8 @@ from the mapping file (ros2.toml). Rules:
   Kilted on): the server's introspection event of receiving the request, a goal's named by its id,
   a call's by its sequence number, is relayed as a `taken` reply when it arrives;
 - liveness: the node's executor must answer NODE/get_parameters (probed every PROBE_PERIOD_S) within
-  the mapping's heartbeat_stale_s, and the node must echo the ping; otherwise the pings go
-  unanswered (the trace is `hung`) and stderr says why.
+  the mapping's heartbeat_stale_s, the node must echo the ping, and a probe sent with the ping must
+  come back; otherwise the pings go unanswered (the trace is `hung`) and stderr says why.
 """
 from __future__ import annotations
 
@@ -99,13 +99,33 @@ class Adapter(Bridge):
             if mapping.lifecycle else None
         self.answered, self.stale_said = time.monotonic(), False  # the probe's last answer
         self.goals: dict[int, object] = {}  # request id -> ClientGoalHandle of this run
+        self.unprobed: set[int] = set()  # the bench's pings whose own probe has not come back
         self.executor = MultiThreadedExecutor(num_threads=4)
         self.executor.add_node(self.node)
         self.stopped = threading.Event()
         threading.Thread(target=self.executor.spin, name="executor", daemon=True).start()
 
     def forget(self) -> None:
-        self.goals, self.calls, self.call_counts = {}, {}, {}
+        self.goals, self.calls, self.call_counts, self.unprobed = {}, {}, {}, set()
+
+    def ping(self, message: dict) -> None:
+        """The echo through the ping topic, and a round trip of its own through the node's executor
+        (a service, as goal results and responses travel): the pong waits for both, so the round
+        trip the bench measures, and the epsilon it judges with, include the executor's delays."""
+        if self.probe:
+            with self.lock:
+                self.unprobed.add(message["id"])
+            self.probe.call_async(GetParameters.Request()).add_done_callback(
+                lambda _f, ping_id=message["id"]: self._ping_probed(ping_id))
+        super().ping(message)
+
+    def _ping_probed(self, ping_id: int) -> None:
+        with self.lock:
+            self.unprobed.discard(ping_id)
+            self._answer_pings()
+
+    def ping_done(self, ping_id: int) -> bool:
+        return ping_id not in self.unprobed
 
     def publish_ping(self, data: str) -> None:
         self.pinger.publish(String(data=data))
