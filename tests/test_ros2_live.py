@@ -6,6 +6,7 @@ import signal
 import sys
 import threading
 import time
+from pathlib import Path
 
 import pytest
 
@@ -90,7 +91,8 @@ def test_a_stuck_executor_hangs_the_trace_with_its_reason():
     """The golden mission on ros2-reference through the bench; the Dala node is stopped (SIGSTOP:
     its executor serves nothing more) while the rover drives to site 1: the probe of
     /dala/get_parameters goes unanswered, so do the pings (hung), stderr says why, the drive gets no
-    final, and nothing is left behind."""
+    final, and nothing is left behind (a stopped node outlives the SIGTERM of the bench's teardown:
+    its log folder goes anyway)."""
     sut = load_suts_file(DEFAULT_MISSION_DIR / "suts.toml")["ros2-reference"]
     interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
     script = load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
@@ -104,6 +106,8 @@ def test_a_stuck_executor_hangs_the_trace_with_its_reason():
         time.sleep(0.2)
     time.sleep(12.0)  # start-up, the Inits, settings, map and some seconds of the drive to site 1
     children = descendants(os.getpid()) - {node}
+    log_dir = next(v for v in Path(f"/proc/{node}/environ").read_bytes().decode().split("\0")
+                   if v.startswith("ROS_LOG_DIR=")).split("=", 1)[1]
     os.kill(node, signal.SIGSTOP)
     try:
         bench.join(120)
@@ -117,6 +121,7 @@ def test_a_stuck_executor_hangs_the_trace_with_its_reason():
     assert len(drives) == 1, f"the node was stopped before or after the drive to site 1: {trace.events}"
     assert [e for e in trace.events if e[3] == drives[0] and e[2] == "final"] == []
     assert wait_gone(children | {node}, timeout=30) == set()
+    assert not os.path.exists(log_dir), "the run's ROS 2 log folder was left behind"
 
 
 @requires_ros2("jazzy")

@@ -44,10 +44,18 @@ def main(argv: list[str] | None = None) -> int:
             [str(ros.python), "-m", "harness.adapters.ros2.serve", "--mapping", args.mapping,
              "--startup-timeout", str(args.startup_timeout), "--", *args.node],
             env={**ros.env, "UNTIMELY_ROS2_DISTRO": args.distro}, preexec_fn=_dying_with_parent(signal.SIGTERM))
-        signal.signal(signal.SIGTERM, lambda *_: adapter.terminate())  # its teardown, then ours
+        signal.signal(signal.SIGTERM, lambda *_: stop(adapter, ros))
         return adapter.wait()
     finally:
         ros.close()
+
+
+def stop(adapter: subprocess.Popen, ros: Ros2Environment) -> None:
+    """SIGTERM: the adapter tears down, and the log folder and domain id are given back at once,
+    as the bench's SIGKILL follows within seconds (a dying node may still write a log line, into a
+    removed folder: nothing is left behind)."""
+    adapter.terminate()
+    ros.close()
 
 
 if __name__ == "__main__":

@@ -195,7 +195,7 @@ class Adapter(Bridge):
 
     def close(self) -> None:
         self.stopped.set()
-        self.executor.shutdown(timeout_sec=1.0)
+        self.executor.shutdown(timeout_sec=0.5)
 
     # -- bench -> ROS 2 --------------------------------------------------------------------------
     def request(self, message: dict) -> None:

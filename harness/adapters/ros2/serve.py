@@ -55,9 +55,9 @@ def run(args, out: LineWriter) -> None:
             adapter.transition(RESET, args.startup_timeout)
             hello = read_hello(sys.stdin, first)
     finally:
+        stop_all([node], grace_s=1.0)  # within the bench's grace after its SIGTERM
         if adapter:
             adapter.close()
-        stop_all([node])
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -66,8 +66,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--startup-timeout", type=float, default=60.0)
     parser.add_argument("node", nargs="+", help="the SUT node's command, after --")
     args = parser.parse_args(argv)
-    return run_main(run, args)
+    try:
+        code = run_main(run, args)
+    except SystemExit as e:  # SIGTERM, after the teardown
+        code = e.code
+    # Not the interpreter's finalisation: rclpy's C++ objects, destroyed while an executor thread
+    # is still inside rcl, abort the process (std::terminate); everything is stopped already.
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    main()
