@@ -34,11 +34,12 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 # The Debian packages the tests need: chromium (the report in a browser), Node.js (examples/node),
-# Debian's ROS 1 and what the ROS adapter's tests build against. apt-get installs the missing ones
+# Debian's ROS 1 and what the ROS adapters' tests build against (python3-dev: the headers that
+# untimely_msgs' ROS 2 build compiles its Python bindings with). apt-get installs the missing ones
 # when make runs as root; otherwise make names the command to run, and stops.
 SYSTEM_PACKAGES := chromium nodejs python3-venv python3-rospy python3-actionlib python3-actionlib-msgs \
 	python3-std-msgs python3-rosmaster python3-genpy python3-move-base-msgs python3-std-srvs python3-rosbag \
-	libactionlib-dev libroscpp-dev g++ libstd-srvs-dev libmove-base-msgs-dev python3-gencpp
+	libactionlib-dev libroscpp-dev g++ libstd-srvs-dev libmove-base-msgs-dev python3-gencpp python3-dev
 
 system:
 	@command -v dpkg >/dev/null || { echo "make system: no dpkg: install by hand the equivalents of the Debian packages $(SYSTEM_PACKAGES)"; exit 1; }; \

@@ -6,8 +6,8 @@ import sys
 import pytest
 
 from harness import ROOT
-from harness.adapters.ros2.environment import (DOMAIN_IDS, DISTROS, Ros2Environment, Ros2Error,
-                                               hold_domain_id, installed)
+from harness.adapters.ros2.environment import (DOMAIN_IDS, DISTROS, PROFILE, PROFILE_VARIABLE, Ros2Environment,
+                                               Ros2Error, hold_domain_id, installed)
 
 HOLDER = """
 import sys
@@ -64,7 +64,8 @@ def test_the_environment_is_the_distros_and_its_log_folder_goes_away(distro):
         assert log_dir.is_dir() and env["ROS_LOG_DIR"] == str(log_dir)
         assert env["PATH"].split(":")[0] == str(ROOT / f".venv-ros2-{distro}" / "bin")
         assert env["ROS_DOMAIN_ID"] == str(ros.domain_id)
-        assert env["ROS_AUTOMATIC_DISCOVERY_RANGE"] == "LOCALHOST"
+        # LOCALHOST would swap the profile's transports for rmw_fastrtps's own, shared memory included
+        assert env["ROS_AUTOMATIC_DISCOVERY_RANGE"] == "SUBNET" and env[PROFILE_VARIABLE[distro]] == str(PROFILE)
         assert env["RMW_IMPLEMENTATION"] == "rmw_fastrtps_cpp"
         shown = subprocess.run([str(ros.python), "-c", "import rclpy, untimely_msgs.action as a, untimely_msgs.srv as s;"
                                 "print(a.Request.__name__, s.Call.__name__, rclpy.__file__)"],

@@ -7,6 +7,8 @@ import subprocess
 from pathlib import Path
 
 import pytest
+from rosbags.rosbag2 import Reader
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from harness import ROOT
 from harness.adapters.ros2.environment import DISTROS, Ros2Environment, installed
@@ -65,3 +67,27 @@ def test_a_recorded_run_imports_to_the_exchange_that_happened(tmp_path, interfac
     # Each service's rows in their order; between services, the order is the recorder's receive
     # order of different topics, which may differ by a few milliseconds from the order of events.
     assert sorted(imported(bag, interface), key=lambda row: row[1]) == EXPECTED[distro]
+    stored, announced = status_definition_hashes(bag)
+    assert stored == announced and announced.startswith("RIHS01_") and announced != "RIHS01_" + "0" * 64
+
+
+def status_definition_hashes(bag: Path) -> tuple[str, str]:
+    """The hash of the status topic's stored definition (with the messages it uses), and the hash
+    its publisher announced: equal when the definition is the one the node was built with."""
+    with Reader(bag) as reader:
+        status = next(c for c in reader.connections if c.topic.endswith("/_action/status"))
+    store = get_typestore(Stores.EMPTY)
+    store.register(get_types_from_msg(status.msgdef.data, status.msgtype))
+    return store.hash_rihs01(status.msgtype), status.digest
+
+
+def test_a_malformed_topic_argument_is_refused_naming_it_and_the_form(tmp_path):
+    if installed(ROOT, DISTROS[0]):
+        pytest.skip(installed(ROOT, DISTROS[0]))
+    with Ros2Environment(ROOT, DISTROS[0], slot=0) as ros:
+        done = subprocess.run([str(ros.python), "-m", "harness.adapters.ros2.recorder", str(tmp_path / "bag"),
+                               "--service", "ndd/set_params=Call"], env=ros.env, capture_output=True, text=True,
+                              timeout=TIMEOUT_S, cwd=ROOT)
+    assert done.returncode != 0 and "Traceback" not in done.stderr
+    assert "'ndd/set_params=Call'" in done.stderr and "/NAME=package/kind/Type" in done.stderr
+    assert not (tmp_path / "bag").exists()

@@ -5,7 +5,8 @@ The wheels' exported CMake files name the Python headers and NumPy of the machin
 (`/opt/python/cp311-cp311/...`): `fix_cmake_paths` rewrites them to this venv's, once (a second
 call finds nothing to rewrite). Then CMake (its PyPI wheel) and Ninja build every `.action`,
 `.srv` and `.msg` file of `untimely_msgs/` into `build/ros2/<distro>/install`; the seconds it took
-go to `build/ros2/<distro>/build-seconds`, and `.built` marks it done.
+go to `build/ros2/<distro>/build-seconds`, CMake's output to `build.log` beside it, and
+`install/.built` marks it done.
 """
 from __future__ import annotations
 
@@ -23,18 +24,18 @@ import numpy
 from harness.adapters.ros2.environment import DISTROS, PYTHON_DIR, install_prefix, venv
 
 SOURCE = Path(__file__).resolve().parent / "untimely_msgs"
-# The build machine's interpreter prefix, as the manylinux images name it (cp311-cp311, cp312-cp312...).
-FOREIGN_PREFIX = re.compile(r"/opt/python/cp\d+-cp\d+t?")
+# The build machine's Python headers and NumPy headers, under its interpreter's prefix as the
+# manylinux images name it (cp311-cp311, cp312-cp312...).
+FOREIGN = re.compile(r"/opt/python/cp\d+-cp\d+t?/(include/python[\d.]+t?|lib/python[\d.]+t?/site-packages/numpy/_core/include)")
 
 
 def fix_cmake_paths(prefix: Path) -> list[Path]:
     """Rewrites the build machine's Python and NumPy include folders in the wheels' CMake files."""
-    foreign = re.compile(FOREIGN_PREFIX.pattern + r"/(include/python[\d.]+t?|lib/python[\d.]+t?/site-packages/numpy/_core/include)")
     local = {"include": sysconfig.get_paths()["include"], "numpy": numpy.get_include()}
     fixed = []
     for path in sorted((prefix / "share").glob("*/cmake/*.cmake")):
         text = path.read_text()
-        new = foreign.sub(lambda m: local["numpy" if "numpy" in m.group(1) else "include"], text)
+        new = FOREIGN.sub(lambda m: local["numpy" if "numpy" in m.group(1) else "include"], text)
         if new != text:
             path.write_text(new)
             fixed.append(path)
@@ -52,11 +53,13 @@ def build(root: Path, distro: str) -> float:
                LD_LIBRARY_PATH=f"{prefix / 'lib'}{os.pathsep}{os.environ.get('LD_LIBRARY_PATH', '')}")
     env.pop("ROS_DISTRO", None)
     started = time.monotonic()
-    for argv in (["cmake", "-S", str(SOURCE), "-B", str(work), "-G", "Ninja", "-DBUILD_TESTING=OFF",
-                  f"-DCMAKE_INSTALL_PREFIX={install}", f"-DPython3_EXECUTABLE={sys.executable}",
-                  "-DCMAKE_BUILD_TYPE=Release"],
-                 ["cmake", "--build", str(work)], ["cmake", "--install", str(work)]):
-        subprocess.run(argv, env=env, check=True)
+    work.mkdir(parents=True)
+    with open(install.parent / "build.log", "w") as log:  # CMake's hundreds of lines; shown on failure
+        for argv in (["cmake", "-S", str(SOURCE), "-B", str(work), "-G", "Ninja", "-DBUILD_TESTING=OFF",
+                      f"-DCMAKE_INSTALL_PREFIX={install}", f"-DPython3_EXECUTABLE={sys.executable}",
+                      "-DCMAKE_BUILD_TYPE=Release"],
+                     ["cmake", "--build", str(work)], ["cmake", "--install", str(work)]):
+            subprocess.run(argv, env=env, check=True, stdout=log, stderr=subprocess.STDOUT)
     seconds = time.monotonic() - started
     (install.parent / "build-seconds").write_text(f"{seconds:.1f}\n")
     (install / ".built").write_text(f"untimely_msgs for ROS 2 {distro}, {PYTHON_DIR}\n")
@@ -70,8 +73,10 @@ def main(argv: list[str]) -> int:
     try:
         seconds = build(Path.cwd(), argv[1])
     except subprocess.CalledProcessError as failed:
+        log = install_prefix(Path.cwd(), argv[1]).parent / "build.log"
+        print("\n".join(log.read_text().splitlines()[-40:]), file=sys.stderr)
         print(f"building untimely_msgs for ROS 2 {argv[1]} failed: `{' '.join(failed.cmd)}` exited with "
-              f"{failed.returncode} (its output is above); `make clean ros2` starts over", file=sys.stderr)
+              f"{failed.returncode}; its output is in {log} (the end above)", file=sys.stderr)
         return 1
     print(f"untimely_msgs built for ROS 2 {argv[1]} in {seconds:.1f} s")
     return 0

@@ -9,10 +9,12 @@ also the ROS 2 prefix (its `lib/` and `share/`), and builds `untimely_msgs` into
 
 `Ros2Environment(root, distro, slot)`, once entered (or `open()`ed; `close()` ends it):
 - `env`: os.environ plus the distro venv's `bin` first on PATH, PYTHONPATH, LD_LIBRARY_PATH and
-  AMENT_PREFIX_PATH for the built package, `ROS_LOG_DIR` in a private temporary folder,
-  `RMW_IMPLEMENTATION=rmw_fastrtps_cpp`, `ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`, a Fast DDS
-  profile that keeps every packet on loopback (UDP on 127.0.0.1, no shared memory) and announces
-  faster, and a `ROS_DOMAIN_ID` that no other holder on this machine has;
+  AMENT_PREFIX_PATH for the built package, `ROS_DISTRO`, `ROS_LOG_DIR` in a private temporary
+  folder, `RMW_IMPLEMENTATION=rmw_fastrtps_cpp`, the Fast DDS profile fastdds.xml that keeps every
+  packet on loopback (UDP on 127.0.0.1, no shared memory) and announces faster, and a
+  `ROS_DOMAIN_ID` that no other holder on this machine has. The discovery range is SUBNET: on
+  Jazzy, LOCALHOST makes rmw_fastrtps replace the profile's transports with its own, shared
+  memory included, whose /dev/shm segments a killed process leaves behind; the profile confines;
 - `python`: the distro venv's interpreter; `domain_id`; `log_dir`; `distro`.
 The domain id is held by an flock on a file of a machine-wide folder for as long as the object is
 open (the kernel releases it if the process dies): 8 slots of a campaign and several pytest
@@ -117,9 +119,11 @@ class Ros2Environment:
             "ROS_DISTRO": self.distro,
             "RMW_IMPLEMENTATION": "rmw_fastrtps_cpp",
             PROFILE_VARIABLE[self.distro]: str(PROFILE),
-            "RMW_FASTRTPS_USE_QOS_FROM_XML": "0",
         })
-        env.pop("ROS_LOCALHOST_ONLY", None)  # deprecated; it would override the discovery range
+        # A user's own settings that would undo the confinement: the deprecated localhost switch
+        # (it overrides the discovery range), peers elsewhere, another profile.
+        for name in ("ROS_LOCALHOST_ONLY", "ROS_STATIC_PEERS", *set(PROFILE_VARIABLE.values()) - {PROFILE_VARIABLE[self.distro]}):
+            env.pop(name, None)
         return env
 
 

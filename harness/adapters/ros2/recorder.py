@@ -32,7 +32,6 @@ from rclpy.executors import ExternalShutdownException
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from rosbags.rosbag2 import StoragePlugin, Writer
 
-ACTION_SERVICES = ("send_goal", "get_result", "cancel_goal")
 INTROSPECTED_ACTIONS = {"jazzy": False, "kilted": True}  # rclpy's action introspection came in Kilted
 DERIVED = re.compile(r"(\w+)/(srv|action)/(\w+?)(_SendGoal|_GetResult|_CancelGoal)?(_Request|_Response|_Event|_Goal|_Result|_Feedback|_FeedbackMessage)?")
 SEPARATOR = "=" * 80
@@ -64,7 +63,7 @@ def message_class(msgtype: str):
     owner = getattr(module, base)
     if service:
         owner = getattr(owner.Impl, f"{service[1:]}Service")
-    elif part in ("_FeedbackMessage",):
+    elif part == "_FeedbackMessage":
         owner = owner.Impl
     return getattr(owner, part[1:]) if part else owner
 
