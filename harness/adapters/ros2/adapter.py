@@ -41,6 +41,7 @@ from rclpy.action import ActionClient, ActionServer
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.service_introspection import ServiceIntrospectionState
 from service_msgs.msg import ServiceEventInfo
 from std_msgs.msg import String
 from unique_identifier_msgs.msg import UUID
@@ -49,7 +50,7 @@ from harness.adapters.ros.bridge import Bridge
 from harness.adapters.ros.mapping import Mapping, interface_kinds, interface_services
 from harness.adapters.ros.replies import Replies
 from harness.adapters.ros.routes import Route
-from harness.adapters.ros2.types import fill, route_class
+from harness.adapters.ros2.types import fill, interface_name, route_class
 from harness.errors import UntimelyError
 
 STATUS_NAMES = {GoalStatus.STATUS_SUCCEEDED: "SUCCEEDED", GoalStatus.STATUS_ABORTED: "ABORTED",
@@ -192,6 +193,29 @@ class Adapter(Bridge):
             if not done.wait(timeout_s) or not future.result().success:
                 raise UntimelyError(f"the node {self.mapping.node} refused or did not answer lifecycle transition "
                                     f"{transition} within {timeout_s:g} s")
+
+    def record(self, path, timeout_s: float):
+        """A Recorder of this run's traffic into the bag `path`, spun by this adapter's executor, once
+        every topic it records has its publisher: each route's topics and introspection (the clients'
+        side too), and the ground truth and virtual damage topics."""
+        from harness.adapters.ros2.recorder import Recorder, action_topics, service_topics
+
+        distro, topics = os.environ.get("UNTIMELY_ROS2_DISTRO"), []
+        for route in {route.name: route for route in self.routes.values()}.values():
+            full = interface_name(route)
+            topics += action_topics(route.name, full, distro) if route.kind == "action" else service_topics(route.name, full)
+            client = self.clients[route.name]
+            if hasattr(client, "configure_introspection"):  # services from Jazzy on, actions from Kilted on
+                client.configure_introspection(self.node.get_clock(), QOS, ServiceIntrospectionState.CONTENTS)
+        topics += [(topic, "std_msgs/msg/String") for topic in (self.mapping.internal_topic, self.mapping.world_topic)
+                   if topic]
+        recorder = Recorder(path, topics)
+        missing = recorder.wait_for_publishers(timeout_s)
+        if missing:
+            recorder.close()
+            raise UntimelyError(f"the recorder found no publisher of {', '.join(missing)} within {timeout_s:g} s")
+        self.executor.add_node(recorder.node)
+        return recorder
 
     def close(self) -> None:
         self.stopped.set()

@@ -6,8 +6,10 @@ Order: the bench's hello gives the time scale, passed to the node as $UNTIMELY_T
 every mapped server and service answers, a lifecycle node has been configured and activated, and
 the node has echoed a first ping, the hello is answered and requests flow. With a lifecycle node
 the hello offers `reuse`: on `bye` the node is reset (deactivate, cleanup, configure, activate: a
-fresh layer), bye is answered, and the next hello starts the next run on the same node. On end of
-input, SIGTERM, or `bye` without reuse, the node is stopped. A failure is an `error` line.
+fresh layer), bye is answered, and the next hello starts the next run on the same node. With
+$UNTIMELY_ROSBAG set (a folder), the run's traffic is recorded into the MCAP bag FOLDER/trace-ID
+(ID: the hello's run), once every recorded topic has its publisher, and reuse is not offered. On end
+of input, SIGTERM, or `bye` without reuse, the node is stopped. A failure is an `error` line.
 """
 from __future__ import annotations
 
@@ -15,11 +17,15 @@ import argparse
 import os
 import sys
 import time
+from pathlib import Path
 
 from harness.adapters.ros.lines import LineWriter, read_hello, run_main, serve
 from harness.adapters.ros.mapping import load_mapping
 from harness.adapters.ros.processes import Child, stop_all
+from harness.adapters.ros.recorder import recording_folder
 from harness.run.external.protocol import PROTO
+
+RECORDER_DRAIN_S = 1.0  # within the bench's 2 s of grace after bye
 
 
 def run(args, out: LineWriter) -> None:
@@ -29,7 +35,7 @@ def run(args, out: LineWriter) -> None:
         return
     started = time.monotonic()
     node = Child("node", args.node, {**os.environ, "UNTIMELY_TIME_SCALE": repr(hello["time_scale"])})
-    adapter = None
+    adapter = recorder = None
     try:
         import rclpy  # only here: the launcher's environment is what makes it importable
 
@@ -38,6 +44,9 @@ def run(args, out: LineWriter) -> None:
         adapter = Adapter(mapping, hello["interface"], hello["time_scale"], out.write)
         adapter.wait_for_servers(args.startup_timeout, node.failure)
         discovery = time.monotonic() - started  # the node's start-up and its discovery by the adapter
+        if recording_folder():  # one bag per run, so no reuse
+            recorder = adapter.record(Path(recording_folder()) / f"trace-{hello['run']}", args.startup_timeout)
+        reusable = mapping.lifecycle and not recorder
         if mapping.lifecycle:
             adapter.transition(BRING_UP, args.startup_timeout)
         adapter.start_probing()
@@ -48,13 +57,16 @@ def run(args, out: LineWriter) -> None:
             runs += 1
             adapter.hello(PROTO, f"ROS 2 {os.environ.get('UNTIMELY_ROS2_DISTRO', '')} adapter (domain "
                                  f"{os.environ.get('ROS_DOMAIN_ID')}; node: {' '.join(args.node)}; up in {discovery:.2f} s; run {runs} of "
-                                 "this node)", ["reuse"] * mapping.lifecycle + ["taken"] * adapter.taken)
-            if not (serve(adapter, sys.stdin) and mapping.lifecycle) or node.failure():
+                                 "this node)", ["reuse"] * reusable + ["taken"] * adapter.taken)
+            if not (serve(adapter, sys.stdin) and reusable) or node.failure():
                 break
             adapter.end_run()
             adapter.transition(RESET, args.startup_timeout)
             hello = read_hello(sys.stdin, first)
     finally:
+        if recorder:
+            time.sleep(RECORDER_DRAIN_S)  # what is still in flight to the recorder (its topics lag the replies)
+            recorder.close()
         stop_all([node], grace_s=1.0)  # within the bench's grace after its SIGTERM
         if adapter:
             adapter.close()

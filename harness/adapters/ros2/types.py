@@ -24,6 +24,12 @@ def interface_class(full_type: str, kind: str):
                             "untimely_msgs (docs/ros2.md)") from None
 
 
+def interface_name(route: Route) -> str:
+    """The route's type as "package/action/Name" or "package/srv/Name"."""
+    parts = route.type.split("/")
+    return route.type if len(parts) == 3 else f"{parts[0]}/{'action' if route.kind == 'action' else 'srv'}/{parts[1]}"
+
+
 def route_class(route: Route):
     """The action class of an action route, the service class of a service route."""
     return interface_class(route.type, "action" if route.kind == "action" else "srv")
