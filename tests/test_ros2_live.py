@@ -3,6 +3,7 @@ goals, feedback, results, calls, ground truth, run after run, a stuck executor, 
 import contextlib
 import os
 import signal
+import subprocess
 import sys
 import threading
 import time
@@ -122,6 +123,47 @@ def test_a_stuck_executor_hangs_the_trace_with_its_reason():
     assert [e for e in trace.events if e[3] == drives[0] and e[2] == "final"] == []
     assert wait_gone(children | {node}, timeout=30) == set()
     assert not os.path.exists(log_dir), "the run's ROS 2 log folder was left behind"
+
+
+# A client of the node's lifecycle in the node's own environment (its domain): an invalid transition.
+INVALID_TRANSITION = """
+import rclpy
+from lifecycle_msgs.msg import Transition
+from lifecycle_msgs.srv import ChangeState
+rclpy.init()
+node = rclpy.create_node("untimely_test_client")
+client = node.create_client(ChangeState, "/dala/change_state")
+assert client.wait_for_service(timeout_sec=10)
+answer = client.call_async(ChangeState.Request(transition=Transition(id=Transition.TRANSITION_CONFIGURE)))
+rclpy.spin_until_future_complete(node, answer, timeout_sec=5)
+print("answered" if answer.done() else "no answer")
+"""
+
+
+@requires_ros2("jazzy")
+def test_an_invalid_lifecycle_transition_kills_the_executor_and_the_run_hangs():
+    """rclpy#1209, still in Jazzy's rclpy 7.1.6: `configure` sent to the active node raises inside
+    its executor, which dies while the process lives on. The adapter's probe of
+    /dala/get_parameters goes unanswered: no pong (the bench would record `hung`), no reply, stderr
+    says why; bye still ends everything."""
+    run = launcher()
+    try:
+        assert run.start(time_scale=1.0)["op"] == "hello"
+        node = next(p for p in descendants(run.process.pid) if running_module(p) == NODE)
+        env = dict(v.split("=", 1) for v in Path(f"/proc/{node}/environ").read_bytes().decode().split("\0") if "=" in v)
+        poke = subprocess.run([str(ROOT / ".venv-ros2-jazzy" / "bin" / "python"), "-c", INVALID_TRANSITION], env=env,
+                              capture_output=True, text=True, timeout=60)
+        assert poke.stdout.strip() == "no answer", poke.stderr[-2000:]
+        run.send({"op": "ping", "id": 1})
+        run.send(request(2, "ndd.Init"))
+        assert run.wait(lambda m: m["op"] in ("pong", "reply"), timeout=5) is None
+        assert any("executor has not answered /dala/get_parameters" in line for line in run.stderr), run.stderr[-5:]
+        assert any("Transition is not registered" in line for line in run.stderr)  # the node's own words
+        children = descendants(run.process.pid)
+        run.bye()
+        assert wait_gone(children, timeout=15) == set()
+    finally:
+        run.kill()
 
 
 @requires_ros2("jazzy")
