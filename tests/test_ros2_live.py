@@ -27,9 +27,9 @@ def requires_ros2(distro: str):
     return pytest.mark.skipif(installed(ROOT, distro) is not None, reason=str(installed(ROOT, distro)))
 
 
-def launcher(variant: str = "reference", distro: str = "jazzy") -> Launcher:
+def launcher(variant: str = "reference", distro: str = "jazzy", mapping: Path = MAPPING) -> Launcher:
     return Launcher(command=[sys.executable, "-m", "harness.adapters.ros2", "--distro", distro, "--mapping",
-                             str(MAPPING), "--", "python", "-m", NODE, "--variant", variant])
+                             str(mapping), "--", "python", "-m", NODE, "--variant", variant, "--mapping", str(mapping)])
 
 
 INITS = {10 + n: f"{m}.Init" for n, m in enumerate(["rflex", "sick", "aspect", "ndd", "antenna"])}
@@ -162,6 +162,19 @@ def test_an_invalid_lifecycle_transition_kills_the_executor_and_the_run_hangs():
         children = descendants(run.process.pid)
         run.bye()
         assert wait_gone(children, timeout=15) == set()
+    finally:
+        run.kill()
+
+
+@requires_ros2("jazzy")
+def test_typed_routes_serve_the_inits_as_std_srvs_trigger():
+    """ros2-typed.toml: two Inits are std_srvs/srv/Trigger services of the distro's wheels, their
+    response's message the reply code: the first steps go as with the generic types."""
+    run = launcher(mapping=DEFAULT_MISSION_DIR / "ros2-typed.toml")
+    try:
+        assert run.start(time_scale=1.0)["op"] == "hello"
+        first_steps(run)
+        assert run.bye() == 0, "".join(run.stderr[-20:])
     finally:
         run.kill()
 
