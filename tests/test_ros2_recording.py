@@ -17,7 +17,8 @@ from harness.store.importer import import_file
 
 PEER, MAPPING = ROOT / "tests" / "ros2_peer.py", ROOT / "tests" / "ros2_recording.toml"
 TIMEOUT_S = 60
-CALL = [("request", "ndd.SetParams", {}, None), ("final", "ndd.SetParams", None, "ok")]
+# untimely_msgs/Call is generic: its arguments are the request's JSON, as the goal's are
+CALL = [("request", "ndd.SetParams", {"speed": 0.5}, None), ("final", "ndd.SetParams", None, "ok")]
 GOAL = [("request", "ndd.GotoPosition", {"x": 3.0, "y": 4.0}, None),
         ("intermediate", "ndd.GotoPosition", None, None), ("final", "ndd.GotoPosition", None, "ok")]
 # Jazzy's actions have no introspection: a generic goal names its service only in the goal itself,

@@ -105,10 +105,11 @@ def _send_goals(timeline: Timeline, routes: Routes, carried, events) -> None:
 
 def _service_calls(timeline: Timeline, routes: Routes, carried, events) -> None:
     for call in _calls(events):
-        timeline.request(call.key, call.sent, *routes.target(carried, call.request), sent_s=call.sent_s)
-        timeline.held(call.key, call.received_stamp)
+        key = (carried[0][1].name, *call.key)  # one client may call several services, each counting from 1
+        timeline.request(key, call.sent, *routes.target(carried, call.request), sent_s=call.sent_s)
+        timeline.held(key, call.received_stamp)
         if call.response is not None:
-            timeline.final(call.key, call.answered, carried[0][1].response_code(call.response, routes.catalogue),
+            timeline.final(key, call.answered, carried[0][1].response_code(call.response, routes.catalogue),
                            call.answer_stamp)
 
 

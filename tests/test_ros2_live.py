@@ -1,0 +1,210 @@
+"""The ROS 2 adapter and the Dala lifecycle node over stdio, on ROS 2 from PyPI wheels (`make ros2`):
+goals, feedback, results, calls, ground truth, run after run, a stuck executor, Kilted (docs/ros2.md)."""
+import contextlib
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from harness import DEFAULT_MISSION_DIR, ROOT
+from harness.adapters.ros2.environment import installed
+from harness.run.external.definitions import load_suts_file
+from harness.run.external.runner import run_external
+from harness.target.interface import load_interface
+from harness.target.script import load_script
+from tests.ros_driver import Launcher, descendants, request, running_module, wait_gone
+
+MAPPING = DEFAULT_MISSION_DIR / "ros2.toml"
+NODE = "harness.adapters.ros2.dala_node"
+
+
+def requires_ros2(distro: str):
+    return pytest.mark.skipif(installed(ROOT, distro) is not None, reason=str(installed(ROOT, distro)))
+
+
+def launcher(variant: str = "reference", distro: str = "jazzy", mapping: Path = MAPPING) -> Launcher:
+    return Launcher(command=[sys.executable, "-m", "harness.adapters.ros2", "--distro", distro, "--mapping",
+                             str(mapping), "--", "python", "-m", NODE, "--variant", variant, "--mapping", str(mapping)])
+
+
+INITS = {10 + n: f"{m}.Init" for n, m in enumerate(["rflex", "sick", "aspect", "ndd", "antenna"])}
+
+
+def first_steps(run: Launcher, base: int = 0) -> None:
+    """A goal before its module's Init (refused wait_init, through an aborted goal), the Inits (calls),
+    settings (calls, one refused), an exec goal with its feedback, a Stop interrupting a running goal."""
+    run.send(request(base + 1, "ndd.GotoPosition", x=9, y=4))
+    assert run.final(base + 1) == "wait_init"
+    for rqst_id, service in INITS.items():
+        run.send(request(base + rqst_id, service))
+    assert {run.final(base + rqst_id) for rqst_id in INITS} == {"ok"}
+    run.send(request(base + 20, "rflex.SetMode", mode="velocity"))
+    run.send(request(base + 22, "rflex.SetMode", mode="sideways"))
+    assert [run.final(base + n) for n in (20, 22)] == ["ok", "bad_params"]
+    run.send(request(base + 30, "aspect.Reset"))
+    assert run.final(base + 30) == "ok"
+    run.send(request(base + 31, "rflex.TrackSpeedStart"))
+    run.expect(lambda m: m["op"] == "reply" and m["id"] == base + 31 and m["kind"] == "intermediate")
+    run.send(request(base + 32, "rflex.Stop"))
+    assert (run.final(base + 31), run.final(base + 32)) == ("interrupted", "ok")
+    taken = ["taken"] if "taken" in run.lines[0][1]["caps"] else []
+    for rqst_id in [1, *INITS, 20, 22, 30, 31, 32]:
+        kinds = [m["kind"] for m in run.replies(base + rqst_id)]
+        assert kinds == taken + (["intermediate", "final"] if rqst_id in (30, 31, 32) else ["final"]), (rqst_id, kinds)
+
+
+@requires_ros2("jazzy")
+def test_golden_first_steps_then_a_second_run_on_the_reset_node():
+    """Run 1: the replies of goals and calls, the goals' ground truth on the node's clock, a ping
+    through ROS 2. bye, hello: run 2 on the same node, whose reset gave a fresh layer (the Inits of
+    run 1 are forgotten: a goal before Init is refused again), and no process is left behind."""
+    run = launcher()
+    try:
+        answer = run.start(time_scale=1.0)
+        assert answer["op"] == "hello" and set(answer["caps"]) == {"internal", "world", "reuse"}, answer
+        first_steps(run)
+        internal = {(m["id"], m["kind"]): m["t"] for _, m in run.lines if m["op"] == "internal"}
+        assert all(internal[(n, "request")] <= internal[(n, "final")] for n in (1, 30, 31, 32))
+        assert internal[(31, "intermediate")] < internal[(31, "final")]
+        run.send({"op": "ping", "id": 1})
+        run.expect(lambda m: m == {"op": "pong", "id": 1}, timeout=30)
+        node = run.node_pid()
+        run.send({"op": "bye"})
+        run.expect(lambda m: m["op"] == "bye")
+        run.lines.clear()
+        assert run.start(time_scale=1.0)["op"] == "hello"
+        assert "run 2 of this node" in run.lines[-1][1]["sut"] and run.node_pid() == node
+        first_steps(run, base=100)  # its first step fails on a reset that keeps run 1's Inits
+        children = descendants(run.process.pid)
+        assert run.bye() == 0, "".join(run.stderr[-20:])
+        assert wait_gone(children, timeout=15) == set()
+    finally:
+        run.kill()
+
+
+@requires_ros2("jazzy")
+def test_a_stuck_executor_hangs_the_trace_with_its_reason():
+    """The golden mission on ros2-reference through the bench; the Dala node is stopped (SIGSTOP:
+    its executor serves nothing more) while the rover drives to site 1: the probe of
+    /dala/get_parameters goes unanswered, so do the pings (hung), stderr says why, the drive gets no
+    final, and nothing is left behind (a stopped node outlives the SIGTERM of the bench's teardown:
+    its log folder goes anyway)."""
+    sut = load_suts_file(DEFAULT_MISSION_DIR / "suts.toml")["ros2-reference"]
+    interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
+    script = load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
+    traces = []
+    bench = threading.Thread(target=lambda: traces.append(run_external(script, sut, 0, interface)))
+    bench.start()
+    deadline, node = time.monotonic() + 120, None
+    while node is None:
+        assert time.monotonic() < deadline, "the Dala node never started"
+        node = next((p for p in descendants(os.getpid()) if running_module(p) == NODE), None)
+        time.sleep(0.2)
+    time.sleep(12.0)  # start-up, the Inits, settings, map and some seconds of the drive to site 1
+    children = descendants(os.getpid()) - {node}
+    log_dir = next(v for v in Path(f"/proc/{node}/environ").read_bytes().decode().split("\0")
+                   if v.startswith("ROS_LOG_DIR=")).split("=", 1)[1]
+    os.kill(node, signal.SIGSTOP)
+    try:
+        bench.join(120)
+    finally:
+        with contextlib.suppress(ProcessLookupError):  # the launcher's teardown killed it already
+            os.kill(node, signal.SIGKILL)
+    trace = traces[0]
+    assert trace.outcome == "hung", trace.error
+    assert "executor has not answered /dala/get_parameters" in trace.error
+    drives = [e[3] for e in trace.events if e[2] == "request" and e[5] == "GotoPosition"]
+    assert len(drives) == 1, f"the node was stopped before or after the drive to site 1: {trace.events}"
+    assert [e for e in trace.events if e[3] == drives[0] and e[2] == "final"] == []
+    assert wait_gone(children | {node}, timeout=30) == set()
+    assert not os.path.exists(log_dir), "the run's ROS 2 log folder was left behind"
+
+
+# A client of the node's lifecycle in the node's own environment (its domain): an invalid transition.
+INVALID_TRANSITION = """
+import rclpy
+from lifecycle_msgs.msg import Transition
+from lifecycle_msgs.srv import ChangeState
+rclpy.init()
+node = rclpy.create_node("untimely_test_client")
+client = node.create_client(ChangeState, "/dala/change_state")
+assert client.wait_for_service(timeout_sec=10)
+answer = client.call_async(ChangeState.Request(transition=Transition(id=Transition.TRANSITION_CONFIGURE)))
+rclpy.spin_until_future_complete(node, answer, timeout_sec=5)
+print("answered" if answer.done() else "no answer")
+"""
+
+
+@requires_ros2("jazzy")
+def test_an_invalid_lifecycle_transition_kills_the_executor_and_the_run_hangs():
+    """rclpy#1209, still in Jazzy's rclpy 7.1.6: `configure` sent to the active node raises inside
+    its executor, which dies while the process lives on. The adapter's probe of
+    /dala/get_parameters goes unanswered: no pong (the bench would record `hung`), no reply, stderr
+    says why; bye still ends everything."""
+    run = launcher()
+    try:
+        assert run.start(time_scale=1.0)["op"] == "hello"
+        node = next(p for p in descendants(run.process.pid) if running_module(p) == NODE)
+        env = dict(v.split("=", 1) for v in Path(f"/proc/{node}/environ").read_bytes().decode().split("\0") if "=" in v)
+        poke = subprocess.run([str(ROOT / ".venv-ros2-jazzy" / "bin" / "python"), "-c", INVALID_TRANSITION], env=env,
+                              capture_output=True, text=True, timeout=60)
+        assert poke.stdout.strip() == "no answer", poke.stderr[-2000:]
+        run.send({"op": "ping", "id": 1})
+        run.send(request(2, "ndd.Init"))
+        assert run.wait(lambda m: m["op"] in ("pong", "reply"), timeout=5) is None
+        assert any("executor has not answered /dala/get_parameters" in line for line in run.stderr), run.stderr[-5:]
+        assert any("Transition is not registered" in line for line in run.stderr)  # the node's own words
+        children = descendants(run.process.pid)
+        run.bye()
+        assert wait_gone(children, timeout=15) == set()
+    finally:
+        run.kill()
+
+
+@requires_ros2("jazzy")
+def test_typed_routes_serve_the_inits_as_std_srvs_trigger():
+    """ros2-typed.toml: two Inits are std_srvs/srv/Trigger services of the distro's wheels, their
+    response's message the reply code: the first steps go as with the generic types."""
+    run = launcher(mapping=DEFAULT_MISSION_DIR / "ros2-typed.toml")
+    try:
+        assert run.start(time_scale=1.0)["op"] == "hello"
+        first_steps(run)
+        assert run.bye() == 0, "".join(run.stderr[-20:])
+    finally:
+        run.kill()
+
+
+@requires_ros2("jazzy")
+def test_no_taken_on_jazzy_where_goals_have_no_introspection():
+    """Jazzy's services have introspection, its actions none: with ros2.toml (exec services as
+    actions) the adapter cannot keep the promise of a `taken` for every request, so offers none."""
+    run = launcher()
+    try:
+        answer = run.start(time_scale=1.0)
+        assert "taken" not in answer["caps"], answer
+        run.send(request(1, "ndd.Init"))
+        assert run.final(1) == "ok" and [m["kind"] for m in run.replies(1)] == ["final"]
+        assert run.bye() == 0
+    finally:
+        run.kill()
+
+
+@requires_ros2("kilted")
+def test_first_steps_on_kilted_with_taken_replies():
+    """On Kilted both actions and services have introspection: every request gets a `taken` reply,
+    from the server's event of receiving it, before any other reply (first_steps checks the order)."""
+    run = launcher(distro="kilted")
+    try:
+        answer = run.start(time_scale=1.0)
+        assert answer["op"] == "hello" and "ROS 2 kilted" in answer["sut"] and "taken" in answer["caps"], answer
+        first_steps(run)
+        children = descendants(run.process.pid)
+        assert run.bye() == 0, "".join(run.stderr[-20:])
+        assert wait_gone(children, timeout=15) == set()
+    finally:
+        run.kill()
