@@ -105,8 +105,10 @@ def alive(pids: set[int]) -> set[int]:
 class Launcher:
     """One launcher process; `lines` collects what it writes, each with its monotonic arrival time."""
 
-    def __init__(self, variant: str = "reference", mapping: Path = MAPPING, node: list[str] | None = None):
-        command = launcher_command(variant, mapping, node)
+    def __init__(self, variant: str = "reference", mapping: Path = MAPPING, node: list[str] | None = None,
+                 command: list[str] | None = None):
+        """The ROS 1 launcher of `variant`, or `command` (a ROS 2 launcher: ros2_driver.py)."""
+        command = command or launcher_command(variant, mapping, node)
         self.node_command = command[command.index("--") + 1:]
         self.process = subprocess.Popen(command, cwd=ROOT, stdin=subprocess.PIPE,
                                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)

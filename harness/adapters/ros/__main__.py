@@ -19,61 +19,14 @@ import os
 import shutil
 import signal
 import sys
-import threading
 
+from harness.adapters.ros.lines import LineWriter, read_hello, serve
 from harness.adapters.ros.mapping import interface_services, load_mapping
 from harness.adapters.ros.processes import Child, ros_home, start_master, stop_all
 from harness.adapters.ros.recorder import (recorded_topics, recording_folder, start_recorder, stop_recorder,
                                           wait_connected)
 from harness.errors import UntimelyError
-from harness.run.external.protocol import BENCH_MESSAGES, PROTO, ProtocolViolation, decode, encode
-
-class LineWriter:
-    """One message per line on stdout (the shared codec), whole lines only, whichever thread writes."""
-
-    def __init__(self, stream):
-        self.stream, self.lock = stream, threading.Lock()
-
-    def write(self, message: dict) -> None:
-        line = encode(**message)
-        with self.lock:
-            self.stream.write(line)
-            self.stream.flush()
-
-
-def read_message(stream) -> dict | None:
-    """The bench's next message; None at end of input."""
-    line = stream.readline()
-    if not line:
-        return None
-    try:
-        return decode(line, BENCH_MESSAGES)
-    except ProtocolViolation as e:
-        raise UntimelyError(f"the bench sent {line.strip()[:200]!r}: {e}") from None
-
-
-def serve(adapter, stream) -> bool:
-    """Requests and pings until `bye` (True) or end of input (False)."""
-    handlers = {"request": adapter.request, "ping": adapter.ping}
-    while (message := read_message(stream)) is not None and message["op"] != "bye":
-        if message["op"] not in handlers:
-            raise UntimelyError(f"the bench sent a second {message['op']!r}")
-        handlers[message["op"]](message)
-    return message is not None
-
-
-def read_hello(stream, first: dict | None = None) -> dict | None:
-    """The bench's hello (None at end of input); a later run's must keep the first's time scale and
-    interface, which the node was started with."""
-    hello = read_message(stream)
-    if hello is None:
-        return None
-    if hello["op"] != "hello" or hello["proto"] != PROTO:
-        raise UntimelyError(f"the bench's first line must be a hello of {PROTO}, got {json.dumps(hello)[:200]}")
-    if first and (hello["time_scale"], hello["interface"]) != (first["time_scale"], first["interface"]):
-        raise UntimelyError("the bench reused this adapter for another time scale or interface; start one for it")
-    return hello
-
+from harness.run.external.protocol import PROTO
 
 def reset(service: str, timeout_s: float) -> None:
     """The node back to its initial state, through its std_srvs/Trigger `service`."""
@@ -132,7 +85,7 @@ def run(args, out: LineWriter) -> None:
                 wait_connected(recorder, topics, env, args.startup_timeout)
             runs += 1
             adapter.hello(PROTO, f"ROS 1 actionlib adapter (master {env['ROS_MASTER_URI']}; node: "
-                                 f"{' '.join(args.node)}; run {runs} of this master)", reusable)
+                                 f"{' '.join(args.node)}; run {runs} of this master)", ["reuse"] if reusable else [])
             if not (serve(adapter, sys.stdin) and reusable) or node.failure():
                 break
             adapter.end_run()

@@ -30,6 +30,7 @@ import rospy
 from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from std_msgs.msg import String
 
+from harness.adapters.ros.bridge import Bridge
 from harness.adapters.ros.mapping import Mapping, interface_services
 from harness.adapters.ros.messages import action_classes, fill, service_class
 from harness.adapters.ros.replies import Replies
@@ -41,26 +42,16 @@ STATUS_NAMES = {getattr(GoalStatus, name): name for name in
                  "PREEMPTING", "RECALLING", "RECALLED", "LOST")}
 
 
-class Adapter:
+class Adapter(Bridge):
     def __init__(self, mapping: Mapping, interface: dict, time_scale: float, write: Callable[[dict], None]):
-        self.mapping, self.time_scale = mapping, time_scale
-        self._write = write
-        # Held around each line written: a line of an ended run can never follow the bye that ended it.
-        self.out_lock = threading.Lock()
-        self.generation, self.live = 0, False  # the run being served (one per hello), and whether it is on
-        self.catalogue: dict[str, str] = dict(interface.get("replies") or {})
+        super().__init__(mapping, interface, time_scale, write)
         self.routes = mapping.routes(interface_services(interface))
-        self.lock = threading.Lock()  # guards the state below
         actions = {route.name: route for route in self.routes.values() if route.kind == "action"}
         self.classes = {name: action_classes(route, mapping.folder) for name, route in actions.items()}
         self.clients = {name: actionlib.ActionClient(name, classes.Action) for name, classes in self.classes.items()}
         self.services = {route.name: service_class(route, mapping.folder) for route in self.routes.values() if route.kind == "service"}
         self.heartbeats: dict[str, float] = {}  # action -> monotonic time of its last status
-        self.pending_pings: dict[int, bool] = {}  # ping id -> echoed through ROS (or no ping topic)
         self.goals: dict[int, actionlib.ClientGoalHandle] = {}  # kept: actionlib holds only weak references
-        self.goal_ids: dict[str, int] = {}  # ROS goal id -> request id
-        self.replies = Replies(self._writer(0))
-        self.hello_epoch = time.time()  # reset when the hello is answered: the SUT's clock starts there
         for name in self.clients:
             rospy.Subscriber(f"{name}/status", GoalStatusArray, self._heartbeat, callback_args=name)
         self.topics = [rospy.Subscriber(topic, String, handler) for topic, handler in
@@ -70,38 +61,16 @@ class Adapter:
         if self.pinger:
             self.topics.append(self.pinger)
 
-    def hello(self, proto: str, sut: str, reuse: bool = False) -> None:
-        """Answer the bench's hello, starting a run; `internal` and `world` times count from here."""
-        caps = [cap for cap, topic in (("internal", self.mapping.internal_topic),
-                                       ("world", self.mapping.world_topic)) if topic] + (["reuse"] if reuse else [])
-        with self.lock, self.out_lock:
-            self.generation += 1
-            self.live = True  # the goals and pings of the last run were forgotten at its end
-            self.replies = Replies(self._writer(self.generation))
-            self.hello_epoch = time.time()
-            self._write({"op": "hello", "proto": proto, "sut": sut, "caps": caps})
+    def forget(self) -> None:
+        self.goals = {}
 
-    def end_run(self) -> None:
-        """The bench's bye: this run's goals are forgotten, and bye is answered (nothing of the run
-        follows it)."""
-        with self.lock, self.out_lock:
-            self.live = False
-            self.goals, self.goal_ids, self.pending_pings = {}, {}, {}
-            self._write({"op": "bye"})
+    def publish_ping(self, data: str) -> None:
+        self.pinger.publish(data)
 
-    def _writer(self, generation: int) -> Callable[[dict], None]:
-        """What writes a line of run `generation`: nothing once that run is over."""
-        def write(message: dict) -> None:
-            with self.out_lock:
-                if self.live and self.generation == generation:
-                    self._write(message)
-        return write
-
-    def write(self, message: dict) -> None:
-        """A line of the current run, if one is on."""
-        with self.out_lock:
-            if self.live:
-                self._write(message)
+    def alive(self) -> bool:
+        """Every action server's status heartbeat is fresh."""
+        now = time.monotonic()
+        return all(now - self.heartbeats.get(name, -1e9) <= self.mapping.heartbeat_stale_s for name in self.clients)
 
     def wait_for_servers(self, timeout_s: float, alive: Callable[[], str | None]) -> None:
         """Block until every action server and topic is connected (a message published before its
@@ -111,7 +80,7 @@ class Adapter:
         waits += [(name, lambda n=name: self._service_up(n)) for name in self.services]
         waits += [(topic.name, lambda t=topic: t.get_num_connections() > 0 or time.sleep(0.1)) for topic in self.topics]
         if self.pinger:  # the SUT echoes once its side of every topic is connected too
-            waits.append((f"an echo on {self.mapping.pong_topic}", self._echoed))
+            waits.append((f"an echo on {self.mapping.pong_topic}", self.echoed))
         for name, connected in waits:
             while not connected():
                 problem = alive()
@@ -125,15 +94,6 @@ class Adapter:
             return True
         except rospy.ROSException:
             return False
-
-    def _echoed(self) -> bool:
-        """One start-up ping (id 0; the bench's count from 1) through the SUT and back."""
-        with self.lock:
-            self.pending_pings[0] = False
-            self.pinger.publish(json.dumps({"id": 0}))
-        time.sleep(0.1)
-        with self.lock:
-            return self.pending_pings.pop(0)
 
     # -- bench -> ROS --------------------------------------------------------------------------
     def request(self, message: dict) -> None:
@@ -176,13 +136,6 @@ class Adapter:
             replies.ended(rqst_id, "RESPONSE", route.response_code(response, self.catalogue))
         threading.Thread(target=call, name=f"call {rqst_id}", daemon=True).start()
 
-    def ping(self, message: dict) -> None:
-        with self.lock:
-            self.pending_pings[message["id"]] = self.pinger is None
-            if self.pinger:
-                self.pinger.publish(json.dumps({"id": message["id"]}))
-            self._answer_pings()
-
     # -- ROS -> bench (ROS threads) ------------------------------------------------------------
     def _transition(self, replies: Replies, rqst_id: int, route: Route, handle) -> None:
         if handle.get_comm_state() == actionlib.CommState.DONE:
@@ -195,35 +148,3 @@ class Adapter:
         with self.lock:
             self.heartbeats[action] = time.monotonic()
             self._answer_pings()
-
-    def _pong(self, message: String) -> None:
-        ping_id = json.loads(message.data)["id"]
-        with self.lock:
-            if ping_id in self.pending_pings:
-                self.pending_pings[ping_id] = True
-                self._answer_pings()
-
-    def _answer_pings(self) -> None:
-        """Pong the pings echoed through ROS (if there is a ping topic), while every heartbeat is fresh."""
-        now = time.monotonic()
-        if all(now - self.heartbeats.get(name, -1e9) <= self.mapping.heartbeat_stale_s for name in self.clients):
-            for ping_id in [p for p, echoed in self.pending_pings.items() if echoed and p != 0]:
-                del self.pending_pings[ping_id]
-                self.write({"op": "pong", "id": ping_id})
-
-    def _t(self, stamp: float) -> float:
-        """Seconds on the SUT's clock since hello, in mission seconds."""
-        return round((stamp - self.hello_epoch) * self.time_scale, 6)
-
-    def _internal(self, message: String) -> None:
-        data = json.loads(message.data)
-        with self.lock:
-            rqst_id = self.goal_ids.get(data["goal_id"])
-            if rqst_id is not None:
-                self.write({"op": "internal", "id": rqst_id, "kind": data["kind"], "t": self._t(data["stamp"]),
-                            **({"code": data["code"]} if data.get("code") else {})})
-
-    def _world(self, message: String) -> None:
-        data = json.loads(message.data)
-        with self.lock:
-            self.write({"op": "world", "t": self._t(data["stamp"]), "kind": data["kind"], "detail": data["detail"]})

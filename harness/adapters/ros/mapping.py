@@ -1,6 +1,6 @@
-"""The mapping file beside an interface (e.g. missions/dala/ros.toml): services -> actionlib actions or
-ROS services (routes.py), goal statuses -> reply codes. Read by the adapter, the nodes and the bag
-importer; no ROS import, so it can be checked anywhere."""
+"""The mapping file beside an interface (missions/dala/ros.toml for ROS 1, ros2.toml for ROS 2):
+services -> actions or ROS services (routes.py), goal statuses -> reply codes. Read by the ROS 1
+and ROS 2 adapters, their nodes and the bag importer; no ROS import, so it can be checked anywhere."""
 from __future__ import annotations
 
 import json
@@ -10,16 +10,18 @@ from typing import Annotated, Literal
 
 from pydantic import ConfigDict, Field, model_validator
 
-from harness.adapters.ros.routes import GENERIC_TYPE, Route, parse_route
+from harness.adapters.ros.routes import GENERIC_SERVICE_TYPE, GENERIC_TYPE, Route, parse_route
 from harness.errors import UntimelyError
 from harness.files import read_toml
 from harness.schema import Strict, cut, validated
 
-# Terminal goal statuses that carry a reply (actionlib_msgs/GoalStatus names). LOST is not one:
-# the client declared it, the server never ended the goal, so the adapter must not invent a final.
-TERMINAL_STATUSES = ("SUCCEEDED", "ABORTED", "PREEMPTED", "REJECTED", "RECALLED")
+# Terminal goal statuses that carry a reply: actionlib_msgs/GoalStatus names (ROS 1), and CANCELED,
+# action_msgs/GoalStatus's name for a cancelled goal (ROS 2; its SUCCEEDED and ABORTED are ROS 1's,
+# and REJECTED stands for a goal response that did not accept). LOST is not one: the client declared
+# it, the server never ended the goal, so the adapter must not invent a final.
+TERMINAL_STATUSES = ("SUCCEEDED", "ABORTED", "PREEMPTED", "REJECTED", "RECALLED", "CANCELED")
 DEFAULT_STATUS_CODES = {"SUCCEEDED": "ok", "ABORTED": "aborted", "PREEMPTED": "interrupted",
-                        "REJECTED": "rejected", "RECALLED": "rejected"}
+                        "REJECTED": "rejected", "RECALLED": "rejected", "CANCELED": "interrupted"}
 DEFAULT_ACTION = "/{module}"
 
 
@@ -39,21 +41,31 @@ class Mapping:
     # a std_srvs/Trigger service that returns the SUT to its initial state: with it, one master,
     # node and adapter serve run after run (the adapter offers `reuse`)
     reset_service: str | None = None
+    # ROS 2: template of the ROS service serving each `control` and `init` service (None: they are
+    # goals of `action` too), and the node whose executor answers the liveness probe
+    # (NODE/get_parameters) and, with lifecycle, whose transitions bring it up and reset it
+    service: str | None = None
+    node: str | None = None
+    lifecycle: bool = False
 
     @property
     def folder(self) -> Path:
         """Where the routes' definition files are."""
         return Path(self.path).parent
 
-    def routes(self, services: list[tuple[str, str]]) -> dict[str, Route]:
-        """The route of each (module, service), by "module.Service". A generic goal names its service,
-        not its module, so two services of one name may not share a generic action; a typed action
-        or a ROS service names neither, so it serves one service only."""
+    def routes(self, services: list[tuple[str, str]], kinds: dict[str, str] | None = None) -> dict[str, Route]:
+        """The route of each (module, service), by "module.Service"; `kinds` ("module.Service" ->
+        init, control or exec) places the non-exec ones on the `service` template. A generic goal
+        names its service, not its module, so two services of one name may not share a generic
+        action; a typed action or a ROS service names neither, so it serves one service only."""
         routes: dict[str, Route] = {}
         for module, service in services:
             qualified = f"{module}.{service}"
             if qualified in self.overrides:
                 route = self.overrides[qualified]
+            elif self.service and (kinds or {}).get(qualified) in ("init", "control"):
+                route = Route("service", self.service.format(module=module, service=service), GENERIC_SERVICE_TYPE,
+                              code="code")
             elif "{module}" in self.action:
                 route = Route("action", self.action.format(module=module, service=service), GENERIC_TYPE)
             else:
@@ -89,6 +101,12 @@ def interface_services(interface: dict) -> list[tuple[str, str]]:
     return [(module, service) for module, services in modules.items() for service in services]
 
 
+def interface_kinds(interface: dict) -> dict[str, str]:
+    """"module.Service" -> its kind, from the hello's interface."""
+    return {f"{module}.{service}": kind for module, services in interface["modules"].items()
+            for service, kind in services.items()}
+
+
 TOPIC_HINT = "give a topic name such as \"/robot/world\""
 
 
@@ -107,13 +125,21 @@ class MappingFile(Strict):
     pong_topic: str | None = Field(None, min_length=1, description=TOPIC_HINT)
     reset_service: str | None = Field(None, min_length=1, description="give the name of a std_srvs/Trigger "
                                       "service, such as \"/robot/reset\"")
+    service: str | None = Field(None, min_length=1, description="give a ROS 2 service name template of "
+                                "{module} and {service}, such as \"/robot/{module}/{service}\"")
+    node: str | None = Field(None, pattern=r"^/[A-Za-z_][A-Za-z0-9_/]*$",
+                             description="give the ROS 2 node's full name, such as \"/robot\"")
+    lifecycle: bool = Field(False, description="give true for a lifecycle node (rclpy.lifecycle), else false")
 
     @model_validator(mode="after")
     def _consistent(self):
-        try:
-            self.action.format(module="m", service="s")
-        except (KeyError, IndexError, ValueError):
-            raise ValueError(f"action = {cut(self.action)} may only use {{module}} and {{service}}") from None
+        for key, template in (("action", self.action), ("service", self.service or "")):
+            try:
+                template.format(module="m", service="s")
+            except (KeyError, IndexError, ValueError):
+                raise ValueError(f"{key} = {cut(template)} may only use {{module}} and {{service}}") from None
+        if self.lifecycle and not self.node:
+            raise ValueError("lifecycle = true needs node, the lifecycle node's name")
         for service in self.services:
             if service.count(".") != 1:
                 raise ValueError(f"services: {cut(service)} is not \"module.Service\"")
@@ -128,4 +154,4 @@ def load_mapping(path: str | Path) -> Mapping:
     spec = validated(MappingFile, data, path, text)
     return Mapping(str(path), spec.action, {service: parse_route(path, service, route) for service, route in spec.services.items()}, {**DEFAULT_STATUS_CODES, **spec.status_codes},
                    spec.heartbeat_stale_s, spec.world_topic, spec.internal_topic, spec.ping_topic, spec.pong_topic,
-                   spec.reset_service)
+                   spec.reset_service, spec.service, spec.node, spec.lifecycle)

@@ -1,4 +1,5 @@
-"""How one service of the interface reaches ROS 1 (a `[services."module.Service"]` table of ros.toml).
+"""How one service of the interface reaches ROS 1 or ROS 2 (a `[services."module.Service"]` table of
+ros.toml or ros2.toml; a ROS 2 type may also be written "package/action/Name" or "package/srv/Name").
 
 Three kinds, each a choice per service:
 
@@ -9,7 +10,10 @@ Three kinds, each a choice per service:
   code field (`code`, if the result has one) or the status text gives the final reply;
 - a ROS service (`service = NAME`, `type = "std_srvs/Trigger"`): the request's fields as above; the
   response is the final reply: its `code` field when the catalogue knows the text, else `ok` when
-  its `success` field is true, else `failure`.
+  its `success` field is true, else `failure`;
+- ROS 2 only, the generic service `untimely_msgs/Call` (the mapping's `service` template, for
+  `control` and `init` services): the request names the service and carries its arguments as JSON,
+  the response's `code` is the final reply.
 
 No ROS import: the file is checked anywhere.
 """
@@ -20,6 +24,7 @@ from dataclasses import dataclass, field
 from harness.errors import InputFileError
 
 GENERIC_TYPE = "untimely_msgs/Request"
+GENERIC_SERVICE_TYPE = "untimely_msgs/Call"  # ROS 2: a service call naming the service, JSON arguments
 ROUTE_KEYS = {"action", "service", "type", "definition", "fields", "defaults", "code", "success", "failure"}
 
 
@@ -27,7 +32,7 @@ ROUTE_KEYS = {"action", "service", "type", "definition", "fields", "defaults", "
 class Route:
     kind: str  # "action" or "service"
     name: str  # the action server's or ROS service's name
-    type: str  # "package/Name"; GENERIC_TYPE for the generic action
+    type: str  # "package/Name" (ROS 2 also "package/action/Name", "package/srv/Name"); GENERIC_TYPE for the generic action
     fields: dict[str, str] = field(default_factory=dict)  # argument -> goal or request field ("a.b.c")
     defaults: dict[str, object] = field(default_factory=dict)  # field -> value the script does not set
     code: str | None = None  # result or response field carrying the reply code
@@ -37,7 +42,7 @@ class Route:
 
     @property
     def generic(self) -> bool:
-        return self.type == GENERIC_TYPE
+        return self.type in (GENERIC_TYPE, GENERIC_SERVICE_TYPE)
 
     def response_code(self, response, catalogue: dict[str, str]) -> str:
         """The final reply of a ROS service's response."""
@@ -76,8 +81,9 @@ def parse_route(path, service: str, value) -> Route:
         raise InputFileError(path, key, "give exactly one of action = NAME or service = NAME")
     kind = kinds[0]
     type_ = _text(path, f"{key}.type", value.get("type", GENERIC_TYPE if kind == "action" else ""))
-    if type_.count("/") != 1:
-        raise InputFileError(path, f"{key}.type", f"type = {type_!r} is not \"package/Name\"")
+    if type_.count("/") not in (1, 2):
+        raise InputFileError(path, f"{key}.type", f"type = {type_!r} is not \"package/Name\" (ROS 2: "
+                                                  "\"package/action/Name\" or \"package/srv/Name\")")
     if kind == "service" and type_ == GENERIC_TYPE:
         raise InputFileError(path, f"{key}.type", f"{GENERIC_TYPE} is an action; give the ROS service's type")
     fields = value.get("fields", {})

@@ -11,7 +11,8 @@ from harness.target.interface import Interface
 class Routes:
     def __init__(self, interface: Interface, mapping: Mapping):
         self.interface, self.mapping = interface, mapping
-        self.by_service = mapping.routes([(s.module, s.name) for s in interface.services.values()])
+        self.by_service = mapping.routes([(s.module, s.name) for s in interface.services.values()],
+                                         {qualified: s.kind for qualified, s in interface.services.items()})
         self.catalogue = dict(interface.replies)
 
     def named(self, kind: str) -> dict[str, list[tuple[str, Route]]]:

@@ -1,0 +1,199 @@
+"""The generic ROS 2 adapter (rclpy): `untimely/1` requests become action goals or service calls,
+goal results and responses become replies (docs/ros2.md, the table in docs/adapters.md).
+
+Nothing here knows Dala: the services come from the bench's hello, the routes and status codes
+from the mapping file (ros2.toml). Rules:
+
+- an `exec` request is a goal of its route's action (untimely_msgs/action/Request: service name and
+  JSON arguments, or a typed goal whose fields its arguments fill), sent with a goal id of the
+  adapter's making, so the node's ground truth names it before the goal response arrives;
+- a goal response that does not accept is a final reply: the mapping's REJECTED code (ROS 2's
+  response carries no reason; a layer that wants its reason told accepts the goal and aborts it
+  with the code in the result, as the Dala node does);
+- the first feedback before the result is the intermediate reply; acceptance alone is none;
+- the result ends the request: SUCCEEDED, ABORTED or CANCELED with the result's code when the
+  catalogue knows it, else the mapping's status code (Mapping.final_code); an unknown status
+  gives no final reply: the adapter never invents one;
+- a `control` or `init` request on a service route is a call; its response is the final reply;
+- liveness: the node's executor must answer NODE/get_parameters (probed every PROBE_PERIOD_S) within
+  the mapping's heartbeat_stale_s, and the node must echo the ping; otherwise the pings go
+  unanswered (the trace is `hung`) and stderr says why.
+"""
+from __future__ import annotations
+
+import os
+import sys
+import threading
+import time
+from typing import Callable
+
+import rclpy
+from action_msgs.msg import GoalStatus
+from lifecycle_msgs.msg import Transition
+from lifecycle_msgs.srv import ChangeState
+from rcl_interfaces.srv import GetParameters
+from rclpy.action import ActionClient
+from rclpy.callback_groups import ReentrantCallbackGroup
+from rclpy.executors import MultiThreadedExecutor
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from std_msgs.msg import String
+from unique_identifier_msgs.msg import UUID
+
+from harness.adapters.ros.bridge import Bridge
+from harness.adapters.ros.mapping import Mapping, interface_kinds, interface_services
+from harness.adapters.ros.replies import Replies
+from harness.adapters.ros.routes import Route
+from harness.adapters.ros2.types import fill, route_class
+from harness.errors import UntimelyError
+
+STATUS_NAMES = {GoalStatus.STATUS_SUCCEEDED: "SUCCEEDED", GoalStatus.STATUS_ABORTED: "ABORTED",
+                GoalStatus.STATUS_CANCELED: "CANCELED"}
+QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
+PROBE_PERIOD_S = 0.2
+BRING_UP = (Transition.TRANSITION_CONFIGURE, Transition.TRANSITION_ACTIVATE)
+RESET = (Transition.TRANSITION_DEACTIVATE, Transition.TRANSITION_CLEANUP) + BRING_UP
+
+
+class Adapter(Bridge):
+    def __init__(self, mapping: Mapping, interface: dict, time_scale: float, write: Callable[[dict], None]):
+        super().__init__(mapping, interface, time_scale, write)
+        self.routes = mapping.routes(interface_services(interface), interface_kinds(interface))
+        self.node = rclpy.create_node("untimely_adapter")
+        group = ReentrantCallbackGroup()
+        self.types = {route.name: route_class(route) for route in self.routes.values()}
+        self.clients = {route.name: (ActionClient(self.node, self.types[route.name], route.name, callback_group=group)
+                                     if route.kind == "action" else
+                                     self.node.create_client(self.types[route.name], route.name, callback_group=group))
+                        for route in self.routes.values()}
+        for topic, handler in ((mapping.world_topic, self._world), (mapping.internal_topic, self._internal),
+                               (mapping.pong_topic, self._pong)):
+            if topic:
+                self.node.create_subscription(String, topic, handler, QOS, callback_group=group)
+        self.pinger = self.node.create_publisher(String, mapping.ping_topic, QOS) if mapping.ping_topic else None
+        node = mapping.node
+        self.probe = self.node.create_client(GetParameters, f"{node}/get_parameters", callback_group=group) \
+            if node else None
+        self.transitions = self.node.create_client(ChangeState, f"{node}/change_state", callback_group=group) \
+            if mapping.lifecycle else None
+        self.answered, self.stale_said = time.monotonic(), False  # the probe's last answer
+        self.goals: dict[int, object] = {}  # request id -> ClientGoalHandle of this run
+        self.executor = MultiThreadedExecutor(num_threads=4)
+        self.executor.add_node(self.node)
+        self.stopped = threading.Event()
+        threading.Thread(target=self.executor.spin, name="executor", daemon=True).start()
+
+    def forget(self) -> None:
+        self.goals = {}
+
+    def publish_ping(self, data: str) -> None:
+        self.pinger.publish(String(data=data))
+
+    def alive(self) -> bool:
+        """The node's executor answered a probe within heartbeat_stale_s (no node named: always)."""
+        silent = time.monotonic() - self.answered
+        if self.probe is None or silent <= self.mapping.heartbeat_stale_s:
+            return True
+        if not self.stale_said:
+            self.stale_said = True
+            print(f"ros2 adapter: the node's executor has not answered {self.mapping.node}/get_parameters for "
+                  f"{silent:.1f} s (heartbeat_stale_s = {self.mapping.heartbeat_stale_s:g}): it is stuck or dead; "
+                  "no more pongs", file=sys.stderr, flush=True)
+        return False
+
+    # -- start-up, liveness, lifecycle -----------------------------------------------------------
+    def wait_for_servers(self, timeout_s: float, alive: Callable[[], str | None]) -> None:
+        """Block until every server, service and topic is connected; `alive()` names a reason to give up."""
+        deadline = time.monotonic() + timeout_s
+        waits = [(name, lambda c=client: c.server_is_ready() if isinstance(c, ActionClient) else c.service_is_ready())
+                 for name, client in self.clients.items()]
+        waits += [(client.srv_name, client.service_is_ready) for client in (self.probe, self.transitions) if client]
+        for name, connected in waits:
+            while not connected():
+                problem = alive()
+                if problem or time.monotonic() > deadline:
+                    raise UntimelyError(problem or f"{name} did not come up within {timeout_s:g} s")
+                time.sleep(0.05)
+
+    def wait_echo(self, timeout_s: float, alive: Callable[[], str | None]) -> None:
+        """Block until the node echoes a start-up ping: its topics are connected and its layer answers."""
+        deadline = time.monotonic() + timeout_s
+        while not self.echoed():
+            problem = alive()
+            if problem or time.monotonic() > deadline:
+                raise UntimelyError(problem or f"no echo on {self.mapping.pong_topic} within {timeout_s:g} s")
+
+    def start_probing(self) -> None:
+        self.answered = time.monotonic()  # the start-up's waits were no silence of the executor
+        if self.probe:
+            threading.Thread(target=self._probing, name="probe", daemon=True).start()
+
+    def _probing(self) -> None:
+        """One probe at a time: a stuck executor leaves it unanswered, and `alive` sees the silence."""
+        while not self.stopped.is_set():
+            answer = self.probe.call_async(GetParameters.Request())
+            done = threading.Event()
+            answer.add_done_callback(lambda _f: done.set())
+            while not done.wait(PROBE_PERIOD_S) and not self.stopped.is_set():
+                with self.lock:
+                    self._answer_pings()  # says once, on stderr, that the executor fell silent
+            with self.lock:
+                self.answered, self.stale_said = time.monotonic(), False
+                self._answer_pings()
+            self.stopped.wait(PROBE_PERIOD_S)
+
+    def transition(self, transitions: tuple[int, ...], timeout_s: float) -> None:
+        """Drive the lifecycle node through `transitions`, each awaited."""
+        for transition in transitions:
+            future = self.transitions.call_async(ChangeState.Request(transition=Transition(id=transition)))
+            done = threading.Event()
+            future.add_done_callback(lambda _f: done.set())
+            if not done.wait(timeout_s) or not future.result().success:
+                raise UntimelyError(f"the node {self.mapping.node} refused or did not answer lifecycle transition "
+                                    f"{transition} within {timeout_s:g} s")
+
+    def close(self) -> None:
+        self.stopped.set()
+        self.executor.shutdown(timeout_sec=1.0)
+
+    # -- bench -> ROS 2 --------------------------------------------------------------------------
+    def request(self, message: dict) -> None:
+        rqst_id, module, service = message["id"], message["module"], message["service"]
+        route = self.routes.get(f"{module}.{service}")
+        if route is None:
+            raise UntimelyError(f"request {rqst_id} names {module}.{service}, which the hello's interface does not declare")
+        kind = self.types[route.name]
+        body = kind.Goal if route.kind == "action" else kind.Request
+        body = fill(body(**({"service": service} if route.generic else {})), route, message["args"])
+        with self.lock:
+            replies = self.replies  # this run's: a late event of this request cannot reach the next run
+            if route.kind == "service":
+                future = self.clients[route.name].call_async(body)
+                future.add_done_callback(lambda f: self._responded(replies, rqst_id, route, f))
+                return
+            goal_id = os.urandom(16)
+            self.goal_ids[goal_id.hex()] = rqst_id
+            future = self.clients[route.name].send_goal_async(
+                body, feedback_callback=lambda _fb: replies.feedback(rqst_id), goal_uuid=UUID(uuid=list(goal_id)))
+        future.add_done_callback(lambda f: self._accepted(replies, rqst_id, route, f))
+
+    # -- ROS 2 -> bench (executor threads) -------------------------------------------------------
+    def _responded(self, replies: Replies, rqst_id: int, route: Route, future) -> None:
+        if future.exception() is not None:
+            replies.ended(rqst_id, f"a failed call ({future.exception()})", None)
+        else:
+            replies.ended(rqst_id, "RESPONSE", route.response_code(future.result(), self.catalogue))
+
+    def _accepted(self, replies: Replies, rqst_id: int, route: Route, future) -> None:
+        handle = future.result()
+        if not handle.accepted:
+            replies.ended(rqst_id, "REJECTED", self.mapping.final_code("REJECTED", (), self.catalogue))
+            return
+        with self.lock:
+            self.goals[rqst_id] = handle
+        handle.get_result_async().add_done_callback(lambda f: self._result(replies, rqst_id, route, f))
+
+    def _result(self, replies: Replies, rqst_id: int, route: Route, future) -> None:
+        response = future.result()
+        status = STATUS_NAMES.get(response.status, f"status {response.status}")
+        text = getattr(response.result, route.code or "code", None)
+        replies.ended(rqst_id, status, self.mapping.final_code(status, (text,), self.catalogue))

@@ -1,0 +1,79 @@
+"""One slot's ROS 2 adapter process, under the distro's interpreter, in the environment the
+launcher (__main__.py) made: it starts the SUT's node on the bench's hello, brings it up, and
+serves run after run (docs/ros2.md). Not started by hand: `python -m harness.adapters.ros2` does.
+
+Order: the bench's hello gives the time scale, passed to the node as $UNTIMELY_TIME_SCALE; once
+every mapped server and service answers, a lifecycle node has been configured and activated, and
+the node has echoed a first ping, the hello is answered and requests flow. With a lifecycle node
+the hello offers `reuse`: on `bye` the node is reset (deactivate, cleanup, configure, activate: a
+fresh layer), bye is answered, and the next hello starts the next run on the same node. On end of
+input, SIGTERM, or `bye` without reuse, the node is stopped. A failure is an `error` line.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import signal
+import sys
+
+from harness.adapters.ros.lines import LineWriter, read_hello, serve
+from harness.adapters.ros.mapping import load_mapping
+from harness.adapters.ros.processes import Child, stop_all
+from harness.errors import UntimelyError
+from harness.run.external.protocol import PROTO
+
+
+def run(args, out: LineWriter) -> None:
+    mapping = load_mapping(args.mapping)
+    first = hello = read_hello(sys.stdin)
+    if hello is None:
+        return
+    node = Child("node", args.node, {**os.environ, "UNTIMELY_TIME_SCALE": repr(hello["time_scale"])})
+    adapter = None
+    try:
+        import rclpy  # only here: the launcher's environment is what makes it importable
+
+        from harness.adapters.ros2.adapter import RESET, BRING_UP, Adapter
+        rclpy.init(signal_handler_options=rclpy.signals.SignalHandlerOptions.NO)
+        adapter = Adapter(mapping, hello["interface"], hello["time_scale"], out.write)
+        adapter.wait_for_servers(args.startup_timeout, node.failure)
+        if mapping.lifecycle:
+            adapter.transition(BRING_UP, args.startup_timeout)
+        adapter.start_probing()
+        runs = 0
+        while hello is not None:
+            if mapping.ping_topic:
+                adapter.wait_echo(args.startup_timeout, node.failure)
+            runs += 1
+            adapter.hello(PROTO, f"ROS 2 {os.environ.get('UNTIMELY_ROS2_DISTRO', '')} adapter (domain "
+                                 f"{os.environ.get('ROS_DOMAIN_ID')}; node: {' '.join(args.node)}; run {runs} of "
+                                 "this node)", ["reuse"] if mapping.lifecycle else [])
+            if not (serve(adapter, sys.stdin) and mapping.lifecycle) or node.failure():
+                break
+            adapter.end_run()
+            adapter.transition(RESET, args.startup_timeout)
+            hello = read_hello(sys.stdin, first)
+    finally:
+        if adapter:
+            adapter.close()
+        stop_all([node])
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m harness.adapters.ros2.serve", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--mapping", required=True, help="the ros2.toml beside the interface")
+    parser.add_argument("--startup-timeout", type=float, default=60.0)
+    parser.add_argument("node", nargs="+", help="the SUT node's command, after --")
+    args = parser.parse_args(argv)
+    out = LineWriter(sys.stdout)
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # tear down as on bye
+    try:
+        run(args, out)
+    except UntimelyError as e:
+        out.write({"op": "error", "message": str(e)})
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

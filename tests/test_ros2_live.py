@@ -1,0 +1,130 @@
+"""The ROS 2 adapter and the Dala lifecycle node over stdio, on ROS 2 from PyPI wheels (`make ros2`):
+goals, feedback, results, calls, ground truth, run after run, a stuck executor, Kilted (docs/ros2.md)."""
+import os
+import signal
+import sys
+import threading
+import time
+
+import pytest
+
+from harness import DEFAULT_MISSION_DIR, ROOT
+from harness.adapters.ros2.environment import installed
+from harness.run.external.definitions import load_suts_file
+from harness.run.external.runner import run_external
+from harness.target.interface import load_interface
+from harness.target.script import load_script
+from tests.ros_driver import Launcher, command_line, descendants, request, wait_gone
+
+MAPPING = DEFAULT_MISSION_DIR / "ros2.toml"
+NODE = "harness.adapters.ros2.dala_node"
+
+
+def requires_ros2(distro: str):
+    return pytest.mark.skipif(installed(ROOT, distro) is not None, reason=str(installed(ROOT, distro)))
+
+
+def launcher(variant: str = "reference", distro: str = "jazzy") -> Launcher:
+    return Launcher(command=[sys.executable, "-m", "harness.adapters.ros2", "--distro", distro, "--mapping",
+                             str(MAPPING), "--", "python", "-m", NODE, "--variant", variant])
+
+
+INITS = {10 + n: f"{m}.Init" for n, m in enumerate(["rflex", "sick", "aspect", "ndd", "antenna"])}
+
+
+def first_steps(run: Launcher, base: int = 0) -> None:
+    """A goal before its module's Init (refused wait_init, through an aborted goal), the Inits (calls),
+    settings (calls, one refused), an exec goal with its feedback, a Stop interrupting a running goal."""
+    run.send(request(base + 1, "ndd.GotoPosition", x=9, y=4))
+    assert run.final(base + 1) == "wait_init"
+    for rqst_id, service in INITS.items():
+        run.send(request(base + rqst_id, service))
+    assert {run.final(base + rqst_id) for rqst_id in INITS} == {"ok"}
+    run.send(request(base + 20, "rflex.SetMode", mode="velocity"))
+    run.send(request(base + 22, "rflex.SetMode", mode="sideways"))
+    assert [run.final(base + n) for n in (20, 22)] == ["ok", "bad_params"]
+    run.send(request(base + 30, "aspect.Reset"))
+    assert run.final(base + 30) == "ok"
+    run.send(request(base + 31, "rflex.TrackSpeedStart"))
+    run.expect(lambda m: m["op"] == "reply" and m["id"] == base + 31)
+    run.send(request(base + 32, "rflex.Stop"))
+    assert (run.final(base + 31), run.final(base + 32)) == ("interrupted", "ok")
+    for rqst_id in [1, *INITS, 20, 22, 30, 31, 32]:
+        kinds = [m["kind"] for m in run.replies(base + rqst_id)]
+        assert kinds == (["intermediate", "final"] if rqst_id in (30, 31, 32) else ["final"]), (rqst_id, kinds)
+
+
+@requires_ros2("jazzy")
+def test_golden_first_steps_then_a_second_run_on_the_reset_node():
+    """Run 1: the replies of goals and calls, the goals' ground truth on the node's clock, a ping
+    through ROS 2. bye, hello: run 2 on the same node, whose reset gave a fresh layer (the Inits of
+    run 1 are forgotten: a goal before Init is refused again), and no process is left behind."""
+    run = launcher()
+    try:
+        answer = run.start(time_scale=1.0)
+        assert answer["op"] == "hello" and set(answer["caps"]) == {"internal", "world", "reuse"}, answer
+        first_steps(run)
+        internal = {(m["id"], m["kind"]): m["t"] for _, m in run.lines if m["op"] == "internal"}
+        assert all(internal[(n, "request")] <= internal[(n, "final")] for n in (1, 30, 31, 32))
+        assert internal[(31, "intermediate")] < internal[(31, "final")]
+        run.send({"op": "ping", "id": 1})
+        run.expect(lambda m: m == {"op": "pong", "id": 1}, timeout=30)
+        node = run.node_pid()
+        run.send({"op": "bye"})
+        run.expect(lambda m: m["op"] == "bye")
+        run.lines.clear()
+        assert run.start(time_scale=1.0)["op"] == "hello"
+        assert "run 2 of this node" in run.lines[-1][1]["sut"] and run.node_pid() == node
+        first_steps(run, base=100)  # its first step fails on a reset that keeps run 1's Inits
+        children = descendants(run.process.pid)
+        assert run.bye() == 0, "".join(run.stderr[-20:])
+        assert wait_gone(children, timeout=15) == set()
+    finally:
+        run.kill()
+
+
+@requires_ros2("jazzy")
+def test_a_stuck_executor_hangs_the_trace_with_its_reason():
+    """The golden mission on ros2-reference through the bench; the Dala node is stopped (SIGSTOP:
+    its executor serves nothing more) while the rover drives to site 1: the probe of
+    /dala/get_parameters goes unanswered, so do the pings (hung), stderr says why, the drive gets no
+    final, and nothing is left behind."""
+    sut = load_suts_file(DEFAULT_MISSION_DIR / "suts.toml")["ros2-reference"]
+    interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
+    script = load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
+    traces = []
+    bench = threading.Thread(target=lambda: traces.append(run_external(script, sut, 0, interface)))
+    bench.start()
+    deadline, node = time.monotonic() + 120, None
+    while node is None:
+        assert time.monotonic() < deadline, "the Dala node never started"
+        node = next((p for p in descendants(os.getpid()) if NODE in command_line(p)), None)
+        time.sleep(0.2)
+    time.sleep(12.0)  # start-up, the Inits, settings, map and some seconds of the drive to site 1
+    children = descendants(os.getpid()) - {node}
+    os.kill(node, signal.SIGSTOP)
+    try:
+        bench.join(120)
+    finally:
+        os.kill(node, signal.SIGKILL)
+    trace = traces[0]
+    assert trace.outcome == "hung", trace.error
+    assert "executor has not answered /dala/get_parameters" in trace.error
+    drives = [e[3] for e in trace.events if e[2] == "request" and e[5] == "GotoPosition"]
+    assert len(drives) == 1, f"the node was stopped before or after the drive to site 1: {trace.events}"
+    assert [e for e in trace.events if e[3] == drives[0] and e[2] == "final"] == []
+    assert wait_gone(children | {node}, timeout=30) == set()
+
+
+@requires_ros2("kilted")
+def test_first_steps_on_kilted():
+    run = launcher(distro="kilted")
+    try:
+        answer = run.start(time_scale=1.0)
+        assert answer["op"] == "hello" and "ROS 2 kilted" in answer["sut"], answer
+        first_steps(run)
+        children = descendants(run.process.pid)
+        assert run.bye() == 0, "".join(run.stderr[-20:])
+        assert wait_gone(children, timeout=15) == set()
+    finally:
+        run.kill()
