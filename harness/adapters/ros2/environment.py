@@ -78,7 +78,7 @@ class Ros2Environment:
         self._lock = None
 
     def open(self) -> Ros2Environment:
-        self._lock, self.domain_id = _hold_domain_id(self.slot)
+        self._lock, self.domain_id = hold_domain_id(self.slot)
         self.log_dir = Path(tempfile.mkdtemp(prefix=f"untimely-ros2-log-{self.domain_id}-"))
         self.env = self._environment()
         return self
@@ -124,8 +124,9 @@ def _joined(first: list[Path], rest: str | None) -> str:
     return os.pathsep.join([str(p) for p in first] + ([rest] if rest else []))
 
 
-def _hold_domain_id(slot: int):
-    """An open lock file whose flock holds a domain id for this process, and the id."""
+def hold_domain_id(slot: int):
+    """An open lock file whose flock holds a domain id (searched from `slot` on) until it is
+    closed or the process ends, and the id."""
     LOCK_DIR.mkdir(mode=0o1777, exist_ok=True)
     ids = list(DOMAIN_IDS)
     start = slot % len(ids)
