@@ -8,12 +8,13 @@ exposure, shrinking not counted (their campaigns shrink at the end); focused: ev
 shrink runs included, until it stopped, and whether each defect has a reproducer of <= 10 steps.
 
 Then the same Dala campaign in real time, at 1x on 8 slots: on the out-of-process simulator
-(`sim-*` SUTs of missions/dala/suts.toml) and on the ROS layer (`ros-*`, skipped without
-`make ros`): its wall minutes, mission seconds, the slots' speed-up (mission s per wall s; 8 at
+(`sim-*` SUTs of missions/dala/suts.toml), on the ROS layer (`ros-*`, skipped without
+`make ros`) and on the ROS 2 lifecycle node (`ros2-*` on Jazzy, skipped without `make ros2`; with
+the median seconds a slot's node took to start and be discovered): its wall minutes, mission seconds, the slots' speed-up (mission s per wall s; 8 at
 best), how close the in-process campaign's mission seconds predicted it, and whether every
 defect was exposed. Figures, not pass or fail: a busy machine gives a smaller speed-up, so the
-load average is printed beside them. UNTIMELY_BENCH_REALTIME chooses (default `sim,ros`; `sim`,
-`ros`, or `none`): each takes about 10 minutes on a 2-core machine.
+load average is printed beside them. UNTIMELY_BENCH_REALTIME chooses (default `sim,ros,ros2`; a
+comma-separated choice of them, or `none`): each takes about 10 minutes on a 2-core machine.
 """
 import os
 import subprocess
@@ -24,6 +25,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR, ROOT, store
+from harness.adapters.ros2.environment import installed
 from harness.target.mission import load_mission
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -92,6 +94,9 @@ def realtime(folder: Path, prefix: str) -> None:
     if prefix == "ros" and not (ROOT / ".venv-ros" / "bin" / "python").exists():
         print("ros-* at 1x: skipped, .venv-ros is missing (make ros)")
         return
+    if prefix == "ros2" and installed(ROOT, "jazzy"):
+        print(f"ros2-* at 1x: skipped, {installed(ROOT, 'jazzy')}")
+        return
     variants = TARGETS["dala"][1].split(",")
     suts = ",".join(f"{prefix}-{v}" for v in variants)
     db = folder / f"{prefix}.duckdb"
@@ -118,15 +123,23 @@ def realtime_line(prefix: str, db: Path, twin: Path, wall: float, load: float) -
             f"{predicted:,.0f} mission s ({spent / predicted:.2f}x of it); "
             f"{len(wanted) - len(missing)} of {len(wanted)} defects exposed"
             + (f" (missing: {', '.join(missing)})" if missing else "")
-            + f"; {runs} stored runs (golden and tests), median {beyond:.1f} s wall each beyond their mission time; "
-            f"load average {load:.1f} before, {os.getloadavg()[0]:.1f} after on {os.cpu_count()} cores")
+            + f"; {runs} stored runs (golden and tests), median {beyond:.1f} s wall each beyond their mission time"
+            + discovery(con)
+            + f"; load average {load:.1f} before, {os.getloadavg()[0]:.1f} after on {os.cpu_count()} cores")
+
+
+def discovery(con) -> str:
+    """The median seconds a ROS 2 node took to start and be discovered (its adapter's `up in` text)."""
+    up = con.execute("select median(regexp_extract(sut_info, 'up in ([0-9.]+) s', 1)::double) from trace_runs "
+                     "where sut_info like '%run 1 of this node)'").fetchone()[0]
+    return "" if up is None else f"; a node up and discovered in {up:.1f} s (median)"
 
 
 def realtime_choice() -> list[str]:
-    chosen = os.environ.get("UNTIMELY_BENCH_REALTIME", "sim,ros")
+    chosen = os.environ.get("UNTIMELY_BENCH_REALTIME", "sim,ros,ros2")
     prefixes = [] if chosen == "none" else chosen.split(",")
-    if not set(prefixes) <= {"sim", "ros"}:
-        raise SystemExit(f"UNTIMELY_BENCH_REALTIME={chosen!r}: give sim, ros, sim,ros or none")
+    if not set(prefixes) <= {"sim", "ros", "ros2"}:
+        raise SystemExit(f"UNTIMELY_BENCH_REALTIME={chosen!r}: give some of sim, ros, ros2 (comma-separated) or none")
     return prefixes
 
 

@@ -1,12 +1,16 @@
 """Two ends of a small ROS 2 exchange, run by the ROS 2 tests under a distro's venv python in the
 bench's environment (harness/adapters/ros2/environment.py):
 
-    python tests/ros2_peer.py serve NAME    # node NAME: service /untimely/call (untimely_msgs/srv/Call)
-                                            # and action /untimely/request (untimely_msgs/action/Request),
-                                            # introspection on where the distro has it; prints "ready"
-    python tests/ros2_peer.py call          # one service call and one goal (a feedback, a result);
-                                            # prints their replies and timings as JSON
-    python tests/ros2_peer.py nodes SECONDS # prints the names of the nodes it sees after SECONDS, as JSON
+    python tests/ros2_peer.py serve NAME    # node NAME: service /ndd/set_params (untimely_msgs/srv/Call)
+                                            # and action /dala/ndd (untimely_msgs/action/Request), as
+                                            # tests/ros2_recording.toml maps ndd.SetParams and
+                                            # ndd.GotoPosition; introspection on where the distro
+                                            # has it; prints "ready"
+    python tests/ros2_peer.py call [recorded]  # one call and one goal (a feedback, a result); prints
+                                            # their replies and timings as JSON; `recorded`: first
+                                            # waits for a recorder's subscription to its call events
+    python tests/ros2_peer.py nodes SECONDS [NAME]  # the names of the nodes it sees after SECONDS
+                                            # (or once it sees NAME), as JSON
 """
 import json
 import signal
@@ -23,6 +27,7 @@ from untimely_msgs.action import Request
 from untimely_msgs.srv import Call
 
 TIMEOUT_S = 20.0
+SERVICE, ACTION = "/ndd/set_params", "/dala/ndd"
 
 
 def _introspect(entity, node) -> None:
@@ -35,53 +40,57 @@ def serve(name: str) -> None:
     node = rclpy.create_node(name)
 
     def call(request, response):
-        response.code = f"ok:{request.service}"
+        response.code = "ok"
         return response
 
     def execute(goal):
         goal.publish_feedback(Request.Feedback(phase="running"))
         goal.succeed()
-        return Request.Result(code=f"done:{goal.request.service}")
-    _introspect(node.create_service(Call, "/untimely/call", call), node)
-    _introspect(ActionServer(node, Request, "/untimely/request", execute), node)
+        return Request.Result(code="ok")
+    _introspect(node.create_service(Call, SERVICE, call), node)
+    _introspect(ActionServer(node, Request, ACTION, execute), node)
     print("ready", flush=True)
     rclpy.spin(node)
 
 
-def call() -> None:
+def call(recorded: bool = False) -> None:
     node = rclpy.create_node("untimely_caller")
     executor = MultiThreadedExecutor()
     executor.add_node(node)
     threading.Thread(target=executor.spin, daemon=True).start()
-    client, actions = node.create_client(Call, "/untimely/call"), ActionClient(node, Request, "/untimely/request")
+    client, actions = node.create_client(Call, SERVICE), ActionClient(node, Request, ACTION)
     _introspect(client, node)
     _introspect(actions, node)
     started = time.monotonic()
     if not (client.wait_for_service(timeout_sec=TIMEOUT_S) and actions.wait_for_server(timeout_sec=TIMEOUT_S)):
-        sys.exit("no server of /untimely/call or /untimely/request")
+        sys.exit(f"no server of {SERVICE} or {ACTION}")
     discovered = time.monotonic()
-    reply = client.call(Call.Request(service="Init", args_json="{}"), timeout_sec=TIMEOUT_S)
+    while recorded and not node.count_subscribers(f"{SERVICE}/_service_event") and time.monotonic() < started + TIMEOUT_S:
+        time.sleep(0.01)
+    reply = client.call(Call.Request(service="SetParams", args_json='{"speed": 0.5}'), timeout_sec=TIMEOUT_S)
     call_ms = (time.monotonic() - discovered) * 1e3
     phases = []
-    goal = actions.send_goal(Request.Goal(service="GotoPosition", args_json="{}"),
+    goal = actions.send_goal(Request.Goal(service="GotoPosition", args_json='{"x": 3.0, "y": 4.0}'),
                              feedback_callback=lambda f: phases.append(f.feedback.phase))
     print(json.dumps({"code": reply.code, "goal": goal.result.code, "accepted": goal.status,
                       "phases": phases, "discovery_s": discovered - started, "call_ms": call_ms}), flush=True)
 
 
-def nodes(seconds: float) -> None:
+def nodes(seconds: float, awaited: str = "") -> None:
     node = rclpy.create_node("untimely_watcher")
     deadline = time.monotonic() + seconds
-    while time.monotonic() < deadline:
+    names = []
+    while time.monotonic() < deadline and awaited not in names:
         rclpy.spin_once(node, timeout_sec=0.1)
-    print(json.dumps(sorted(name for name, _ in node.get_node_names_and_namespaces())), flush=True)
+        names = sorted(name for name, _ in node.get_node_names_and_namespaces())
+    print(json.dumps(names), flush=True)
 
 
 def main(argv: list[str]) -> None:
     signal.signal(signal.SIGTERM, lambda *_: rclpy.try_shutdown())
     rclpy.init()
     try:
-        {"serve": lambda: serve(argv[2]), "call": call, "nodes": lambda: nodes(float(argv[2]))}[argv[1]]()
+        {"serve": lambda: serve(argv[2]), "call": lambda: call("recorded" in argv[2:]), "nodes": lambda: nodes(float(argv[2]), *argv[3:])}[argv[1]]()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:

@@ -1,5 +1,6 @@
 """The ROS 2 adapter and the Dala lifecycle node over stdio, on ROS 2 from PyPI wheels (`make ros2`):
 goals, feedback, results, calls, ground truth, run after run, a stuck executor, Kilted (docs/ros2.md)."""
+import contextlib
 import os
 import signal
 import sys
@@ -14,7 +15,7 @@ from harness.run.external.definitions import load_suts_file
 from harness.run.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import load_script
-from tests.ros_driver import Launcher, command_line, descendants, request, wait_gone
+from tests.ros_driver import Launcher, descendants, request, running_module, wait_gone
 
 MAPPING = DEFAULT_MISSION_DIR / "ros2.toml"
 NODE = "harness.adapters.ros2.dala_node"
@@ -98,7 +99,7 @@ def test_a_stuck_executor_hangs_the_trace_with_its_reason():
     deadline, node = time.monotonic() + 120, None
     while node is None:
         assert time.monotonic() < deadline, "the Dala node never started"
-        node = next((p for p in descendants(os.getpid()) if NODE in command_line(p)), None)
+        node = next((p for p in descendants(os.getpid()) if running_module(p) == NODE), None)
         time.sleep(0.2)
     time.sleep(12.0)  # start-up, the Inits, settings, map and some seconds of the drive to site 1
     children = descendants(os.getpid()) - {node}
@@ -106,7 +107,8 @@ def test_a_stuck_executor_hangs_the_trace_with_its_reason():
     try:
         bench.join(120)
     finally:
-        os.kill(node, signal.SIGKILL)
+        with contextlib.suppress(ProcessLookupError):  # the launcher's teardown killed it already
+            os.kill(node, signal.SIGKILL)
     trace = traces[0]
     assert trace.outcome == "hung", trace.error
     assert "executor has not answered /dala/get_parameters" in trace.error

@@ -17,13 +17,20 @@ class Replies:
     def __init__(self, write: Callable[[dict], None]):
         self.write = write
         self.lock = threading.Lock()
-        self.given: dict[int, str] = {}  # request id -> "intermediate" or "final"
+        self.given: dict[int, str] = {}  # request id -> its last reply: "taken", "intermediate" or "final"
 
     def feedback(self, rqst_id: int) -> None:
         with self.lock:
-            if rqst_id not in self.given:
+            if self.given.get(rqst_id, "taken") == "taken":
                 self.given[rqst_id] = "intermediate"
                 self.write({"op": "reply", "id": rqst_id, "kind": "intermediate"})
+
+    def taken(self, rqst_id: int) -> None:
+        """The server took the request (ROS 2 introspection): a `taken` reply, once, before any other."""
+        with self.lock:
+            if rqst_id not in self.given:
+                self.given[rqst_id] = "taken"
+                self.write({"op": "reply", "id": rqst_id, "kind": "taken"})
 
     def ended(self, rqst_id: int, status: str, code: str | None) -> None:
         """The goal is done with `status`; `code` is its final reply, None if it may have none."""

@@ -15,6 +15,9 @@ from the mapping file (ros2.toml). Rules:
   catalogue knows it, else the mapping's status code (Mapping.final_code); an unknown status
   gives no final reply: the adapter never invents one;
 - a `control` or `init` request on a service route is a call; its response is the final reply;
+- `taken` (where every route's server has introspection: services from Jazzy on, actions from
+  Kilted on): the server's introspection event of receiving the request, a goal's named by its id,
+  a call's by its sequence number, is relayed as a `taken` reply when it arrives;
 - liveness: the node's executor must answer NODE/get_parameters (probed every PROBE_PERIOD_S) within
   the mapping's heartbeat_stale_s, and the node must echo the ping; otherwise the pings go
   unanswered (the trace is `hung`) and stderr says why.
@@ -32,10 +35,11 @@ from action_msgs.msg import GoalStatus
 from lifecycle_msgs.msg import Transition
 from lifecycle_msgs.srv import ChangeState
 from rcl_interfaces.srv import GetParameters
-from rclpy.action import ActionClient
+from rclpy.action import ActionClient, ActionServer
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from service_msgs.msg import ServiceEventInfo
 from std_msgs.msg import String
 from unique_identifier_msgs.msg import UUID
 
@@ -50,6 +54,8 @@ STATUS_NAMES = {GoalStatus.STATUS_SUCCEEDED: "SUCCEEDED", GoalStatus.STATUS_ABOR
                 GoalStatus.STATUS_CANCELED: "CANCELED"}
 QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
 PROBE_PERIOD_S = 0.2
+# Service introspection came with Jazzy (rclpy 7), action introspection with Kilted (rclpy 9).
+ACTION_INTROSPECTION = hasattr(ActionServer, "configure_introspection")
 BRING_UP = (Transition.TRANSITION_CONFIGURE, Transition.TRANSITION_ACTIVATE)
 RESET = (Transition.TRANSITION_DEACTIVATE, Transition.TRANSITION_CLEANUP) + BRING_UP
 
@@ -65,6 +71,19 @@ class Adapter(Bridge):
                                      if route.kind == "action" else
                                      self.node.create_client(self.types[route.name], route.name, callback_group=group))
                         for route in self.routes.values()}
+        self.calls: dict[tuple[str, int], int] = {}  # (service, the call's sequence number) -> request id
+        for route in self.routes.values():
+            kind = self.types[route.name]
+            if route.kind == "service":
+                self.node.create_subscription(kind.Event, f"{route.name}/_service_event",
+                                              lambda event, n=route.name: self._called(n, event), QOS,
+                                              callback_group=group)
+            elif ACTION_INTROSPECTION:
+                self.node.create_subscription(kind.Impl.SendGoalService.Event,
+                                              f"{route.name}/_action/send_goal/_service_event", self._goal_taken, QOS,
+                                              callback_group=group)
+        # `taken` is a promise for every request: only where every route's server has introspection
+        self.taken = ACTION_INTROSPECTION or all(route.kind == "service" for route in self.routes.values())
         for topic, handler in ((mapping.world_topic, self._world), (mapping.internal_topic, self._internal),
                                (mapping.pong_topic, self._pong)):
             if topic:
@@ -83,7 +102,7 @@ class Adapter(Bridge):
         threading.Thread(target=self.executor.spin, name="executor", daemon=True).start()
 
     def forget(self) -> None:
-        self.goals = {}
+        self.goals, self.calls = {}, {}
 
     def publish_ping(self, data: str) -> None:
         self.pinger.publish(String(data=data))
@@ -167,7 +186,10 @@ class Adapter(Bridge):
         with self.lock:
             replies = self.replies  # this run's: a late event of this request cannot reach the next run
             if route.kind == "service":
-                future = self.clients[route.name].call_async(body)
+                client = self.clients[route.name]
+                future = client.call_async(body)
+                # rclpy keeps no public record of a call's sequence number, which its introspection names
+                self.calls[(route.name, next(n for n, f in client._pending_requests.items() if f is future))] = rqst_id
                 future.add_done_callback(lambda f: self._responded(replies, rqst_id, route, f))
                 return
             goal_id = os.urandom(16)
@@ -182,6 +204,21 @@ class Adapter(Bridge):
             replies.ended(rqst_id, f"a failed call ({future.exception()})", None)
         else:
             replies.ended(rqst_id, "RESPONSE", route.response_code(future.result(), self.catalogue))
+
+    def _called(self, service: str, event) -> None:
+        if event.info.event_type == ServiceEventInfo.REQUEST_RECEIVED:
+            with self.lock:
+                rqst_id, replies = self.calls.pop((service, event.info.sequence_number), None), self.replies
+            if rqst_id is not None and self.taken:
+                replies.taken(rqst_id)
+
+    def _goal_taken(self, event) -> None:
+        """The server's record of a goal request it received, with its contents: the goal id."""
+        if event.info.event_type == ServiceEventInfo.REQUEST_RECEIVED and event.request:
+            with self.lock:
+                rqst_id, replies = self.goal_ids.get(bytes(event.request[0].goal_id.uuid).hex()), self.replies
+            if rqst_id is not None:
+                replies.taken(rqst_id)
 
     def _accepted(self, replies: Replies, rqst_id: int, route: Route, future) -> None:
         handle = future.result()

@@ -67,7 +67,12 @@ def main(argv: list[str]) -> int:
     if len(argv) != 2 or argv[1] not in DISTROS:
         print(f"usage: python -m harness.adapters.ros2.build {{{','.join(DISTROS)}}}", file=sys.stderr)
         return 2
-    seconds = build(Path.cwd(), argv[1])
+    try:
+        seconds = build(Path.cwd(), argv[1])
+    except subprocess.CalledProcessError as failed:
+        print(f"building untimely_msgs for ROS 2 {argv[1]} failed: `{' '.join(failed.cmd)}` exited with "
+              f"{failed.returncode} (its output is above); `make clean ros2` starts over", file=sys.stderr)
+        return 1
     print(f"untimely_msgs built for ROS 2 {argv[1]} in {seconds:.1f} s")
     return 0
 

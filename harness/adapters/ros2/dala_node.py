@@ -36,6 +36,7 @@ from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
 from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.service_introspection import ServiceIntrospectionState
 from rclpy.task import Future
 from std_msgs.msg import String
 
@@ -94,17 +95,19 @@ class DalaNode(LifecycleNode):
         for qualified, route in routes.items():
             if route.generic:
                 self.generic.setdefault(route.name, {})[services[qualified].name] = qualified
-        self.servers = []
         for qualified, route in routes.items():
             kind = route_class(route)
             if route.kind == "action":
-                self.servers.append(ActionServer(
+                server = ActionServer(
                     self, kind, route.name, execute_callback=self._execute_for(qualified, route, kind),
                     goal_callback=lambda _goal: GoalResponse.ACCEPT if self.active else GoalResponse.REJECT,
                     cancel_callback=lambda _goal: CancelResponse.REJECT,  # Dala's goals end by its Stop services
-                    callback_group=group))
+                    callback_group=group)
+                if hasattr(server, "configure_introspection"):  # rclpy 9 (Kilted) on; the contents name the goal
+                    server.configure_introspection(self.get_clock(), QOS, ServiceIntrospectionState.CONTENTS)
             else:
-                self.create_service(kind, route.name, self._serve_for(qualified, route), callback_group=group)
+                service = self.create_service(kind, route.name, self._serve_for(qualified, route), callback_group=group)
+                service.configure_introspection(self.get_clock(), QOS, ServiceIntrospectionState.METADATA)
         if self.mapping.ping_topic:
             self.create_subscription(String, self.mapping.ping_topic, self._ping, QOS, callback_group=group)
 

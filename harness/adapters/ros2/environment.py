@@ -37,6 +37,8 @@ DEFAULT_DISTRO = "jazzy"
 DOMAIN_IDS = range(1, 102)
 LOCK_DIR = Path(tempfile.gettempdir()) / "untimely-ros2-domains"
 PROFILE = Path(__file__).resolve().parent / "fastdds.xml"
+# Fast DDS 2 (Jazzy) reads the first; Fast DDS 3 (Kilted) the second, and warns on the first.
+PROFILE_VARIABLE = {"jazzy": "FASTRTPS_DEFAULT_PROFILES_FILE", "kilted": "FASTDDS_DEFAULT_PROFILES_FILE"}
 PYTHON_DIR = f"python{sys.version_info.major}.{sys.version_info.minor}"
 
 
@@ -111,9 +113,10 @@ class Ros2Environment:
             "_ROS_WHEELS_BOOTSTRAP_COMPLETE": "1",
             "ROS_LOG_DIR": str(self.log_dir),
             "ROS_DOMAIN_ID": str(self.domain_id),
-            "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST",
+            "ROS_AUTOMATIC_DISCOVERY_RANGE": "SUBNET",
+            "ROS_DISTRO": self.distro,
             "RMW_IMPLEMENTATION": "rmw_fastrtps_cpp",
-            "FASTDDS_DEFAULT_PROFILES_FILE": str(PROFILE),
+            PROFILE_VARIABLE[self.distro]: str(PROFILE),
             "RMW_FASTRTPS_USE_QOS_FROM_XML": "0",
         })
         env.pop("ROS_LOCALHOST_ONLY", None)  # deprecated; it would override the discovery range

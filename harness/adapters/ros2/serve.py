@@ -15,6 +15,7 @@ import argparse
 import os
 import signal
 import sys
+import time
 
 from harness.adapters.ros.lines import LineWriter, read_hello, serve
 from harness.adapters.ros.mapping import load_mapping
@@ -28,6 +29,7 @@ def run(args, out: LineWriter) -> None:
     first = hello = read_hello(sys.stdin)
     if hello is None:
         return
+    started = time.monotonic()
     node = Child("node", args.node, {**os.environ, "UNTIMELY_TIME_SCALE": repr(hello["time_scale"])})
     adapter = None
     try:
@@ -37,6 +39,7 @@ def run(args, out: LineWriter) -> None:
         rclpy.init(signal_handler_options=rclpy.signals.SignalHandlerOptions.NO)
         adapter = Adapter(mapping, hello["interface"], hello["time_scale"], out.write)
         adapter.wait_for_servers(args.startup_timeout, node.failure)
+        discovery = time.monotonic() - started  # the node's start-up and its discovery by the adapter
         if mapping.lifecycle:
             adapter.transition(BRING_UP, args.startup_timeout)
         adapter.start_probing()
@@ -46,8 +49,8 @@ def run(args, out: LineWriter) -> None:
                 adapter.wait_echo(args.startup_timeout, node.failure)
             runs += 1
             adapter.hello(PROTO, f"ROS 2 {os.environ.get('UNTIMELY_ROS2_DISTRO', '')} adapter (domain "
-                                 f"{os.environ.get('ROS_DOMAIN_ID')}; node: {' '.join(args.node)}; run {runs} of "
-                                 "this node)", ["reuse"] if mapping.lifecycle else [])
+                                 f"{os.environ.get('ROS_DOMAIN_ID')}; node: {' '.join(args.node)}; up in {discovery:.2f} s; run {runs} of "
+                                 "this node)", ["reuse"] * mapping.lifecycle + ["taken"] * adapter.taken)
             if not (serve(adapter, sys.stdin) and mapping.lifecycle) or node.failure():
                 break
             adapter.end_run()

@@ -7,7 +7,7 @@ recorded, the introspection of its services: NAME/_action/send_goal/_service_eve
 its goal's fields as arguments; a response `accepted = false` is a REJECTED final) and
 NAME/_action/get_result/_service_event (the final: status and result mapped to a catalogue code
 as the live adapter does). Per ROS service NAME: NAME/_service_event, whose response gives the
-final reply (Route.response_code). Events of one call are paired by client GID and sequence
+final reply (Route.response_code). Events of one call are paired by the client GID's prefix (_participant) and sequence
 number; the client's side (request sent, response received) is the observed one when recorded,
 else the server's.
 
@@ -55,7 +55,7 @@ def _key(uuid) -> bytes:
 class Call(NamedTuple):
     """One call's events: the observed instants (the client's when recorded, else the server's), and
     the server's own stamps (the SUT's clock) where its side was recorded."""
-    key: tuple  # client GID, sequence number
+    key: tuple  # the client's participant (GID prefix), sequence number
     sent: float  # receive time of the request event
     request: object
     answered: float | None  # receive time of the response event
@@ -65,11 +65,18 @@ class Call(NamedTuple):
     answer_stamp: float | None  # RESPONSE_SENT's stamp: the server sent its response
 
 
+def _participant(gid) -> bytes:
+    """The GUID prefix of a client's GID: its participant. Jazzy's rmw_fastrtps stamps a client's own
+    events with one entity of the client and the server's with another (its request writer), so
+    only the prefix and the sequence number pair them; Kilted stamps both with the writer."""
+    return bytes(bytearray(gid))[:12]
+
+
 def _calls(events: list) -> list[Call]:
-    """Each call, its events paired by client GID and sequence number."""
+    """Each call, its events paired by the client's participant and sequence number."""
     calls: dict[tuple, dict[int, tuple]] = {}
     for received, event in events:
-        pair = calls.setdefault((bytes(bytearray(event.info.client_gid)), event.info.sequence_number), {})
+        pair = calls.setdefault((_participant(event.info.client_gid), event.info.sequence_number), {})
         pair.setdefault(event.info.event_type, (received, event))
     paired = []
     for key, pair in calls.items():
