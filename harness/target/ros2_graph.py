@@ -6,8 +6,10 @@ What the graph states, and what follows from it:
 - a module per node; an `exec` service per action server, a `control` service per service of the
   node's own (parameter, type-description, action-internal and lifecycle services left out);
 - a node serving lifecycle_msgs `change_state` and `get_state` is managed: its five transitions
-  (configure, activate, deactivate, cleanup, shutdown) are `init` services, called on
-  `change_state` by transition id (shutdown by its label, whose id depends on the state);
+  (configure, activate, deactivate, cleanup, shutdown) are `control` services (they answer at
+  once), called on `change_state` by transition id (shutdown by its label, whose id depends on
+  the state). Not `init`: the bench takes a module's init services as set-ups that every other
+  service needs (GenoM's Init), while which transition comes when is what the properties state;
 - the arguments of a goal or request are its fields of a number or string type, with the range
   of the type; other fields (booleans, sequences, nested messages) keep their defaults;
 - the lifecycle's semantics (design article "Managed nodes") give the properties: no goal or call
@@ -38,6 +40,7 @@ FROM_STATES = {
     "deactivate": ("IN", ["activate"], ["deactivate", "shutdown"], "only from active"),
     "shutdown": ("OUT", ["shutdown"], [], "from any state but finalized"),
 }
+CHANGE_STATE = "lifecycle_msgs/srv/ChangeState"
 INFRASTRUCTURE = re.compile(r"^(rcl_interfaces|type_description_interfaces|lifecycle_msgs)/")
 INTEGERS = {f"{sign}int{bits}": (-(2 ** (bits - 1)) if sign == "" else 0, 2 ** (bits - (sign == "")) - 1)
             for sign in ("", "u") for bits in (8, 16, 32, 64)} | {"byte": (0, 255), "char": (0, 255), "octet": (0, 255)}
@@ -64,7 +67,7 @@ class NodeGraph:
     @property
     def managed(self) -> bool:
         types = {e.name: e.type for e in self.services}
-        return (types.get(f"{self.name}/change_state") == "lifecycle_msgs/srv/ChangeState"
+        return (types.get(f"{self.name}/change_state") == CHANGE_STATE
                 and types.get(f"{self.name}/get_state") == "lifecycle_msgs/srv/GetState")
 
 
@@ -82,6 +85,10 @@ class Derived:
     def qualified(self) -> str:
         return f"{self.module}.{self.name}"
 
+    @property
+    def transition(self) -> bool:
+        return self.route.get("type") == CHANGE_STATE
+
 
 @dataclass
 class Ros2Target:
@@ -91,8 +98,8 @@ class Ros2Target:
     properties: list[dict] = field(default_factory=list)  # [[property]] entries, "why" their comment
     notes: list[str] = field(default_factory=list)  # what could not be derived
 
-    def of(self, module: str, kind: str | None = None) -> list[Derived]:
-        return [s for s in self.services if s.module == module and kind in (None, s.kind)]
+    def of(self, module: str) -> list[Derived]:
+        return [s for s in self.services if s.module == module]
 
 
 def read_graph(data: dict) -> list[NodeGraph]:
@@ -170,13 +177,12 @@ def derive(command: str, data: dict) -> Ros2Target:
 
 def _transition(node: NodeGraph, module: str, name: str, number: int | None) -> Derived:
     defaults = {"transition.id": number} if number is not None else {"transition.label": name}
-    return Derived(module, name, "init", route={"service": f"{node.name}/change_state",
-                                                "type": "lifecycle_msgs/srv/ChangeState", "defaults": defaults,
-                                                "success": "success", "failure": REFUSED})
+    return Derived(module, name, "control", route={"service": f"{node.name}/change_state", "type": CHANGE_STATE,
+                                                   "defaults": defaults, "success": "success", "failure": REFUSED})
 
 
 def _properties(target: Ros2Target, node: NodeGraph, module: str) -> None:
-    served = [s.qualified for s in target.of(module) if s.kind != "init"]
+    served = [s.qualified for s in target.of(module) if not s.transition]
     if not node.managed:
         target.notes.append(f"{node.name} is not a lifecycle node (no lifecycle_msgs change_state and get_state): "
                             "no lifecycle property; add yours to properties.toml")

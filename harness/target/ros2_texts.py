@@ -27,8 +27,8 @@ def value(item) -> str:
 
 def interface_text(target: Ros2Target) -> str:
     lines = [f"# The interface of the ROS 2 node(s) started by {target.command!r}, made by `untimely init",
-             "# --from-ros2` from their graph (docs/ros2.md): a module per node; its lifecycle transitions",
-             "# are init services, its action servers exec services, its services control services; the",
+             "# --from-ros2` from their graph (docs/ros2.md): a module per node; its action servers are exec",
+             "# services, its services and lifecycle transitions (on change_state) control services; the",
              "# arguments are the goal's or request's number and string fields, within their type's range.",
              "", "[replies]"]
     lines += [f'{code} = "{cls}"  # {meaning}' for code, (cls, meaning) in REPLIES.items()]
@@ -83,7 +83,7 @@ def golden_text(target: Ros2Target) -> str:
              "# arguments (edit the values to your node's), then deactivated and shut down.", ""]
     modules = list(dict.fromkeys(s.module for s in target.services))
     steps = [f"{m}.{t}" for m in modules for t in ("configure", "activate") if _has(target, m, t)]
-    steps += [s for m in modules for s in target.of(m) if s.kind != "init"]
+    steps += [s for m in modules for s in target.of(m) if not s.transition]
     steps += [f"{m}.{t}" for m in modules for t in ("deactivate", "shutdown") if _has(target, m, t)]
     for step in steps:
         name, args = (step, "") if isinstance(step, str) else (step.qualified, "".join(
@@ -94,7 +94,7 @@ def golden_text(target: Ros2Target) -> str:
 
 
 def _has(target: Ros2Target, module: str, name: str) -> bool:
-    return any(s.name == name for s in target.of(module, "init"))
+    return any(s.name == name and s.transition for s in target.of(module))
 
 
 def properties_text_of(target: Ros2Target) -> str:
