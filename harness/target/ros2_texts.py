@@ -7,10 +7,8 @@ import json
 import shlex
 from pathlib import Path
 
-from harness.errors import UntimelyError
-from harness.files import make_folder
 from harness.target.ros2_graph import REFUSED, REPLIES, Derived, Ros2Target
-from harness.target.scaffold import WAIT_TIMEOUT_S, Draft, properties_text
+from harness.target.scaffold import WAIT_TIMEOUT_S, Draft, new_target_folder, properties_text
 
 WRITTEN = ("interface.toml", "ros2.toml", "suts.toml", "golden.mission", "properties.toml")
 HEARTBEAT_STALE_S = 2.0  # the node's executor answers get_parameters within this, or the trace hangs
@@ -111,11 +109,7 @@ def properties_text_of(target: Ros2Target) -> str:
 
 def write(folder: Path, target: Ros2Target, distros: list[str], cwd: Path) -> list[Path]:
     """Write the target folder; refuses to overwrite any file of it."""
-    existing = [name for name in WRITTEN if (folder / name).exists()]
-    if existing:
-        raise UntimelyError(f"{folder} already holds {', '.join(existing)}; `untimely init` writes a new target "
-                            "folder: give another DIR, or move those files away")
-    make_folder(folder, "the target")
+    new_target_folder(folder, WRITTEN)
     texts = {"interface.toml": interface_text(target), "ros2.toml": mapping_text(target),
              "suts.toml": suts_text(target, distros, cwd), "golden.mission": golden_text(target),
              "properties.toml": properties_text_of(target)}

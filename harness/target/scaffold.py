@@ -164,13 +164,18 @@ def golden_text(draft: Draft) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write(folder: Path, draft: Draft) -> list[Path]:
-    """Write the target folder; refuses to overwrite any file of it."""
-    existing = [name for name in WRITTEN if (folder / name).exists()]
+def new_target_folder(folder: Path, names: tuple[str, ...]) -> None:
+    """Create the folder `init` writes `names` into; refuses one that holds any of them."""
+    existing = [name for name in names if (folder / name).exists()]
     if existing:
         raise UntimelyError(f"{folder} already holds {', '.join(existing)}; `untimely init` writes a new target "
                             "folder: give another DIR, or move those files away")
     make_folder(folder, "the target")
+
+
+def write(folder: Path, draft: Draft) -> list[Path]:
+    """Write the target folder; refuses to overwrite any file of it."""
+    new_target_folder(folder, WRITTEN)
     texts = {"interface.toml": interface_text(draft), "properties.toml": properties_text(draft),
              "golden.mission": golden_text(draft)}
     for name, text in texts.items():
