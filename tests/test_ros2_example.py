@@ -42,6 +42,15 @@ def test_init_reads_the_graph_of_the_running_node(target):
     assert mission.golden().steps, "the golden mission parses against the derived interface"
 
 
+def test_a_command_that_starts_no_node_is_refused_with_its_output(tmp_path):
+    done = harness("init", str(tmp_path / "t"), "--from-ros2", "python3 examples/ros2/no_such_node.py", timeout_s=120)
+    assert done.returncode == 2
+    for words in ("--from-ros2 'python3 examples/ros2/no_such_node.py': no graph could be read on jazzy",
+                  "it exited with status 2", "can't open file", "check that it starts a node from"):
+        assert words in done.stderr
+    assert not (tmp_path / "t").exists()
+
+
 def test_a_focused_campaign_finds_rclpy_1209_on_jazzy_and_kilted_refusing(target, tmp_path):
     folder, _ = target
     db = tmp_path / "focused.duckdb"

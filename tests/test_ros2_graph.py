@@ -4,6 +4,8 @@ import copy
 
 import pytest
 
+from harness.cli import main
+
 from harness.adapters.ros.mapping import load_mapping
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface, load_properties
@@ -126,3 +128,9 @@ def test_an_existing_target_file_is_never_overwritten(written):
     folder, target = written
     with pytest.raises(UntimelyError, match="already holds interface.toml.*give another DIR"):
         write(folder, target, ["jazzy"], folder)
+
+
+def test_init_takes_one_source_only(tmp_path, capsys):
+    assert main(["init", str(tmp_path / "t"), "--from-genom", "x.gen", "--from-ros2", COMMAND]) == 2
+    assert "give --from-genom or --from-ros2, not both" in capsys.readouterr().err
+    assert not (tmp_path / "t").exists()

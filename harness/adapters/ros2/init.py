@@ -11,6 +11,7 @@ import os
 import signal
 import subprocess
 import tempfile
+import time
 from pathlib import Path
 
 from harness import ROOT
@@ -23,6 +24,7 @@ from harness.target.ros2_texts import WRITTEN, write
 SETTLE_S = 2.0  # the graph must stay unchanged this long: nodes create their servers after they appear
 GRAPH_TIMEOUT_S = 60.0
 STOP_GRACE_S = 5.0
+POLL_S = 0.1
 
 
 def read_graph(command: str, distro: str, cwd: Path) -> dict:
@@ -31,25 +33,30 @@ def read_graph(command: str, distro: str, cwd: Path) -> dict:
     with Ros2Environment(ROOT, distro, os.getpid()) as ros, tempfile.TemporaryFile("w+") as log:
         node = subprocess.Popen(["bash", "-c", f"exec {command}"], cwd=cwd, env=ros.env, stdin=subprocess.DEVNULL,
                                 stdout=log, stderr=log, start_new_session=True)
+        probe = subprocess.Popen([str(ros.python), "-m", "harness.adapters.ros2.graph", "--settle", str(SETTLE_S),
+                                  "--timeout", str(GRAPH_TIMEOUT_S)], env=ros.env, stdout=subprocess.PIPE,
+                                 stderr=subprocess.PIPE, text=True)
         try:
-            probe = subprocess.run([str(ros.python), "-m", "harness.adapters.ros2.graph", "--settle", str(SETTLE_S),
-                                    "--timeout", str(GRAPH_TIMEOUT_S)], env=ros.env, capture_output=True, text=True,
-                                   timeout=GRAPH_TIMEOUT_S + 30)
+            while probe.poll() is None and node.poll() is None:
+                time.sleep(POLL_S)
+            exited = node.poll()
         finally:
+            _stop(probe, group=False)
             _stop(node)
-        if probe.returncode != 0:
+        out, err = probe.communicate()
+        if exited is not None or probe.returncode != 0:
             log.seek(0)
-            raise UntimelyError(f"--from-ros2 {command!r}: the graph could not be read on {distro}: "
-                                f"{probe.stderr.strip()[-500:] or probe.returncode}; the command's output: "
+            why = f"it exited with status {exited}" if exited is not None else err.strip()[-500:]
+            raise UntimelyError(f"--from-ros2 {command!r}: no graph could be read on {distro}: {why}; its output: "
                                 f"{log.read().strip()[-500:] or '(none)'}; check that it starts a node from {cwd}")
-    return json.loads(probe.stdout)
+    return json.loads(out)
 
 
-def _stop(process: subprocess.Popen) -> None:
-    """SIGTERM to COMMAND's process group, SIGKILL after the grace period."""
+def _stop(process: subprocess.Popen, group: bool = True) -> None:
+    """SIGTERM to the process (COMMAND: its process group), SIGKILL after the grace period."""
     for sig, wait in ((signal.SIGTERM, STOP_GRACE_S), (signal.SIGKILL, None)):
         try:
-            os.killpg(process.pid, sig)
+            os.killpg(process.pid, sig) if group else process.send_signal(sig)
         except ProcessLookupError:
             pass
         try:
