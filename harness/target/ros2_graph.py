@@ -102,11 +102,12 @@ class Ros2Target:
         return [s for s in self.services if s.module == module]
 
 
-def read_graph(data: dict) -> list[NodeGraph]:
+def graph_nodes(data: dict) -> list[NodeGraph]:
     """The graph's JSON (harness/adapters/ros2/graph.py) as nodes; refuses one without a node."""
+    def endpoints(entries) -> tuple[Endpoint, ...]:
+        return tuple(Endpoint(e["name"], e["type"], e["fields"], e.get("response")) for e in entries)
     try:
-        nodes = [NodeGraph(n["name"], *(tuple(Endpoint(e["name"], e["type"], e["fields"], e.get("response")) for e in n[key])
-                                        for key in ("services", "actions"))) for n in data["nodes"]]
+        nodes = [NodeGraph(n["name"], endpoints(n["services"]), endpoints(n["actions"])) for n in data["nodes"]]
     except (KeyError, TypeError) as e:
         raise UntimelyError(f"the ROS 2 graph read is malformed ({e!r}): {str(data)[:200]}") from None
     if not nodes:
@@ -152,7 +153,7 @@ def arguments(endpoint: Endpoint, notes: list[str]) -> tuple[tuple[Argument, ...
 
 def derive(command: str, data: dict) -> Ros2Target:
     """The target of the graph `data` that `command` brought up."""
-    target = Ros2Target(command, read_graph(data))
+    target = Ros2Target(command, graph_nodes(data))
     for node in target.nodes:
         module = identifier(node.name)
         if node.managed:
