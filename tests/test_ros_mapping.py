@@ -135,3 +135,29 @@ def test_a_recorded_bag_holds_every_action_topic_and_the_json_topics(interface):
     assert {"/move_base/goal", "/move_base/result", "/dala/ndd/feedback", "/dala/ndd/status", "/dala/ndd/cancel",
             "/dala/internal", "/dala/pong"} <= set(topics)
     assert not [t for t in topics if "init" in t]  # the Init ROS services: no topics to record
+
+
+def test_ros2_exec_services_are_actions_the_others_services(interface):
+    """ros2.toml: an action server per exec service, a ROS 2 service (untimely_msgs/srv/Call, its
+    response's `code` the reply) per control and init service; the node to probe and drive."""
+    mapping = load_mapping(DEFAULT_MISSION_DIR / "ros2.toml")
+    kinds = {q: s.kind for q, s in interface.services.items()}
+    routes = mapping.routes([(s.module, s.name) for s in interface.services.values()], kinds)
+    assert {q: (r.kind, r.name) for q, r in routes.items() if q.startswith("ndd.")} == {
+        "ndd.Init": ("service", "/dala/ndd/Init"), "ndd.SetParams": ("service", "/dala/ndd/SetParams"),
+        "ndd.GotoPosition": ("action", "/dala/ndd/GotoPosition"), "ndd.Stop": ("action", "/dala/ndd/Stop")}
+    assert {r.type for q, r in routes.items() if kinds[q] == "exec"} == {"untimely_msgs/Request"}
+    assert {(r.type, r.code) for q, r in routes.items() if kinds[q] != "exec"} == {("untimely_msgs/Call", "code")}
+    assert (mapping.node, mapping.lifecycle) == ("/dala", True)
+    assert mapping.final_code("CANCELED", ("",), interface.replies) == "interrupted"
+
+
+@pytest.mark.parametrize("text, message", [
+    ('lifecycle = true', "lifecycle = true needs node"),
+    ('node = "dala"', "node = 'dala'"),
+    ('service = "/x/{unit}"', "service = '/x/{unit}' may only use {module} and {service}"),
+])
+def test_a_bad_ros2_mapping_is_named_with_its_value(tmp_path, text, message):
+    with pytest.raises(InputFileError, match="ros.toml") as refused:
+        load_mapping(write(tmp_path, text))
+    assert message in str(refused.value)

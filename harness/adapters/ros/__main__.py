@@ -17,10 +17,9 @@ import argparse
 import json
 import os
 import shutil
-import signal
 import sys
 
-from harness.adapters.ros.lines import LineWriter, read_hello, serve
+from harness.adapters.ros.lines import LineWriter, read_hello, run_main, serve
 from harness.adapters.ros.mapping import interface_services, load_mapping
 from harness.adapters.ros.processes import Child, ros_home, start_master, stop_all
 from harness.adapters.ros.recorder import (recorded_topics, recording_folder, start_recorder, stop_recorder,
@@ -107,14 +106,7 @@ def main(argv: list[str] | None = None) -> int:
                         help="seconds for the master and every action server to come up (default 60)")
     parser.add_argument("node", nargs="+", help="the SUT node's command, after --")
     args = parser.parse_args(argv)
-    out = LineWriter(sys.stdout)
-    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # tear down as on bye
-    try:
-        run(args, out)
-    except UntimelyError as e:
-        out.write({"op": "error", "message": str(e)})
-        return 2
-    return 0
+    return run_main(run, args)
 
 
 if __name__ == "__main__":

@@ -83,6 +83,10 @@ class Bridge:
     def publish_ping(self, data: str) -> None:
         raise NotImplementedError
 
+    def ping_done(self, ping_id: int) -> bool:
+        """Whatever else a ping waits for besides its echo (an adapter's own round trip)."""
+        return True
+
     def alive(self) -> bool:
         """The middleware's evidence that the SUT still serves (each adapter's own)."""
         raise NotImplementedError
@@ -98,7 +102,7 @@ class Bridge:
         """Pong the pings echoed (if there is a ping topic), while the SUT is alive; the start-up
         ping (id 0) is the launcher's, never the bench's."""
         if self.alive():
-            for ping_id in [p for p, echoed in self.pending_pings.items() if echoed and p != 0]:
+            for ping_id in [p for p, echoed in self.pending_pings.items() if echoed and p != 0 and self.ping_done(p)]:
                 del self.pending_pings[ping_id]
                 self.write({"op": "pong", "id": ping_id})
 

@@ -26,7 +26,6 @@ so the launcher can serve run after run on this node.
 """
 from __future__ import annotations
 
-import argparse
 import itertools
 import json
 import os
@@ -42,8 +41,8 @@ from actionlib_msgs.msg import GoalStatus
 from std_msgs.msg import String
 from std_srvs.srv import Trigger, TriggerResponse
 
-from harness import DEFAULT_MISSION_DIR
 from harness.adapters.ros.mapping import load_mapping
+from harness.adapters.ros.node_args import dala_arguments
 from harness.adapters.ros.messages import action_classes, service_class
 from harness.adapters.ros.routes import Route, read_field
 from harness.errors import UntimelyError
@@ -256,22 +255,13 @@ class DalaNode:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="dala_node", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--variant", required=True,
-                        help="a variant of the mission folder's layer.toml "
-                             "(Dala: genom, bip-a, bip-b, bare, reference)")
-    parser.add_argument("--time-scale", type=float, default=float(os.environ.get("UNTIMELY_TIME_SCALE", "1")),
-                        help="mission seconds per wall second (default: $UNTIMELY_TIME_SCALE, else 1)")
-    parser.add_argument("--mission", type=Path, default=DEFAULT_MISSION_DIR,
-                        help="folder of interface.toml, world.toml and ros.toml")
-    parser.add_argument("--mapping", type=Path, help="the mapping file (default: the mission folder's ros.toml)")
-    args = parser.parse_args(argv)
+    args = dala_arguments(argv, __doc__.split("\n\n")[0], "ros.toml")
     stopped = threading.Event()
     for signum in (signal.SIGTERM, signal.SIGINT):
         signal.signal(signum, lambda *_: stopped.set())
     rospy.init_node("dala", disable_rosout=True, disable_signals=True)
     try:
-        node = DalaNode(args.variant, args.mission, args.mapping or args.mission / "ros.toml", args.time_scale)
+        node = DalaNode(args.variant, args.mission, args.mapping, args.time_scale)
     except (UntimelyError, ValueError) as e:
         print(f"dala_node: {e}", file=sys.stderr, flush=True)
         return 2

@@ -3,6 +3,8 @@ lines out from any thread, the bench's messages in, and the hello that starts ea
 from __future__ import annotations
 
 import json
+import signal
+import sys
 import threading
 
 from harness.errors import UntimelyError
@@ -54,3 +56,16 @@ def read_hello(stream, first: dict | None = None) -> dict | None:
     if first and (hello["time_scale"], hello["interface"]) != (first["time_scale"], first["interface"]):
         raise UntimelyError("the bench reused this adapter for another time scale or interface; start one for it")
     return hello
+
+
+def run_main(run, args) -> int:
+    """A launcher's life on stdio: `run(args, out)` until it returns or SIGTERM comes (torn down as on
+    bye); its UntimelyError is an `error` line and exit status 2."""
+    out = LineWriter(sys.stdout)
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+    try:
+        run(args, out)
+    except UntimelyError as e:
+        out.write({"op": "error", "message": str(e)})
+        return 2
+    return 0

@@ -18,11 +18,15 @@ Liveness: the node's executor serves `/dala/get_parameters`, which the adapter p
 echoes the adapter's pings (ping_topic -> pong_topic) once the layer answers them, never while a
 module is deadlocked, and only once each of its topics has its subscriber.
 
+Ground truth: each reply of the layer is published on internal_topic, a goal's named by its UUID,
+a call's as "SERVICE#n" (the n-th call of that service since the layer was made). Introspection:
+its services publish their events (with contents) from Jazzy on, its action servers from Kilted on,
+so the adapter can relay `taken` replies and a recorder can name every request.
+
     python -m harness.adapters.ros2.dala_node --variant reference [--mission DIR] [--mapping FILE]
 """
 from __future__ import annotations
 
-import argparse
 import itertools
 import json
 import os
@@ -40,8 +44,8 @@ from rclpy.service_introspection import ServiceIntrospectionState
 from rclpy.task import Future
 from std_msgs.msg import String
 
-from harness import DEFAULT_MISSION_DIR
 from harness.adapters.ros.mapping import load_mapping
+from harness.adapters.ros.node_args import dala_arguments
 from harness.adapters.ros.routes import Route, read_field
 from harness.adapters.ros2.types import route_class
 from harness.errors import UntimelyError
@@ -107,12 +111,13 @@ class DalaNode(LifecycleNode):
                     server.configure_introspection(self.get_clock(), QOS, ServiceIntrospectionState.CONTENTS)
             else:
                 service = self.create_service(kind, route.name, self._serve_for(qualified, route), callback_group=group)
-                service.configure_introspection(self.get_clock(), QOS, ServiceIntrospectionState.METADATA)
+                service.configure_introspection(self.get_clock(), QOS, ServiceIntrospectionState.CONTENTS)
         if self.mapping.ping_topic:
             self.create_subscription(String, self.mapping.ping_topic, self._ping, QOS, callback_group=group)
 
     # -- lifecycle -----------------------------------------------------------------------------
     def on_configure(self, state) -> TransitionCallbackReturn:
+        self.calls: dict[str, int] = {}  # service -> calls received since the layer was made
         self.host = LayerHost(self.variant, self.interface, self.world_file, self.time_scale,
                               on_world=self._world, on_error=self._failed)
         return TransitionCallbackReturn.SUCCESS
@@ -163,7 +168,10 @@ class DalaNode(LifecycleNode):
             if not self.active or args is None:
                 code = "inactive" if not self.active else f"{route.name} cannot read {request}"
             else:
-                ending = Ending(self.executor, "")
+                # A call carries no id: the n-th call of a service (one client, in order) is named
+                # "SERVICE#n" in the ground truth, as the adapter names the n-th it made.
+                self.calls[route.name] = self.calls.get(route.name, 0) + 1
+                ending = Ending(self.executor, f"{route.name}#{self.calls[route.name]}")
                 self._request(qualified, args, ending)
                 code = await ending.ended
             if route.code or route.generic:
@@ -220,18 +228,10 @@ class DalaNode(LifecycleNode):
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="dala_node", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--variant", required=True, help="a variant of the mission folder's layer.toml "
-                                                         "(Dala: genom, bip-a, bip-b, bare, reference)")
-    parser.add_argument("--time-scale", type=float, default=float(os.environ.get("UNTIMELY_TIME_SCALE", "1")),
-                        help="mission seconds per wall second (default: $UNTIMELY_TIME_SCALE, else 1)")
-    parser.add_argument("--mission", type=Path, default=DEFAULT_MISSION_DIR,
-                        help="folder of interface.toml, world.toml and ros2.toml")
-    parser.add_argument("--mapping", type=Path, help="the mapping file (default: the mission folder's ros2.toml)")
-    args = parser.parse_args(argv)
+    args = dala_arguments(argv, __doc__.split("\n\n")[0], "ros2.toml")
     rclpy.init()
     try:
-        node = DalaNode(args.variant, args.mission, args.mapping or args.mission / "ros2.toml", args.time_scale)
+        node = DalaNode(args.variant, args.mission, args.mapping, args.time_scale)
     except (UntimelyError, ValueError) as e:
         print(f"dala_node: {e}", file=sys.stderr, flush=True)
         return 2

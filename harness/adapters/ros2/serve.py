@@ -13,14 +13,12 @@ from __future__ import annotations
 
 import argparse
 import os
-import signal
 import sys
 import time
 
-from harness.adapters.ros.lines import LineWriter, read_hello, serve
+from harness.adapters.ros.lines import LineWriter, read_hello, run_main, serve
 from harness.adapters.ros.mapping import load_mapping
 from harness.adapters.ros.processes import Child, stop_all
-from harness.errors import UntimelyError
 from harness.run.external.protocol import PROTO
 
 
@@ -68,14 +66,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--startup-timeout", type=float, default=60.0)
     parser.add_argument("node", nargs="+", help="the SUT node's command, after --")
     args = parser.parse_args(argv)
-    out = LineWriter(sys.stdout)
-    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # tear down as on bye
-    try:
-        run(args, out)
-    except UntimelyError as e:
-        out.write({"op": "error", "message": str(e)})
-        return 2
-    return 0
+    return run_main(run, args)
 
 
 if __name__ == "__main__":
