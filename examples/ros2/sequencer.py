@@ -3,7 +3,7 @@
 /sequencer computes number sequences on request:
 - action ~/fibonacci (test_msgs/action/Fibonacci): the first `order` Fibonacci numbers, one per
   step, each step sent as feedback;
-- action ~/countdown (test_msgs/action/Fibonacci): counts down from `order` to 0, one per step;
+- action ~/countdown (test_msgs/action/Fibonacci): `order` numbers counting down from `order`, one per step;
 - service ~/reset (std_srvs/srv/Trigger): forgets how many sequences were computed;
 - service ~/calibrate (std_srvs/srv/Trigger): measures the step time again;
 - service ~/status (std_srvs/srv/Trigger): says how many sequences were computed.
