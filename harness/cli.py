@@ -141,12 +141,14 @@ def _parser() -> argparse.ArgumentParser:
                                         "shards' last analysis, else the campaign mission's)")
 
     c = command("init", "write a target folder that runs: interface, properties, golden mission, "
-                "suts.toml and a standard-library adapter", "harness.target.scaffold:main")
+                "suts.toml and a standard-library adapter", "harness.adapters.ros2.init:main")
     c.add_argument("dir", help="the folder to write (created; existing files are never overwritten)")
     c.add_argument("--from-genom", metavar="FILE.gen", help="derive the interface and properties from a "
                    "GenoM3 component description")
     c.add_argument("--include", "-I", action="append", default=[], metavar="DIR",
                    help="with --from-genom: a folder #include searches, after the .gen file's own (repeatable)")
+    c.add_argument("--from-ros2", metavar="COMMAND", help="derive the whole target (interface, ROS 2 mapping, SUTs "
+                   "per installed distro, golden mission, properties) from the ROS 2 graph COMMAND brings up")
 
     c = command("shrink", "reduce a bad trace's script to the smallest one showing the same bad behaviour",
                 "harness.campaign.shrink:main")

@@ -14,7 +14,8 @@ PC_CELLS = {(c, v) for c in (True, False) for v in ("op", "omega")} | {
 EE_CELLS = PC_CELLS | {(False, "na"), (None, "op")}
 MX_CELLS = {(True, "TN"), (True, "FP"), (False, "FN"), (False, "TP"), (False, "na"), (False, "omega")}
 CELLS = {"PC": PC_CELLS, "ES": PC_CELLS | {(False, "na")}, "EE": EE_CELLS, "EX": EE_CELLS,
-         "MX_R": MX_CELLS | {(True, "omega")}, "MX_I": MX_CELLS, "VAL": PC_CELLS | {(False, "na")}}
+         "MX_R": MX_CELLS | {(True, "omega")}, "MX_I": MX_CELLS, "VAL": PC_CELLS | {(False, "na")},
+         "IN": PC_CELLS | {(None, "op")}, "OUT": PC_CELLS | {(None, "op")}}
 
 
 @functools.cache

@@ -38,9 +38,10 @@ def example() -> Draft:
     return draft
 
 
-def _refuse_existing(folder: Path) -> None:
-    """Never write over a file of the folder, nor through a link there (even one to nothing)."""
-    existing = [name for name in WRITTEN if os.path.lexists(folder / name)]
+def new_target_folder(folder: Path, names: tuple[str, ...]) -> None:
+    """Create the folder `init` writes `names` into; never over a file of it, nor through a link there
+    (even one to nothing)."""
+    existing = [name for name in names if os.path.lexists(folder / name)]
     links = [f"{name} (a link to {os.readlink(folder / name)})" for name in existing if (folder / name).is_symlink()]
     if links:
         raise UntimelyError(f"{folder} holds {', '.join(links)}; `untimely init` writes new files and never "
@@ -48,29 +49,35 @@ def _refuse_existing(folder: Path) -> None:
     if existing:
         raise UntimelyError(f"{folder} already holds {', '.join(existing)}; `untimely init` writes a new target "
                             "folder: give another DIR, or move those files away")
-
-
-def write(folder: Path, draft: Draft) -> list[Path]:
-    """Write the target folder, all files or none; refuses to overwrite any file of it."""
-    _refuse_existing(folder)
     make_folder(folder, "the target")
-    texts = {"interface.toml": interface_text(draft), "properties.toml": properties_text(draft),
-             "golden.mission": golden_text(draft), "standin.toml": standin_text(draft)}
+
+
+def write_all_or_none(folder: Path, texts: dict[str, str], copies: dict[str, Path]) -> list[Path]:
+    """Write a new target folder's files (texts, and copies of the given files), all of them or none."""
+    names = tuple(texts) + tuple(copies)
+    new_target_folder(folder, names)
     try:
         with tempfile.TemporaryDirectory(prefix=".untimely-init-", dir=folder) as scratch:
             for name, text in texts.items():
                 Path(scratch, name).write_text(text)
-            for name in ("suts.toml", "adapter.py"):
-                shutil.copyfile(SKELETON / name, Path(scratch, name))
-            for name in WRITTEN:
+            for name, source in copies.items():
+                shutil.copyfile(source, Path(scratch, name))
+            for name in names:
                 os.replace(Path(scratch, name), folder / name)  # a link put there meanwhile is replaced, not followed
     except OSError as e:
-        for name in WRITTEN:  # a move that failed half-way: take back what it moved
+        for name in names:  # a move that failed half-way: take back what it moved
             if (folder / name).is_file() and not (folder / name).is_symlink():
                 (folder / name).unlink()
         raise UntimelyError(f"cannot write the target {folder}/: {e.strerror or e}; nothing was written: pass a "
                             "writable place with free space") from None
-    return [folder / name for name in WRITTEN]
+    return [folder / name for name in names]
+
+
+def write(folder: Path, draft: Draft) -> list[Path]:
+    """Write the target folder, all files or none; refuses to overwrite any file of it."""
+    texts = {"interface.toml": interface_text(draft), "properties.toml": properties_text(draft),
+             "golden.mission": golden_text(draft), "standin.toml": standin_text(draft)}
+    return write_all_or_none(folder, texts, {name: SKELETON / name for name in ("suts.toml", "adapter.py")})
 
 
 def main(args) -> int:

@@ -72,7 +72,8 @@ class Mapping:
                 raise UntimelyError(f"{self.path}: no action for {qualified}; add it under [services], "
                                     "or make `action` a template with {module}")
             clash = next((other for other, known in routes.items() if known.name == route.name and not (
-                route.generic and known.generic and other.split(".")[1] != service)), None)
+                route.generic and known.generic and other.split(".")[1] != service) and not _told_apart(route, known)),
+                None)
             if clash:
                 raise UntimelyError(f"{self.path}: {clash} and {qualified} both map to {route.name}, where a goal "
                                     "or call could not tell them apart; give one of them another name")
@@ -91,6 +92,12 @@ class Mapping:
                     return text
         return self.status_codes[status]
 
+
+
+def _told_apart(route: Route, other: Route) -> bool:
+    """Two calls of one typed service whose fixed request fields differ (a lifecycle node's
+    transitions on its change_state, each its own transition id) can be told apart."""
+    return route.kind == other.kind == "service" and route.type == other.type and route.defaults != other.defaults
 
 
 def interface_services(interface: dict) -> list[tuple[str, str]]:

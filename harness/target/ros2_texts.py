@@ -1,0 +1,116 @@
+"""The files of a target derived from a ROS 2 graph (harness/target/ros2_graph.py): interface.toml,
+ros2.toml (the ROS 2 adapter's mapping, docs/ros2.md), suts.toml (one SUT per installed distro),
+golden.mission and properties.toml, each commented with where it comes from."""
+from __future__ import annotations
+
+import json
+import shlex
+from pathlib import Path
+
+from harness.target.ros2_graph import REFUSED, REPLIES, Derived, Ros2Target
+from harness.target.draft import WAIT_TIMEOUT_S, Draft, properties_text
+from harness.target.scaffold import write_all_or_none
+
+WRITTEN = ("interface.toml", "ros2.toml", "suts.toml", "golden.mission", "properties.toml")
+HEARTBEAT_STALE_S = 2.0  # the node's executor answers get_parameters within this, or the trace hangs
+
+
+def value(item) -> str:
+    """A TOML value: JSON's strings, numbers and booleans are TOML's; tables become inline tables."""
+    if isinstance(item, dict):
+        return "{ " + ", ".join(f"{json.dumps(k)} = {value(v)}" for k, v in item.items()) + " }" if item else "{}"
+    if isinstance(item, (list, tuple)):
+        return "[" + ", ".join(value(v) for v in item) + "]"
+    return json.dumps(item)
+
+
+def interface_text(target: Ros2Target) -> str:
+    lines = [f"# The interface of the ROS 2 node(s) started by {target.command!r}, made by `untimely init",
+             "# --from-ros2` from their graph (docs/ros2.md): a module per node; its action servers are exec",
+             "# services, its services and lifecycle transitions (on change_state) control services; the",
+             "# arguments are the goal's or request's number and string fields, within their type's range.",
+             "", "[replies]"]
+    lines += [f'{code} = "{cls}"  # {meaning}' for code, (cls, meaning) in REPLIES.items()]
+    for module in dict.fromkeys(s.module for s in target.services):
+        lines += ["", f"[modules.{module}]"]
+        for s in target.of(module):
+            args = {a.name: {k: v for k, v in (("type", a.type), ("min", a.min), ("max", a.max)) if v is not None}
+                    for a in s.args}
+            lines.append(f"services.{s.name} = {value({'kind': s.kind, **({'args': args} if args else {})})}")
+    return "\n".join(lines) + "\n"
+
+
+def mapping_text(target: Ros2Target) -> str:
+    node = next((n for n in target.nodes if n.managed), target.nodes[0])
+    lines = ["# How the interface reaches ROS 2 (docs/ros2.md), made by `untimely init --from-ros2`.",
+             "# Each service has its route: an action server, a service, or a lifecycle transition called on",
+             "# change_state. The mission drives the lifecycle itself (lifecycle = false): the adapter neither",
+             "# brings the node up nor resets it, so every run starts the node afresh.",
+             f"node = {value(node.name)}  # its executor must answer get_parameters, else the trace hangs",
+             "lifecycle = false", f"heartbeat_stale_s = {HEARTBEAT_STALE_S}", "",
+             f"[status_codes]  # a goal's end: SUCCEEDED is ok; a rejected goal is {REFUSED}",
+             f'ABORTED = "aborted"', f'CANCELED = "canceled"', f'REJECTED = "{REFUSED}"']
+    lines += [line for s in target.services for line in ("", f'[services."{s.qualified}"]', *_route(s))]
+    return "\n".join(lines) + "\n"
+
+
+def _route(service: Derived) -> list[str]:
+    return [f"{key} = {value(item)}" for key, item in service.route.items() if item or key != "fields"]
+
+
+def suts_text(target: Ros2Target, distros: list[str], cwd: Path) -> str:
+    """One SUT per distro: COMMAND run from `cwd` in the distro's environment (its python3 first on PATH)."""
+    node = shlex.join(["bash", "-c", f"cd {shlex.quote(str(cwd))} && exec {target.command}"])
+    lines = ["# The node(s) on each installed ROS 2 distro (docs/reference/suts.md): `--sut NAME`. The adapter",
+             "# starts the command below in the distro's environment, as sourcing its setup.bash would (its",
+             "# python3 first on PATH), in a ROS 2 domain of its own confined to this machine."]
+    for distro in distros:
+        command = f"{{python}} -m harness.adapters.ros2 --distro {distro} --mapping {{mission}}/ros2.toml -- {node}"
+        lines += ["", f"[{_sut_name(target)}-{distro}]", f"command = {value(command)}",
+                  "slots = 2", "time_scale = 1.0", "startup_s = 90.0", "probe_timeout_s = 5.0"]
+    return "\n".join(lines) + "\n"
+
+
+def _sut_name(target: Ros2Target) -> str:
+    return "-".join(dict.fromkeys(s.module for s in target.services)).replace("_", "-") or "ros2"
+
+
+def golden_text(target: Ros2Target) -> str:
+    """Bring-up in a valid order, each action and service once, then deactivate and shutdown."""
+    lines = ["# The golden mission (docs/reference/mission-language.md), made by `untimely init --from-ros2`:",
+             "# each node configured and activated, every action and service once with well-formed",
+             "# arguments (edit the values to your node's), then deactivated and shut down.", ""]
+    modules = list(dict.fromkeys(s.module for s in target.services))
+    steps = [f"{m}.{t}" for m in modules for t in ("configure", "activate") if _has(target, m, t)]
+    steps += [s for m in modules for s in target.of(m) if not s.transition]
+    steps += [f"{m}.{t}" for m in modules for t in ("deactivate", "shutdown") if _has(target, m, t)]
+    for step in steps:
+        name, args = (step, "") if isinstance(step, str) else (step.qualified, "".join(
+            f" {k}={v}" for k, v in step.golden.items()))
+        handle = name.replace(".", "_")
+        lines += [f"send {name}{args} as {handle}", f"wait {handle} timeout={WAIT_TIMEOUT_S}"]
+    return "\n".join(lines) + "\n"
+
+
+def _has(target: Ros2Target, module: str, name: str) -> bool:
+    return any(s.name == name and s.transition for s in target.of(module))
+
+
+def properties_text_of(target: Ros2Target) -> str:
+    text = properties_text(Draft(f"the ROS 2 graph of {target.command!r}", {}, target.properties))
+    actions = [s.qualified for s in target.services if s.kind == "exec"]
+    lines = ["", "# Actions: what a goal does to a running goal of the same server (queue, preempt, run both or",
+             "# reject) cannot be told from the graph or one golden run. ROS 2 lets the server choose; if yours",
+             "# preempts (the running goal ends canceled when a new one comes), uncomment its property:"]
+    for action in actions:
+        lines += ["#", "# [[property]]", f'# id = "PREEMPT({action})"', '# family = "PREEMPT"', '# type = "EE"',
+                  f"# x = {value([action])}", f"# y = {value([action])}", '# z_p = "canceled"']
+    return text + ("\n".join(lines) + "\n" if actions else "")
+
+
+def write(folder: Path, target: Ros2Target, distros: list[str], cwd: Path) -> list[Path]:
+    """Write the target folder, all files or none; refuses to overwrite any file of it."""
+    texts = {"interface.toml": interface_text(target), "ros2.toml": mapping_text(target),
+             "suts.toml": suts_text(target, distros, cwd), "golden.mission": golden_text(target),
+             "properties.toml": properties_text_of(target)}
+    return write_all_or_none(folder, texts, {})

@@ -1,0 +1,136 @@
+"""The target derived from a ROS 2 graph (harness/target/ros2_graph.py, ros2_texts.py), without ROS:
+the graph is the JSON harness/adapters/ros2/graph.py prints, written here by hand."""
+import copy
+
+import pytest
+
+from harness.cli import main
+
+from harness.adapters.ros.mapping import load_mapping
+from harness.errors import UntimelyError
+from harness.target.interface import load_interface, load_properties
+from harness.target.ros2_graph import derive
+from harness.target.ros2_texts import write
+from harness.target.script import load_script
+
+TRIGGER = {"success": "boolean", "message": "string"}
+
+
+def endpoint(name, type_, fields=None, response=None):
+    return {"name": name, "type": type_, "fields": {} if fields is None else fields, "response": response}
+
+
+# The example's graph as graph.py reads it, infrastructure included (what the derivation leaves out)
+GRAPH = {"nodes": [{"name": "/sequencer", "actions": [
+    endpoint("/sequencer/countdown", "test_msgs/action/Fibonacci", {"order": "int32"}),
+    endpoint("/sequencer/fibonacci", "test_msgs/action/Fibonacci", {"order": "int32"})], "services": [
+    endpoint("/sequencer/calibrate", "std_srvs/srv/Trigger", {}, TRIGGER),
+    endpoint("/sequencer/change_state", "lifecycle_msgs/srv/ChangeState", {"transition": "lifecycle_msgs/Transition"}),
+    endpoint("/sequencer/fibonacci/_action/cancel_goal", "action_msgs/srv/CancelGoal", {"goal_info": "x/GoalInfo"}),
+    endpoint("/sequencer/fibonacci/_action/send_goal", "test_msgs/action/Fibonacci_SendGoal", None),
+    endpoint("/sequencer/get_parameters", "rcl_interfaces/srv/GetParameters", {"names": "sequence<string>"}),
+    endpoint("/sequencer/get_state", "lifecycle_msgs/srv/GetState"),
+    endpoint("/sequencer/get_type_description", "type_description_interfaces/srv/GetTypeDescription"),
+    endpoint("/sequencer/reset", "std_srvs/srv/Trigger", {}, TRIGGER),
+    endpoint("/sequencer/status", "std_srvs/srv/Trigger", {}, TRIGGER)]}]}
+COMMAND = "python3 examples/ros2/sequencer.py"
+
+
+@pytest.fixture
+def written(tmp_path):
+    target = derive(COMMAND, GRAPH)
+    write(tmp_path / "t", target, ["jazzy", "kilted"], tmp_path)
+    return tmp_path / "t", target
+
+
+def test_the_written_target_loads_and_its_golden_mission_uses_every_service(written):
+    folder, target = written
+    interface = load_interface(folder / "interface.toml")
+    assert {name: s.kind for name, s in interface.services.items()} == {
+        **{f"sequencer.{t}": "control" for t in ("configure", "cleanup", "activate", "deactivate", "shutdown")},
+        "sequencer.countdown": "exec", "sequencer.fibonacci": "exec",
+        "sequencer.calibrate": "control", "sequencer.reset": "control", "sequencer.status": "control"}
+    order = interface.services["sequencer.fibonacci"].args["order"]
+    assert (order.type, order.min, order.max) == ("float", -2 ** 31, 2 ** 31 - 1)  # int32's range
+    golden = load_script(folder / "golden.mission", interface)
+    sent = [step.service for step in golden.steps if step.op == "send"]
+    assert sent[:2] == ["sequencer.configure", "sequencer.activate"]
+    assert sent[-2:] == ["sequencer.deactivate", "sequencer.shutdown"]
+    assert set(sent) == set(interface.services) - {"sequencer.cleanup"}
+    assert [step.args for step in golden.steps if step.service == "sequencer.fibonacci"] == [(("order", "3"),)]
+
+
+def test_the_mapping_routes_every_service_and_tells_the_transitions_apart(written):
+    folder, _ = written
+    interface = load_interface(folder / "interface.toml")
+    mapping = load_mapping(folder / "ros2.toml")
+    routes = mapping.routes([(s.module, s.name) for s in interface.services.values()])
+    assert routes["sequencer.activate"].name == routes["sequencer.configure"].name == "/sequencer/change_state"
+    assert routes["sequencer.activate"].defaults == {"transition.id": 3}
+    assert routes["sequencer.shutdown"].defaults == {"transition.label": "shutdown"}
+    assert (routes["sequencer.fibonacci"].kind, routes["sequencer.fibonacci"].fields) == ("action", {"order": "order"})
+    assert (routes["sequencer.reset"].success, routes["sequencer.reset"].failure) == ("success", "refused")
+    assert (mapping.node, mapping.lifecycle, mapping.status_codes["REJECTED"]) == ("/sequencer", False, "refused")
+
+
+def test_the_properties_state_the_lifecycle_rules(written):
+    folder, _ = written
+    interface = load_interface(folder / "interface.toml")
+    properties = {p.id: p for p in load_properties(folder / "properties.toml", interface)}
+    active = properties["ACTIVE(sequencer)"]
+    assert (active.type, active.q, active.y, active.r_p) == (
+        "IN", ("sequencer.activate",), ("sequencer.deactivate", "sequencer.shutdown"), "refused")
+    assert set(active.x) == {"sequencer.countdown", "sequencer.fibonacci", "sequencer.calibrate",
+                             "sequencer.reset", "sequencer.status"}
+    assert {(i, p.type) for i, p in properties.items() if p.family == "TRANSITION"} == {
+        ("TRANSITION(sequencer.configure)", "OUT"), ("TRANSITION(sequencer.activate)", "IN"),
+        ("TRANSITION(sequencer.cleanup)", "IN"), ("TRANSITION(sequencer.deactivate)", "IN"),
+        ("TRANSITION(sequencer.shutdown)", "OUT")}
+    text = (folder / "properties.toml").read_text()
+    assert "# [[property]]\n# id = \"PREEMPT(sequencer.fibonacci)\"" in text, "preemption: a commented choice"
+    assert "lifecycle: activate is valid only from inactive" in text
+
+
+def test_one_sut_per_distro_runs_the_command_in_the_distros_environment(written, tmp_path):
+    folder, _ = written
+    text = (folder / "suts.toml").read_text()
+    assert "[sequencer-jazzy]" in text and "[sequencer-kilted]" in text
+    assert f"--distro kilted --mapping {{mission}}/ros2.toml -- bash -c 'cd {tmp_path} && exec {COMMAND}'" in text
+
+
+def test_what_cannot_be_derived_is_said():
+    graph = copy.deepcopy(GRAPH)
+    node = graph["nodes"][0]
+    node["services"] = [s for s in node["services"] if "lifecycle" not in s["type"]]
+    node["actions"][0]["fields"] = {"order": "int32", "fast": "boolean", "path": "sequence<double>"}
+    node["actions"][1]["fields"] = None
+    target = derive(COMMAND, graph)
+    assert not target.properties
+    notes = "\n".join(target.notes)
+    for words in ("/sequencer is not a lifecycle node", "field fast (boolean) is no argument",
+                  "field path (sequence<double>) is no argument",
+                  "/sequencer/fibonacci: its type test_msgs/action/Fibonacci could not be imported"):
+        assert words in notes
+
+
+def test_an_empty_or_malformed_graph_or_a_name_clash_is_refused(tmp_path):
+    with pytest.raises(UntimelyError, match="started no ROS 2 node; check that it runs a node"):
+        derive(COMMAND, {"nodes": []})
+    with pytest.raises(UntimelyError, match="the ROS 2 graph read is malformed"):
+        derive(COMMAND, {"nodes": [{"name": "/a"}]})
+    clash = copy.deepcopy(GRAPH)
+    clash["nodes"][0]["services"].append(endpoint("/status", "std_srvs/srv/Trigger", {}, TRIGGER))
+    with pytest.raises(UntimelyError, match="/status and /sequencer/status both become sequencer.status; rename"):
+        derive(COMMAND, clash)
+
+
+def test_an_existing_target_file_is_never_overwritten(written):
+    folder, target = written
+    with pytest.raises(UntimelyError, match="already holds interface.toml.*give another DIR"):
+        write(folder, target, ["jazzy"], folder)
+
+
+def test_init_takes_one_source_only(tmp_path, capsys):
+    assert main(["init", str(tmp_path / "t"), "--from-genom", "x.gen", "--from-ros2", COMMAND]) == 2
+    assert "give --from-genom or --from-ros2, not both" in capsys.readouterr().err
+    assert not (tmp_path / "t").exists()
