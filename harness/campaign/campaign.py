@@ -60,7 +60,7 @@ def run_seed(campaign_seed: int, script_number: int, sut: str) -> int:
 
 def _tasks(scripts: list[tuple[int, str]], golden_id: int, config: dict) -> list[Task]:
     n = len(config["sut"])
-    return [Task((script_id - 1) * n + v + 1, script_id, sut,
+    return [Task(sharding.trace_id(script_id, v, n), script_id, sut,
                  run_seed(config["seed"], script_id - golden_id, sut), body)
             for script_id, body in scripts for v, sut in enumerate(config["sut"])]
 
