@@ -13,6 +13,7 @@ file beside it gives each trace its sut and outcome, so hung and crashed traces 
 from __future__ import annotations
 
 import json
+from collections import Counter
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -126,6 +127,10 @@ def with_exported_traces(path: Path, events: pa.Table) -> pa.Table:
         raise StoreError(f"cannot read {str(traces)!r}, the traces of the export {str(path)!r}: {e}") from None
     finally:
         con.close()
+    twice = [t for t, n in Counter(known.column("trace_id").to_pylist()).items() if n > 1]
+    if twice:  # else every event of that trace would be doubled, and blamed on the events file
+        raise StoreError(f"{str(traces)!r} lists the trace {twice[0]!r} twice; an export lists each trace once: "
+                         "keep one row per trace_id, or import the events file alone")
     return events.join(known, "trace_id", join_type="left outer").sort_by("line")
 
 

@@ -8,6 +8,8 @@ import json
 from typing import Callable
 
 import duckdb
+import pyarrow as pa
+import pyarrow.parquet as pq
 
 from corpus import Case, Place, _keep, analyze, campaign, run_hostile, script
 
@@ -127,5 +129,20 @@ MERGES = [
          prepare=_shards(lambda con: con.execute("drop table taken_events cascade")), check=_merged_all),
 ]
 
-CASES = EXPORTS + FLAGS + MERGES
+def _traces_twice(p: Place) -> None:
+    """An export whose traces.parquet lists its one trace twice."""
+    _keep(p)
+    assert p.cli(["export", str(p.root / "out"), "--db", str(p.db)]) == 0
+    traces = pq.read_table(p.root / "out" / "traces.parquet")
+    pq.write_table(pa.concat_tables([traces, traces]), p.root / "out" / "traces.parquet")
+
+
+UNCLEAR = [
+    Case("import: an export's traces.parquet listing a trace twice", lambda p: [
+        "import", str(p.root / "out" / "events.parquet"), "--interface", str(p.target / "interface.toml"),
+        "--db", str(p.root / "again.duckdb")], "traces.parquet' lists the trace '1' twice; an export lists each "
+         "trace once", prepare=_traces_twice),
+]
+
+CASES = EXPORTS + FLAGS + MERGES + UNCLEAR
 
