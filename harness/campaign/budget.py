@@ -25,8 +25,8 @@ def parse_duration(text: str) -> float:
     """Seconds from `4000s`, `40m`, `1.5h`."""
     found = DURATION.match(text.strip())
     if not found or not 0 < float(found.group(1)) * UNITS[found.group(2)] < float("inf"):
-        raise UntimelyError(f"--budget {text!r}: give mission time as a positive, finite number followed by s, m or "
-                            "h (4000s, 40m, 1h)")
+        raise UntimelyError(f"--budget {text!r}: give mission time as a positive number followed by s, m or h "
+                            "(4000s, 40m, 1h)")
     return float(found.group(1)) * UNITS[found.group(2)]
 
 

@@ -74,8 +74,8 @@ FLAGS = [
          "the path of the XML file to write", prepare=_stored),
     Case("--junit an unwritable place", lambda p: analyze(p) + ["--junit", "/proc/untimely.xml"],
          "--junit '/proc/untimely.xml': cannot write it", prepare=_stored),
-    Case("--budget 10^400 s", lambda p: _budget(p, "1" + "0" * 400 + "s"), "give mission time as a positive, finite "
-         "number followed by s, m or h"),
+    Case("--budget 10^400 s", lambda p: _budget(p, "1" + "0" * 400 + "s"), "give mission time as a positive number "
+         "followed by s, m or h (4000s, 40m, 1h)"),
     Case("--budget smaller than the golden runs", lambda p: _budget(p, "1s"), "--budget 1s: the golden script's runs "
          "alone, on 3 variant(s), take at least 21 mission s (its sleeps); give a budget of more than 21s"),
     Case("--shard on a focused campaign", lambda p: _budget(p, "4000s", "--shard", "1/2"), "--shard 1/2 applies to "
