@@ -2,10 +2,13 @@
 two SIGINTs at random instants while its background shrinks run, leaves a store that resumes, and
 the resumed campaign ends with the findings and test-trace verdicts of an uninterrupted one.
 
-UNTIMELY_RESUME_KILLS sets how many kills (default 3, about 30 s each on a loaded 2-core
-machine; issue 36 asks for 20, run by hand: UNTIMELY_RESUME_KILLS=20). The SUT is a standard-library
-adapter that answers every request `ok` at once and the properties are the precondition ones (PEX,
-PRE): its verdicts do not depend on the machine's timing, so two campaigns can be compared."""
+UNTIMELY_RESUME_KILLS sets how many kills (default 3, about 20 s each on a loaded 2-core machine;
+issue 36 asks for 20, run by hand: UNTIMELY_RESUME_KILLS=20). The SUT is a standard-library adapter
+that answers every request `ok` at once, in real time, and the properties are the precondition ones
+(PEX, PRE), so a test's verdicts follow from the order of its events. A few tests race the SUT (a
+request 10 ms after another, whose reply may come before it or after it on a loaded machine): for
+those, two uninterrupted campaigns differ too, so the test checks that they ran the test's own
+requests in its campaign, and compares verdicts wherever the events came in the same order."""
 import os
 import random
 import re
@@ -35,7 +38,7 @@ def target(tmp_path_factory):
     (folder / "properties.toml").write_text(header + "".join(
         "[[property]]" + e for e in entries if re.search(r'^family = "(PEX|PRE)"$', e, re.M)))
     (folder / "adapter.py").write_text(ADAPTER)
-    (folder / "suts.toml").write_text('[yes-man]\ncommand = "{python} adapter.py"\ntime_scale = 50.0\n')
+    (folder / "suts.toml").write_text('[yes-man]\ncommand = "{python} adapter.py"\ntime_scale = 1.0\n')
     return folder
 
 
@@ -43,20 +46,45 @@ def campaign(target, db) -> list[str]:
     return [sys.executable, "-m", "harness", "campaign", "--mission", str(target), *ARGS, "--db", str(db)]
 
 
-def outcome(db) -> tuple[list, list]:
-    """The findings (without trace and script ids, which shrink runs shift) and every test trace's
-    verdicts, by test number (the golden is -1) and variant. Not by script text: a test's waits are
-    timed from the golden run, a real-time run that differs a little from one campaign to the next."""
+def outcome(db) -> tuple[list, dict]:
+    """The findings (without trace and script ids, which shrink runs shift), and per test (by its
+    number, the golden -1) and variant: the campaigns its traces belong to, its requests in order,
+    the order of all its events, and its verdicts. Not by script text: a test's waits are timed
+    from the golden run, a real-time run that differs a little from one campaign to the next."""
     con = store.connect(db, read_only=True)
     try:
         findings = con.execute("select sut, property_id, kind, reproducer_steps from findings order by all").fetchall()
-        verdicts = con.execute("""select coalesce((s.mutations->0->>'test')::integer, -1), t.sut, v.property_id,
-                                         v.verdict, count(*)
-                                  from verdicts v join traces t using (trace_id) join scripts s using (script_id)
-                                  where s.kind in ('golden', 'mutant') group by all order by all""").fetchall()
-        return findings, verdicts
+        runs = {}
+        for test, sut, campaign, kind, service, reply, verdicts in con.execute("""
+                select coalesce((s.mutations->0->>'test')::integer, -1), t.sut, t.campaign_id, e.kind,
+                       e.service, e.reply, (select list((v.property_id, v.verdict) order by v.property_id,
+                       v.rqst_id) from verdicts v where v.trace_id = t.trace_id)
+                from traces t join scripts s using (script_id) join events e using (trace_id)
+                where s.kind in ('golden', 'mutant') order by t.trace_id, e.seq""").fetchall():
+            run = runs.setdefault((test, sut), {"campaigns": set(), "requests": [], "order": [], "verdicts": verdicts})
+            run["campaigns"].add(campaign)
+            run["order"].append((kind, service, reply))
+            if kind == "request":
+                run["requests"].append(service)
+        return findings, runs
     finally:
         con.close()
+
+
+def races(resumed: dict, whole: dict, label: str) -> int:
+    """Checks every test ran once, in the campaign, its requests as in the uninterrupted campaign, and
+    with the same verdicts wherever its events came in the same order; returns how many did not: a
+    test that sends a request 10 ms after another races the SUT's reply, on a loaded machine too."""
+    assert resumed.keys() == whole.keys(), (label, "tests run", set(resumed) ^ set(whole))
+    raced = 0
+    for key, run in resumed.items():
+        assert run["campaigns"] == {1}, (label, key, "a test's trace belongs to another campaign", run)
+        assert run["requests"] == whole[key]["requests"], (label, key, "another script's run under a test's id")
+        if run["order"] != whole[key]["order"]:
+            raced += 1
+        else:
+            assert run["verdicts"] == whole[key]["verdicts"], (label, key, "same events, other verdicts")
+    return raced
 
 
 @pytest.fixture(scope="module")
@@ -94,19 +122,22 @@ def kill(argv: list[str], delay: float, twice: bool) -> tuple[int, str]:
 
 def test_a_focused_campaign_killed_during_its_shrinks_resumes_to_the_uninterrupted_outcome(target, uninterrupted,
                                                                                            tmp_path):
-    rng, interrupted_shrinks = random.Random(36), 0
+    rng, stopped, interrupted_shrinks, raced = random.Random(36), 0, 0, 0
     for n in range(KILLS):
         db = tmp_path / f"killed-{n}.duckdb"
-        code, said = kill(campaign(target, db), rng.uniform(0.0, 6.0), twice=n % 2 == 1)
+        # its shrinks run from its first finding for about 3 s of a loaded machine (1x, 12 tests)
+        code, said = kill(campaign(target, db), rng.uniform(0.0, 3.0), twice=n % 2 == 1)
         assert "Traceback" not in said, said[-3000:]
+        stopped += code != 0
         con = store.connect(db, read_only=True)
         interrupted_shrinks += con.execute("select count(*) from campaigns "
                                            "where config->>'interrupted' = 'true'").fetchone()[0]
         con.close()
         resumed = subprocess.run(campaign(target, db), capture_output=True, text=True, timeout=CAMPAIGN_S)
         assert resumed.returncode == 0 and "Traceback" not in resumed.stderr, (n, code, resumed.stderr[-3000:])
-        findings, verdicts = outcome(db)
+        findings, runs = outcome(db)
         assert findings == uninterrupted[0], f"kill {n} (exit status {code}) resumed to other findings"
-        assert verdicts == uninterrupted[1], (f"kill {n} (exit status {code}): other test-trace verdicts", [
-            (row[1:], row in verdicts) for row in set(verdicts) ^ set(uninterrupted[1])])
-    print(f"{KILLS} kills, {interrupted_shrinks} shrinks interrupted, every resume completed as uninterrupted")
+        raced += races(runs, uninterrupted[1], f"kill {n} (exit status {code})")
+    print(f"{KILLS} kills, {stopped} before the campaign ended, {interrupted_shrinks} shrinks interrupted; every "
+          "resume completed as uninterrupted; "
+          f"{raced} test runs raced the SUT (other event order), of {KILLS * len(uninterrupted[1])}")

@@ -8,7 +8,8 @@ block, a run that ended cleanly leaves its channel here, and the next run of the
 same slot takes it; a hung or crashed run's adapter is ended as always, so a run never inherits
 a sick one. A kept adapter that died while idle is replaced before the next run, never blamed:
 `take` leaves out one whose process has ended, and a run whose taken adapter does not answer its
-hello starts a fresh one (harness.run.external.runner). The block's end closes every kept channel: no process left behind.
+hello starts a fresh one (harness.run.external.runner). The block's end closes every kept
+channel: no process left behind.
 """
 from __future__ import annotations
 

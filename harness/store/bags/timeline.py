@@ -5,8 +5,9 @@ feedback, or an introspection event its request. The rules are the live adapter'
 a request gets at most one intermediate reply, only before its final, and at most one final; a
 reply to a request the bag never saw (recording started late) is left out and counted. Feedback
 and result travel on separate topics, so a recorder may receive a goal's feedback after its
-result, or a reply before its goal (kept as the goal's, at its instant, with a note); where the SUT stamped both (ROS 1 headers), its own clock says which came first, and an
-intermediate reply it sent first is kept, no later than the final.
+result, or a reply before its goal (kept as the goal's, at its instant, with a note); where
+the SUT stamped both (ROS 1 headers), its own clock says which came first, and an intermediate
+reply it sent first is kept, no later than the final.
 Requests are numbered in the order their clients sent them (the client's own stamp), as the
 bench numbers a script's requests.
 
