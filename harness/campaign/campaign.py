@@ -147,10 +147,15 @@ class Batches:
             self.commit()
 
     def commit(self) -> None:
-        if self.held:
-            with store.transaction(self.con):
-                store.insert_traces(self.con, self.campaign_id, self.held)
-            self.held = []
+        try:
+            if self.held:
+                with store.transaction(self.con):
+                    store.insert_traces(self.con, self.campaign_id, self.held)
+        except BaseException:  # a stop signal as the commit returns: stored, so not to be stored again
+            if self.con.execute("select count(*) from traces where trace_id = ?", [self.held[0][0]]).fetchall()[0][0]:
+                self.held = []
+            raise
+        self.held = []
 
     def __enter__(self) -> "Batches":
         return self
