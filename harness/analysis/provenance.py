@@ -40,14 +40,23 @@ def sources(properties_file: Path | None, interface_file: Path | None = None) ->
     return [(role, str(path.resolve()), _sha256(path)) for role, path in files]
 
 
+def _in_package(path: str) -> Path:
+    """A template's path under sql/ (oracles/pc.sql), wherever the installation that recorded it was."""
+    return Path(*Path(path).parts[-2:])
+
+
 def stale_files(con) -> list[tuple[str, str]]:
-    """(role, path) of the last analysis's files that changed or vanished since it ran."""
+    """(role, path) of the last analysis's files that changed or vanished since it ran. Templates are
+    compared by content with this installation's, whatever folder the analysing one was in (a CI
+    wheel's, then a checkout's), and named as under sql/ (sql/oracles/pc.sql)."""
     found = con.execute("""select role, path, sha256 from analysis_files
                            where analysis_id = (select max(analysis_id) from analyses)""").fetchall()
-    stale = [(role, path) for role, path, sha in found if _sha256(Path(path)) != sha]
-    recorded = {path for _, path, _ in found}
-    if found:  # a template added since the analysis changes what the oracles may do
-        stale += [("template", str(t.resolve())) for t in templates() if str(t.resolve()) not in recorded]
+    stale = [(role, path) for role, path, sha in found if role != "template" and _sha256(Path(path)) != sha]
+    recorded = {_in_package(path): sha for role, path, sha in found if role == "template"}
+    current = {t.relative_to(SQL_DIR): t for t in templates()}
+    if found:  # a template changed, vanished, or added since the analysis changes what the oracles may do
+        stale += [("template", f"sql/{name}") for name in sorted(set(recorded) | set(current))
+                  if name not in current or recorded.get(name) != _sha256(current[name])]
     return stale
 
 

@@ -24,7 +24,7 @@ RULE = "every aim exercised, then {patience} tests per variant without a new (pr
 def parse_duration(text: str) -> float:
     """Seconds from `4000s`, `40m`, `1.5h`."""
     found = DURATION.match(text.strip())
-    if not found or float(found.group(1)) <= 0:
+    if not found or not 0 < float(found.group(1)) * UNITS[found.group(2)] < float("inf"):
         raise UntimelyError(f"--budget {text!r}: give mission time as a positive number followed by s, m or h "
                             "(4000s, 40m, 1h)")
     return float(found.group(1)) * UNITS[found.group(2)]

@@ -60,7 +60,7 @@ def run_seed(campaign_seed: int, script_number: int, sut: str) -> int:
 
 def _tasks(scripts: list[tuple[int, str]], golden_id: int, config: dict) -> list[Task]:
     n = len(config["sut"])
-    return [Task((script_id - 1) * n + v + 1, script_id, sut,
+    return [Task(sharding.trace_id(script_id, v, n), script_id, sut,
                  run_seed(config["seed"], script_id - golden_id, sut), body)
             for script_id, body in scripts for v, sut in enumerate(config["sut"])]
 
@@ -147,10 +147,15 @@ class Batches:
             self.commit()
 
     def commit(self) -> None:
-        if self.held:
-            with store.transaction(self.con):
-                store.insert_traces(self.con, self.campaign_id, self.held)
-            self.held = []
+        try:
+            if self.held:
+                with store.transaction(self.con):
+                    store.insert_traces(self.con, self.campaign_id, self.held)
+        except BaseException:  # a stop signal as the commit returns: stored, so not to be stored again
+            if self.con.execute("select count(*) from traces where trace_id = ?", [self.held[0][0]]).fetchall()[0][0]:
+                self.held = []
+            raise
+        self.held = []
 
     def __enter__(self) -> "Batches":
         return self

@@ -8,6 +8,7 @@ from harness.campaign import sharding
 from harness.campaign.budget import parse_duration
 from harness.errors import StoreError, UntimelyError
 from harness.mutator import strategies
+from harness.mutator.focused import least_s
 from harness.mutator.operators import chosen as chosen_operators
 from harness.run.external.definitions import resolve
 from harness.target.mission import load_mission
@@ -44,7 +45,11 @@ def campaign_config(args) -> dict:
     if given is not None and args.strategy != "focused":
         raise UntimelyError(f"--budget {given} applies to --strategy focused, whose tests are made as "
                             f"the campaign goes; a {args.strategy} campaign runs its --mutants")
-    budget = {} if given is None else {"budget_s": parse_duration(given)}
+    if getattr(args, "shard", None) is not None and args.strategy == "focused":
+        raise UntimelyError(f"--shard {args.shard} applies to random and targeted campaigns, whose runs are known "
+                            "before they start; a focused campaign chooses its next tests from what the last ones "
+                            "found: run it whole, without --shard")
+    budget = {} if given is None else {"budget_s": _budget(given, mission.golden(), len(suts))}
     return {**budget, "kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
             "external": {name: sut.config() for name, sut in external.items()},
             "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,
@@ -52,6 +57,16 @@ def campaign_config(args) -> dict:
             "value_mutations": getattr(args, "value_mutations", False),
             "max_delay": args.max_delay, "jobs": args.jobs,
             "files": mission.hashes(), "shard": sharding.parse(getattr(args, "shard", None))}
+
+
+def _budget(given: str, golden, variants: int) -> float:
+    """--budget in seconds; refused when the golden runs alone, which every focused campaign makes
+    first, outlast it (their sleeps are a lower bound of their mission time)."""
+    seconds, least = parse_duration(given), variants * least_s(golden)
+    if seconds < least:
+        raise UntimelyError(f"--budget {given}: the golden script's runs alone, on {variants} variant(s), take at "
+                            f"least {least:g} mission s (its sleeps); give a budget of more than {least:g}s")
+    return seconds
 
 
 def _difference(stored: dict, wanted: dict) -> str | None:

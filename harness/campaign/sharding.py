@@ -8,7 +8,8 @@ judges as the last analysis of the shards did. The merged store holds what the u
 campaign stores (tests/test_sharding.py compares their fingerprints).
 
 `merge` refuses, with a message, stores of different campaigns (other arguments or mission
-files), the same part twice, a missing part, and an OUT that exists.
+files), the same part twice, a missing part, a part missing some of its traces (naming them), and an
+OUT that exists. A shard written before a table existed is read as holding none of its rows.
 """
 from __future__ import annotations
 
@@ -41,12 +42,20 @@ def parse(option: str | None) -> list[int] | None:
     return [int(found.group(1)), int(found.group(2))]
 
 
+def trace_id(script_id: int, variant: int, variants: int) -> int:
+    """The trace id of script `script_id`'s run on the `variant`-th of `variants` variants: a function
+    of the script and the variant alone, whoever runs it."""
+    return (script_id - 1) * variants + variant + 1
+
+
+def owns(shard: list[int] | None, trace_id: int) -> bool:
+    """Whether this shard (every one, without a shard) makes the run of `trace_id`."""
+    return shard is None or (trace_id - 1) % shard[1] == shard[0] - 1
+
+
 def part(tasks: list, shard: list[int] | None) -> list:
     """The tasks of this shard (all of them without one)."""
-    if shard is None:
-        return tasks
-    index, count = shard
-    return [t for t in tasks if (t.trace_id - 1) % count == index - 1]
+    return [t for t in tasks if owns(shard, t.trace_id)]
 
 
 def share(runs: int, shard: list[int] | None) -> int:
@@ -65,6 +74,23 @@ def _campaign(con, path: str) -> tuple[dict, int, int]:
                          "its store); merge only the stores the shards wrote")
     (campaign_id, config), = sharded
     return config, campaign_id, len(shrinks)
+
+
+def _missing(con, path: str, campaign_id: int, config: dict) -> None:
+    """Refuses a shard that lacks runs of its part (an unfinished or cut-short campaign), naming them."""
+    variants = len(config["sut"])
+    scripts = [s for (s,) in con.execute("select script_id from scripts where campaign_id = ? and valid",
+                                         [campaign_id]).fetchall()]
+    wanted = [t for t in (trace_id(s, v, variants) for s in scripts for v in range(variants))
+              if owns(config["shard"], t)]
+    stored = {t for (t,) in con.execute("select trace_id from traces where campaign_id = ?", [campaign_id]).fetchall()}
+    missing = sorted(t for t in wanted if t not in stored)
+    if missing:
+        shown = ", ".join(map(str, missing[:10])) + (f" and {len(missing) - 10} more" if len(missing) > 10 else "")
+        index, count = config["shard"]
+        raise StoreError(f"{path} lacks {len(missing)} of the {len(wanted)} traces of shard {index}/{count} "
+                         f"(trace ids {shown}): its campaign did not finish; rerun its campaign command, which "
+                         "resumes it, then merge")
 
 
 def check(configs: dict[str, dict]) -> None:
@@ -105,6 +131,7 @@ def merge_main(args) -> int:
         con = connect(path, read_only=True)
         try:
             configs[path], campaign_id, shrunk = _campaign(con, path)
+            _missing(con, path, campaign_id, configs[path])
             campaign_ids.append(campaign_id)
             shrinks += shrunk
             if path == paths[0]:

@@ -225,8 +225,13 @@ class Builder:
 def bound_s(script: Script) -> float:
     """The longest a run of a script can last in mission time: its sleeps, its waits' timeouts
     and reactions, and the drain (a hang or crash ends it sooner)."""
-    return sum(s.seconds for s in script.steps if s.op == "sleep") + DRAIN_S + \
+    return least_s(script) + DRAIN_S + \
         sum((s.seconds or float("inf")) + REACTION_S for s in script.steps if s.op == "wait")
+
+
+def least_s(script: Script) -> float:
+    """The shortest a run of a script that completes can last in mission time: its sleeps."""
+    return sum(s.seconds for s in script.steps if s.op == "sleep")
 
 
 class Plan:

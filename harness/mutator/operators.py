@@ -195,6 +195,12 @@ def generate(golden: Script, interface: Interface, count: int, seed: int, operat
     `on_mutant()` is called after each (progress). A mutant whose body equals the golden or an
     earlier mutant's is redrawn (up to `redraws` times), so duplicates only remain when the
     operators run out of distinct mutants."""
+    names = chosen(None, time_mutations) if operators is None else operators
+    if count and not any(OPERATORS[n](list(golden.steps), random.Random(0), interface) for n in names):
+        # every "mutant" would be the golden script itself
+        raise UntimelyError(f"--operators {','.join(names)}: none of them finds a step to change in the golden "
+                            f"script {golden.source}, so every mutant would be the golden script; name others "
+                            f"among {', '.join(OPERATORS)}")
     rng = random.Random(f"untimely-mutants:{seed}")
     seen, mutants = {golden.renumbered().render()}, []
     for n in range(1, count + 1):

@@ -29,6 +29,9 @@ EXPLAINED = 5  # bad verdicts explained per test case; the others are listed by 
 def fail_on_kinds(option: str) -> list[str]:
     kinds = [k.strip().lower() for k in option.split(",") if k.strip()]
     unknown = [k for k in kinds if k not in FAIL_ON]
+    if option.strip() and not kinds:  # `--fail-on ,` would silently turn the gate off
+        raise UntimelyError(f"--fail-on {option!r} names no kind of bad behaviour; give a comma-separated list "
+                            f"among {', '.join(FAIL_ON)}, or leave the option out for no gate")
     if unknown:
         raise UntimelyError(f"--fail-on {option!r}: {', '.join(map(repr, unknown))} is not a kind of bad "
                             f"behaviour; give a comma-separated list among {', '.join(FAIL_ON)}")
@@ -94,16 +97,27 @@ def junit(con) -> ET.ElementTree:
     return ET.ElementTree(suites)
 
 
+def _write(tree: ET.ElementTree, path: Path) -> None:
+    make_folder(path.resolve().parent, "the JUnit file")
+    try:
+        tree.write(path, encoding="utf-8", xml_declaration=True)
+    except OSError as e:
+        raise UntimelyError(f"--junit {str(path)!r}: cannot write it: {e.strerror}; the verdicts are stored, "
+                            "pass a writable path") from None
+    print(f"\nJUnit results written to {path}")
+
+
 def analyze(args) -> int:
     """`analyze`, then the JUnit file and the --fail-on gate."""
     kinds = fail_on_kinds(args.fail_on)
+    if args.junit and Path(args.junit).is_dir():  # refused before the analysis, not after it
+        raise UntimelyError(f"--junit {args.junit!r} is a folder; give the path of the XML file to write, "
+                            f"e.g. {str(Path(args.junit) / 'untimely.xml')!r}")
     status = analyzer.main(args)
     con = connect(args.db, read_only=True)
     try:
         if args.junit:
-            make_folder(Path(args.junit).resolve().parent, "the JUnit file")
-            junit(con).write(args.junit, encoding="utf-8", xml_declaration=True)
-            print(f"\nJUnit results written to {args.junit}")
+            _write(junit(con), Path(args.junit))
         counts = dict(zip(FAIL_ON, con.execute(f"select {', '.join(f'coalesce(sum({c}), 0)' for c in FAIL_ON.values())} "
                                                 "from trace_robustness").fetchone()))
     finally:

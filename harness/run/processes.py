@@ -36,9 +36,14 @@ STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
 
 
 def _raise_stopped(signum, _frame):
-    for repeated in STOP_SIGNALS:  # a repeat must not cut the cleanup short (a worker gets
-        signal.signal(repeated, _stopping)  # its parent-death signal once per parent thread)
-    raise Stopped(signum)
+    for repeated in _handled():  # a repeat must not cut the cleanup short (a worker gets its
+        signal.signal(repeated, _stopping)  # parent-death signal once per parent thread; a second Ctrl-C is a habit)
+    raise KeyboardInterrupt() if signum == signal.SIGINT else Stopped(signum)
+
+
+def _handled() -> tuple:
+    """The signals that stop the bench: Ctrl-C too, unless ignored (a worker's parent stops it)."""
+    return STOP_SIGNALS + (() if signal.getsignal(signal.SIGINT) is signal.SIG_IGN else (signal.SIGINT,))
 
 
 def _stopping(_signum, _frame):
@@ -46,8 +51,9 @@ def _stopping(_signum, _frame):
 
 
 def stop_on_signals() -> None:
-    """SIGTERM and SIGHUP stop the bench as Ctrl-C does: cleanup runs, the store keeps what is committed."""
-    for signum in STOP_SIGNALS:
+    """SIGTERM and SIGHUP stop the bench as Ctrl-C does: cleanup runs, the store keeps what is committed;
+    a stop signal or Ctrl-C during that cleanup is ignored."""
+    for signum in _handled():
         signal.signal(signum, _raise_stopped)
 
 

@@ -4,7 +4,8 @@ for the tools that are not DuckDB (Polars, pandas, Spark, a spreadsheet).
 One file per table or view, `DIR/NAME.parquet` or `DIR/NAME.csv` (with a header row), rows in the
 order the report shows them, all read in one snapshot of the store. `DIR/manifest.json` names the
 store, its schema version, the export time and, per table or view, its kind, file and row count.
-Exporting again into the same folder first removes the files of the previous export.
+Exporting again into the same folder first removes the files of the previous export: only the
+NAME.parquet or NAME.csv files its manifest lists in the folder itself, never anything else.
 
 An export's events file imports back (`python -m harness import DIR/events.parquet`); the traces
 file beside it gives each trace its sut and outcome, so hung and crashed traces stay so.
@@ -12,6 +13,7 @@ file beside it gives each trace its sut and outcome, so hung and crashed traces 
 from __future__ import annotations
 
 import json
+from collections import Counter
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -35,8 +37,19 @@ def relations(con) -> list[tuple[str, str]]:
                           order by table_name""").fetchall()
 
 
+def _ours(out: Path, name: object) -> bool:
+    """Whether `name` is a file an export writes in `out`: NAME.parquet or NAME.csv in the folder
+    itself, a plain file or none (never a link, a folder, a path that leaves the folder)."""
+    if not isinstance(name, str) or Path(name).name != name or Path(name).suffix not in (".parquet", ".csv"):
+        return False
+    path = out / name
+    return not path.is_symlink() and (path.is_file() or not path.exists())
+
+
 def _clear_previous(out: Path) -> None:
-    """Remove an earlier export's files from `out`; a folder holding anything else is refused."""
+    """Remove an earlier export's files from `out`; a folder holding anything else is refused.
+    A manifest is a file of the user's folder, never trusted: only plain NAME.parquet and NAME.csv
+    files of `out` itself are ever removed, whatever it names (`../store.duckdb`, `.`, a link)."""
     if not out.exists():
         return
     if not out.is_dir():
@@ -44,10 +57,16 @@ def _clear_previous(out: Path) -> None:
     manifest = out / MANIFEST
     try:
         previous = json.loads(manifest.read_text())["tables"] if manifest.is_file() else []
-        files = {out / entry["file"] for entry in previous} | {manifest}
+        named = [entry["file"] for entry in previous]
     except (ValueError, KeyError, TypeError):
         raise StoreError(f"{str(manifest)!r} is not the manifest of an export; "
                          f"export to a new or empty folder") from None
+    foreign = [n for n in named if not _ours(out, n)] + ([MANIFEST] if manifest.is_symlink() else [])
+    if foreign:
+        raise StoreError(f"cannot export to {str(out)!r}: {MANIFEST} names {foreign[0]!r}, which is no file an "
+                         "export writes (NAME.parquet or NAME.csv in the folder itself, no link); nothing was "
+                         "removed: export to a new or empty folder")
+    files = {out / name for name in named} | {manifest}
     others = sorted(p.name for p in out.iterdir() if p not in files)
     if others:
         raise StoreError(f"cannot export to {str(out)!r}: it holds {others[0]!r}, which no earlier export "
@@ -108,6 +127,10 @@ def with_exported_traces(path: Path, events: pa.Table) -> pa.Table:
         raise StoreError(f"cannot read {str(traces)!r}, the traces of the export {str(path)!r}: {e}") from None
     finally:
         con.close()
+    twice = [t for t, n in Counter(known.column("trace_id").to_pylist()).items() if n > 1]
+    if twice:  # else every event of that trace would be doubled, and blamed on the events file
+        raise StoreError(f"{str(traces)!r} lists the trace {twice[0]!r} twice; an export lists each trace once: "
+                         "keep one row per trace_id, or import the events file alone")
     return events.join(known, "trace_id", join_type="left outer").sort_by("line")
 
 

@@ -46,7 +46,11 @@ def copy(con: duckdb.DuckDBPyConnection, stores: list[str], campaign_ids: list[i
 
 
 def _insert(con, table: str, source: str, campaign_id: int) -> None:
-    """Rows of `source`.`table` of the shard's campaign `campaign_id`, by column name, as campaign 1's."""
+    """Rows of `source`.`table` of the shard's campaign `campaign_id`, by column name, as campaign 1's;
+    none from a shard written before the table existed (taken_events, say)."""
+    if not con.execute("select count(*) from duckdb_tables() where database_name = ? and table_name = ?",
+                       [source, table]).fetchone()[0]:
+        return
     columns = "* replace (1 as campaign_id)" if table in ("scripts", "traces") else "*"
     mine = (f"where campaign_id = {campaign_id}" if table in ("scripts", "traces") else
             f"where trace_id in (select trace_id from {source}.traces where campaign_id = {campaign_id})"

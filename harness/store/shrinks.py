@@ -8,10 +8,20 @@ from harness.trace import Trace
 
 
 def add_shrink_runs(con, campaign_id: int, original: int, runs: list[tuple[str, Trace]]) -> None:
-    """Store (body, trace) runs, in order, under the next trace ids; the caller owns the transaction."""
+    """Store (body, trace) runs, in order, under the next free trace ids; the caller owns the transaction."""
     if not runs:
         return
-    first = next_id(con, "traces", "trace_id")
+    first = _first_free(con)
     insert_traces(con, campaign_id, [(first + i, None, trace, None) for i, (_, trace) in enumerate(runs)])
     append(con, "shrink_runs", [dict(trace_id=first + i, original=original, body=body)
                                 for i, (body, _) in enumerate(runs)])
+
+
+def _first_free(con) -> int:
+    """The first trace id past every stored trace and every id a stored test script owns (script s of
+    a campaign of V variants owns (s - 1) * V + 1 .. s * V): a campaign stopped after storing a
+    round's scripts, before their runs, runs them under those ids when it resumes."""
+    owned = con.execute("""select coalesce(max(s.script_id * json_array_length(c.config->'sut')), 0)
+                           from scripts s join campaigns c using (campaign_id)
+                           where s.kind in ('golden', 'mutant') and c.config->>'kind' = 'campaign'""").fetchall()[0][0]
+    return max(next_id(con, "traces", "trace_id"), owned + 1)

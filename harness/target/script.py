@@ -19,6 +19,7 @@ from pathlib import Path
 from harness.errors import ScriptError
 from harness.files import read_text
 from harness.schema import cut
+from harness.target.domains import NON_FINITE
 from harness.target.interface import Interface
 
 HANDLE_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*$")
@@ -148,6 +149,16 @@ def step_text(step: Step) -> str:
     return replace(step, comment="").render()
 
 
+def _overflows(word: str) -> bool:
+    """Whether a float argument's word is a number too large for a float (1e400), which a layer
+    would read as infinity: a value a script means to be infinite is written inf."""
+    try:
+        value = float(word)
+    except ValueError:
+        return False  # a word that is no number is carried as text, the layer's to refuse
+    return value in (float("inf"), float("-inf")) and word.strip().lower() not in NON_FINITE
+
+
 def validate(script: Script, interface: Interface) -> None:
     """Raise ScriptError at the first step the interface cannot run."""
     src, handles = script.source, {}
@@ -163,13 +174,16 @@ def validate(script: Script, interface: Interface) -> None:
                     else f"known modules: {', '.join(interface.modules)}")
             raise ScriptError(src, step.line, f"unknown service {cut(step.service)}; {hint}")
         given = [name for name, _ in step.args]
-        for name, _value in step.args:
+        for name, word in step.args:
             arg = service.args.get(name)
             if arg is None:
                 expected = ", ".join(service.args) or "no arguments"
                 raise ScriptError(src, step.line, f"{step.service} has no argument {cut(name)}; it takes {expected}")
             if given.count(name) > 1:
                 raise ScriptError(src, step.line, f"argument {cut(name)} is given twice")
+            if arg.type == "float" and _overflows(word):
+                raise ScriptError(src, step.line, f"argument {name}={cut(word)} overflows a 64-bit float (the "
+                                  "largest is about 1.8e308); write a number up to that, or inf for infinity")
         if step.handle in handles:
             raise ScriptError(src, step.line, f"handle {cut(step.handle)} already names the request "
                               f"on line {handles[step.handle]}; choose a new name")

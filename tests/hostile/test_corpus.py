@@ -1,9 +1,12 @@
 """Every hostile case ends in a clear message (exit 2, quoting the file or flag and the value) or
-in the right outcome: never a traceback, never silence, never a changed store (issue 19)."""
+in the right outcome: never a traceback, never silence, never a changed store (issues 19 and 36)."""
 import pytest
 
 from harness.cli import main
-from corpus import CASES, Place
+import commands_corpus
+from corpus import CASES as ISSUE_19, Place
+
+CASES = ISSUE_19 + commands_corpus.CASES
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c.name for c in CASES])

@@ -6,7 +6,10 @@ node, seconds of work on a loaded machine. An adapter whose hello answer offers 
 that bye with its own (nothing of the ended run comes after it). Within a `kept_adapters()`
 block, a run that ended cleanly leaves its channel here, and the next run of the same SUT on the
 same slot takes it; a hung or crashed run's adapter is ended as always, so a run never inherits
-a sick one. The block's end closes every kept channel: no process left behind.
+a sick one. A kept adapter that died while idle is replaced before the next run, never blamed:
+`take` leaves out one whose process has ended, and a run whose taken adapter does not answer its
+hello starts a fresh one (harness.run.external.runner). The block's end closes every kept
+channel: no process left behind.
 """
 from __future__ import annotations
 
@@ -53,10 +56,17 @@ def take(sut: ExternalSut, slot: int) -> Connection | None:
     """The idle channel of `sut` on `slot`, if one is kept and its adapter still runs."""
     with _lock:
         connection = _idle.pop(_key(sut, slot), None) if _idle is not None else None
-    if connection is not None and connection.gone():
+    if connection is not None and (connection.gone() or _exited(connection)):
         connection.close()
         return None
     return connection
+
+
+def _exited(connection: Connection) -> bool:
+    """Whether a kept adapter's process has ended: its reader may not have seen the end of its
+    output yet (a child that inherited the pipe keeps it open), and a run given it would be
+    blamed for its death."""
+    return connection.process is not None and connection.process.poll() is not None
 
 
 def keep(connection: Connection, sut: ExternalSut, slot: int) -> bool:

@@ -183,30 +183,54 @@ class ProtocolLayer:
                 "rtt_max_s": trips[-1] if trips else None}
 
 
-def run_external(script: Script, sut: ExternalSut, seed: int, interface: Interface, slot: int = 0,
-                 run: int = 0) -> Trace:
-    """Run one script against an external SUT; a misbehaving SUT gives a crashed or hung trace,
-    an adapter that cannot be started or reached is the user's error (UntimelyError)."""
-    wall, started_at = time.perf_counter(), datetime.now(timezone.utc).replace(tzinfo=None)
+def _session(sut: ExternalSut, seed: int, interface: Interface) -> tuple:
+    """A run's clock, protocol layer and executive."""
     env = RealtimeEnvironment(sut.time_scale)
     layer = ProtocolLayer(env, interface)
     executive = Executive(env, layer, interface, random.Random(seed), max_delay=0.0,
                           probe_period=PROBE_PERIOD_WALL_S * sut.time_scale,
                           probe_timeout=sut.probe_timeout_s * sut.time_scale)
+    return env, layer, executive
+
+
+def _greet(layer: ProtocolLayer, hello: str, startup_s: float) -> None:
+    """Send the hello on the layer's connection and wait for its answer (LayerMisbehaved if none)."""
+    layer.connection.start(layer.deliver)
+    try:
+        layer.connection.write(hello, startup_s)
+    except Unresponsive as e:
+        raise LayerMisbehaved(f"no hello answer: {e}") from None
+    if not layer.greeted.wait(startup_s):
+        raise LayerMisbehaved(f"no hello answer within {startup_s:g} s of starting"
+                              f"{layer.connection.last_read_text()}")
+    if layer.problem:
+        raise LayerMisbehaved(layer.problem)
+
+
+def run_external(script: Script, sut: ExternalSut, seed: int, interface: Interface, slot: int = 0,
+                 run: int = 0) -> Trace:
+    """Run one script against an external SUT; a misbehaving SUT gives a crashed or hung trace,
+    an adapter that cannot be started or reached is the user's error (UntimelyError)."""
+    wall, started_at = time.perf_counter(), datetime.now(timezone.utc).replace(tzinfo=None)
+    env, layer, executive = _session(sut, seed, interface)
     outcome, error, reused = "crashed", None, False
-    layer.connection = kept.take(sut, slot) or Connection(sut, slot)
+    hello = encode("hello", proto=PROTO, run=run, seed=seed, time_scale=sut.time_scale,
+                   interface=interface.describe())
+    taken = kept.take(sut, slot)
+    layer.connection = taken or Connection(sut, slot)
     try:  # from here on, however the run ends (a signal included), the SUT is closed
-        layer.connection.start(layer.deliver)
         try:
-            layer.connection.write(encode("hello", proto=PROTO, run=run, seed=seed, time_scale=sut.time_scale,
-                                          interface=interface.describe()), sut.startup_s)
-        except Unresponsive as e:
-            raise LayerMisbehaved(f"no hello answer: {e}") from None
-        if not layer.greeted.wait(sut.startup_s):
-            raise LayerMisbehaved(f"no hello answer within {sut.startup_s:g} s of starting"
-                                  f"{layer.connection.last_read_text()}")
-        if layer.problem:
-            raise LayerMisbehaved(layer.problem)
+            _greet(layer, hello, sut.startup_s)
+        except LayerMisbehaved:
+            if taken is None:
+                raise
+            # a kept adapter that died while idle, its end not yet seen: replaced, never blamed, on a
+            # fresh layer (what the dead one's reader still delivers reaches the old one)
+            layer.connection.close()
+            fresh = Connection(sut, slot)
+            env, layer, executive = _session(sut, seed, interface)
+            layer.connection = fresh
+            _greet(layer, hello, sut.startup_s)
         env.restart_clock(layer.hello_at)
         env.process(executive.play(script), "executive")
         env.process(executive.probe(), "liveness probe")

@@ -71,9 +71,9 @@ def _read_one(bag: Path, routes: Routes):
     from harness.store.bags.ros1 import read_ros1
     from harness.store.bags.ros2 import read_ros2
     try:
-        if bag.suffix.lower() == ".bag":
-            return read_ros1(bag, routes)
-        return read_ros2(_rosbag2_folder(bag), routes)
+        timeline, notes = read_ros1(bag, routes) if bag.suffix.lower() == ".bag" else \
+            read_ros2(_rosbag2_folder(bag), routes)
+        return timeline, notes + timeline.finish()
     except UntimelyError as e:
         raise InputFileError(bag, "", str(e)) from None
     except (AnyReaderError, Ros1Error, Ros2Error, SerdeError, TypesysError, ValueError) as e:

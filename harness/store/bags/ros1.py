@@ -16,11 +16,14 @@ from pathlib import Path
 from rosbags.highlevel import AnyReader
 
 from harness.errors import UntimelyError
-from harness.store.bags.routes import Routes
+from harness.store.bags.routes import Routes, check_type
 from harness.store.bags.timeline import Timeline, seconds, stamped
 
 STATUS = ("PENDING", "ACTIVE", "PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED", "PREEMPTING", "RECALLING",
           "RECALLED", "LOST")
+# What each topic of an action namespace carries: a type name's end, or the full type name.
+TYPES = {"goal": "ActionGoal", "feedback": "ActionFeedback", "result": "ActionResult",
+         "status": "actionlib_msgs/msg/GoalStatusArray"}
 TERMINAL = {"PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED", "RECALLED"}
 
 
@@ -38,6 +41,9 @@ def read_ros1(path: Path, routes: Routes) -> tuple[Timeline, list[str]]:
                              f"{', '.join(sorted({c.topic for c in reader.connections})) or 'nothing'}")
         timeline = Timeline(reader.start_time * 1e-9)
         wanted = [c for connections in topics.values() for c in connections]
+        for connection in wanted:
+            leaf = connection.topic.rpartition("/")[2]
+            check_type(connection, TYPES[leaf], f"an actionlib {leaf}")
         for connection, received_ns, raw in reader.messages(connections=wanted):
             namespace, _, leaf = connection.topic.rpartition("/")
             message, received = reader.deserialize(raw, connection.msgtype), received_ns * 1e-9
@@ -45,23 +51,33 @@ def read_ros1(path: Path, routes: Routes) -> tuple[Timeline, list[str]]:
             if leaf == "goal":
                 target = routes.target(carried, message.goal)
                 if target is not None:
-                    timeline.request(message.goal_id.id, received, *target, sent_s=seconds(message.goal_id.stamp))
+                    timeline.goal(message.goal_id.id, received, *target, sent_s=seconds(message.goal_id.stamp))
             elif leaf == "feedback":
                 timeline.intermediate(message.status.goal_id.id, received, _stamp(message))
             elif leaf == "result":
                 status = message.status
                 route = carried[0][1]
-                code = routes.final_code(route, STATUS[status.status], message.result, status.text)
+                code = routes.final_code(route, _status(status, connection.topic), message.result, status.text)
                 timeline.final(status.goal_id.id, received, code, _stamp(message))
             else:
                 for status in message.status_list:
                     timeline.held(status.goal_id.id, _stamp(message))
-                    if STATUS[status.status] in TERMINAL:
-                        code = routes.final_code(carried[0][1], STATUS[status.status], None, status.text)
+                    name = _status(status, connection.topic)
+                    if name in TERMINAL:
+                        code = routes.final_code(carried[0][1], name, None, status.text)
                         timeline.status_final(status.goal_id.id, received, code, _stamp(message))
     services = routes.named("service")
     notes = [f"ROS 1 services are no topics, so a bag holds no call of {', '.join(sorted(services))}"] if services else []
     return timeline, notes
+
+
+def _status(status, topic: str) -> str:
+    """The name of an actionlib GoalStatus code."""
+    if not 0 <= status.status < len(STATUS):
+        raise UntimelyError(f"topic {topic}: goal {status.goal_id.id!r} has status {status.status}, which is no "
+                            f"actionlib GoalStatus (0 to {len(STATUS) - 1}, {', '.join(STATUS)}); the bag is not "
+                            "actionlib's")
+    return STATUS[status.status]
 
 
 def _stamp(message) -> float | None:

@@ -25,7 +25,7 @@ from rosbags.rosbag2 import Reader
 
 from harness.store.bags.ros2_types import register, typestore
 from harness.errors import UntimelyError
-from harness.store.bags.routes import Routes
+from harness.store.bags.routes import Routes, check_type
 from harness.store.bags.timeline import Timeline, seconds, stamped
 
 STATUS = {4: "SUCCEEDED", 5: "PREEMPTED", 6: "ABORTED"}  # action_msgs/GoalStatus terminal codes
@@ -97,7 +97,7 @@ def _send_goals(timeline: Timeline, routes: Routes, carried, events) -> None:
         target = routes.target(carried, call.request.goal)
         if target is not None:
             key = _key(call.request.goal_id)
-            timeline.request(key, call.sent, *target, sent_s=call.sent_s)
+            timeline.goal(key, call.sent, *target, sent_s=call.sent_s)
             timeline.held(key, call.received_stamp)
             if call.response is not None and not call.response.accepted:
                 timeline.final(key, call.answered, routes.final_code(route, "REJECTED", None, ""), call.answer_stamp)
@@ -139,6 +139,9 @@ def _feedback(timeline: Timeline, routes: Routes, carried, events) -> None:
         timeline.intermediate(_key(message.goal_id), received)
 
 
+# What each kind of topic carries: a type name's end, or the full type name.
+TYPES = {"status": "action_msgs/msg/GoalStatusArray", "feedback": "_FeedbackMessage", "send_goal": "_SendGoal_Event",
+         "get_result": "_GetResult_Event", "call": "_Event"}
 # In this order: requests before what refers to them.
 HANDLERS = {"send_goal": _send_goals, "call": _service_calls, "status": _statuses, "get_result": _results,
             "feedback": _feedback}
@@ -153,6 +156,8 @@ def read_ros2(folder, routes: Routes) -> tuple[Timeline, list[str]]:
             raise UntimelyError(f"no topic of the mapping {routes.mapping.path} in this bag; it records "
                                 f"{', '.join(sorted({c.topic for c in reader.connections})) or 'nothing'}")
         for connection in wanted:
+            what = topics[connection.topic][0]
+            check_type(connection, TYPES[what], f"a {what} message")
             register(store, connection.msgtype, connection.msgdef.data)
         timeline = Timeline(reader.start_time * 1e-9)
         for connection, received_ns, raw in reader.messages(connections=wanted):

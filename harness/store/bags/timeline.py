@@ -5,8 +5,9 @@ feedback, or an introspection event its request. The rules are the live adapter'
 a request gets at most one intermediate reply, only before its final, and at most one final; a
 reply to a request the bag never saw (recording started late) is left out and counted. Feedback
 and result travel on separate topics, so a recorder may receive a goal's feedback after its
-result; where the SUT stamped both (ROS 1 headers), its own clock says which came first, and an
-intermediate reply it sent first is kept, no later than the final.
+result, or a reply before its goal (kept as the goal's, at its instant, with a note); where
+the SUT stamped both (ROS 1 headers), its own clock says which came first, and an intermediate
+reply it sent first is kept, no later than the final.
 Requests are numbered in the order their clients sent them (the client's own stamp), as the
 bench numbers a script's requests.
 
@@ -21,6 +22,8 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass
+
+from harness.errors import UntimelyError
 
 
 @dataclass
@@ -48,6 +51,16 @@ class Timeline:
         self.origin_s = origin_s  # the bag's first receive stamp: t = 0
         self.requests: dict[object, Request] = {}
         self.orphans = 0  # replies to goals whose request the bag does not hold
+        # replies received before their goal (a recorder's order of its topics), until finish()
+        self.early: list[tuple[str, tuple]] = []
+
+    def goal(self, key, received_s: float, qualified: str, args: dict | None, sent_s: float) -> None:
+        """A goal a client sent: its id must be new, as its replies name only the id."""
+        if key in self.requests:
+            raise UntimelyError(f"two goals carry the id {_shown(key)} (received {self.requests[key].t:.3f} s and "
+                                f"{received_s - self.origin_s:.3f} s into the bag): their replies cannot be told "
+                                "apart; a client must give each goal a new id")
+        self.request(key, received_s, qualified, args, sent_s)
 
     def request(self, key, received_s: float, qualified: str, args: dict | None, sent_s: float | None = None) -> None:
         if key not in self.requests:
@@ -57,16 +70,32 @@ class Timeline:
     def intermediate(self, key, received_s: float, stamp_s: float | None = None) -> None:
         request = self.requests.get(key)
         if request is None:
-            self.orphans += 1
+            self.early.append(("intermediate", (key, received_s, stamp_s)))
         elif request.intermediate is None:
             request.intermediate, request.intermediate_stamp = received_s - self.origin_s, stamp_s
 
     def final(self, key, received_s: float, code: str | None, stamp_s: float | None = None) -> None:
         request = self.requests.get(key)
         if request is None:
-            self.orphans += 1
+            self.early.append(("final", (key, received_s, code, stamp_s)))
         elif request.final is None and code is not None:
             request.final, request.final_stamp = (received_s - self.origin_s, code), stamp_s
+
+    def finish(self) -> list[str]:
+        """Once every message is read: the replies received before their goal are its replies,
+        no earlier than it (notes say so); those to goals the bag lacks are orphans."""
+        notes, early, self.early = [], self.early, []
+        for kind, args in early:
+            key, received_s = args[:2]
+            if key not in self.requests:
+                self.orphans += 1
+                continue
+            getattr(self, kind)(*args)
+            ahead_ms = (self.requests[key].t + self.origin_s - received_s) * 1e3
+            notes.append(f"the {'feedback' if kind == 'intermediate' else 'result'} of goal {_shown(key)} was received "
+                         f"{ahead_ms:.1f} ms before the goal (the recorder's order of its topics); kept as its reply, "
+                         "at the goal's instant")
+        return notes
 
     def status_final(self, key, received_s: float, code: str | None, stamp_s: float | None = None) -> None:
         """A terminal status seen in a status list: the final only if the bag holds no result."""
@@ -126,6 +155,11 @@ def _trace(label: str, events: list[tuple]) -> list[dict]:
     return [{"trace_id": label, "seq": seq, "t": round(t, 9), "kind": kind, "rqst_id": number, "module": module,
              "service": service, "args": args, "reply": reply}
             for seq, (t, _, number, kind, module, service, args, reply) in enumerate(events, 1)]
+
+
+def _shown(key) -> str:
+    """A goal id as its bag spells it (ROS 2: a UUID's bytes)."""
+    return key.hex() if isinstance(key, bytes) else repr(key)
 
 
 def _sent_before(first: float | None, second: float | None) -> bool:
