@@ -1,4 +1,4 @@
-"""`python -m harness COMMAND`: the bench's command line (DESIGN §7)."""
+"""`python -m harness COMMAND`: the bench's command line (docs/reference/commands.md)."""
 from __future__ import annotations
 
 import argparse

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-# Column order of an event row, shared by `events` and `internal_events` (DESIGN §5).
+# Column order of an event row, shared by `events` and `internal_events` (docs/reference/store.md).
 EVENT_COLUMNS = ("seq", "t", "kind", "rqst_id", "module", "service", "args", "reply")
 WORLD_EVENT_COLUMNS = ("t", "kind", "detail")
 # A `taken` reply (seq on the counter of the trace's events, which skip its numbers).

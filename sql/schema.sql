@@ -1,4 +1,4 @@
--- The trace store (DESIGN §5). Column names are a contract: add, never rename.
+-- The trace store (docs/reference/store.md). Column names are a contract: add, never rename.
 -- Identifiers are integers so that joins over millions of events stay fast.
 
 create table if not exists campaigns (
@@ -85,7 +85,7 @@ create table if not exists world_events (
     detail    json
 );
 
--- Where, when and how fast a real-time run against an external SUT ran (DESIGN §8): such runs
+-- Where, when and how fast a real-time run against an external SUT ran (docs/reference/protocol.md): such runs
 -- are not reproducible, so their circumstances are kept. rtt_* are the liveness pings' round
 -- trips in wall seconds (times time_scale for mission seconds); none for simulated runs.
 create table if not exists trace_runs (
@@ -143,7 +143,7 @@ create table if not exists module_positions (
     position  integer not null
 );
 
--- The oracles that failed in an analysis (DESIGN §6): their property's verdicts are 'unknown',
+-- The oracles that failed in an analysis (docs/reference/verdicts.md): their property's verdicts are 'unknown',
 -- every other property is judged as usual. `source` is the events table the oracle read.
 create table if not exists oracle_failures (
     analysis_id  integer not null,

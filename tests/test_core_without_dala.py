@@ -22,7 +22,7 @@ def dala_names() -> set[str]:
     layer = load_layer(DEFAULT_MISSION_DIR)
     names = set(interface.modules) | {s.name for s in interface.services.values()} | set(interface.replies)
     names |= set(layer.variants) | set(layer.protections) | set(layer.defects)
-    return names - {"ok"}  # the one reply code every interface has (DESIGN §2)
+    return names - {"ok"}  # the one reply code every interface has (docs/reference/interface.md)
 
 
 def test_the_core_names_nothing_of_dala():

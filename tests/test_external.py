@@ -1,4 +1,4 @@
-"""Runs against external SUTs over untimely/1: a well-behaved adapter, every fault of DESIGN §8,
+"""Runs against external SUTs over untimely/1: a well-behaved adapter, every fault of docs/reference/protocol.md,
 the TCP path, and the command line. The adapters are real processes (tests/adapters/faulty.py,
 the simulator adapter); timing bounds are generous for a loaded machine."""
 import re

@@ -1,5 +1,5 @@
 """The Node.js example adapter (examples/node/adapter.js), driven directly over stdio with
-untimely/1 lines (DESIGN §8). Timeouts are generous: the machine may be loaded."""
+untimely/1 lines (docs/reference/protocol.md). Timeouts are generous: the machine may be loaded."""
 from __future__ import annotations
 
 import queue

@@ -43,10 +43,13 @@ def test_pyproject_lists_every_package_and_data_folder():
     assert listed == found, f"missing: {sorted(found - listed)}; not there: {sorted(listed - found)}"
 
 
-def test_nothing_in_the_readme_or_docs_refers_outside_the_repository():
+def test_nothing_in_the_readme_docs_or_code_refers_outside_the_repository():
+    """The product stands alone: no path into the steering folder, no section of a design text it does not ship."""
     files = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+    files += [f for folder in ("harness", "sql", "tests", "bench") for f in sorted((ROOT / folder).rglob("*"))
+              if f.suffix in (".py", ".sql", ".j2", ".trace", ".toml")]
     outside = [f"{f.relative_to(ROOT)}:{n}: {line.strip()}" for f in files
-               for n, line in enumerate(f.read_text().splitlines(), 1) if re.search(r"\.\./shared", line)]
+               for n, line in enumerate(f.read_text().splitlines(), 1) if re.search(r"\.\./shared|DESIGN \u00a7", line)]
     assert not outside, "\n".join(outside)
 
 

@@ -5,7 +5,7 @@ from harness.errors import StoreError
 from harness.target.interface import load_interface
 from harness.trace import Trace
 
-CONTRACT = {  # DESIGN §5: names the oracles and other tools rely on
+CONTRACT = {  # docs/reference/store.md: names the oracles and other tools rely on
     "campaigns": ["campaign_id", "created_at", "mission", "seed", "config"],
     "scripts": ["script_id", "campaign_id", "kind", "parent", "mutations", "body", "valid", "invalid_reason"],
     "traces": ["trace_id", "campaign_id", "script_id", "sut", "seed", "outcome", "sim_s", "wall_s"],

@@ -1,1 +1,1 @@
-"""Adapters that put a system behind the `untimely/1` protocol (DESIGN §8)."""
+"""Adapters that put a system behind the `untimely/1` protocol (docs/reference/protocol.md)."""

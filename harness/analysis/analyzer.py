@@ -1,4 +1,4 @@
-"""`python -m harness analyze`: judge the stored traces with the property oracles (DESIGN §6).
+"""`python -m harness analyze`: judge the stored traces with the property oracles (docs/reference/verdicts.md).
 
 Every property is rendered through its type's template; `verdicts` (from the observed
 `events`), `verdicts_internal` (the same oracles on the simulator's `internal_events`) and the

@@ -1,4 +1,4 @@
-"""`python -m harness diff`: what the last analysis changed (DESIGN §7).
+"""`python -m harness diff`: what the last analysis changed (docs/reference/commands.md).
 
 `analyze` keeps the verdicts and Tables II-IV of the analysis it replaces (verdicts_previous,
 table_values_previous); the views verdict_transitions and table_changes compare them with the

@@ -1,4 +1,4 @@
-"""Properties rendered into SQL through the Jinja templates of sql/ (DESIGN §6).
+"""Properties rendered into SQL through the Jinja templates of sql/ (docs/reference/verdicts.md).
 
 A property is judged by its type's template, sql/oracles/<type>.sql, which defines the CTE
 chain of that type; sql/oracles/_oracle.sql wraps it into one query returning verdict rows.

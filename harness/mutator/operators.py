@@ -1,4 +1,4 @@
-"""Mutation operators over mission scripts (paper §V.C, DESIGN §4).
+"""Mutation operators over mission scripts (paper §V.C, docs/reference/mission-language.md).
 
 The paper's three operators act on module requests (`send` steps): delete one, insert
 an additional one, swap a pair. Two time-domain operators are opt-in: drop a `wait`,

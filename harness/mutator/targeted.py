@@ -2,7 +2,7 @@
 requests that make its P-condition false, placed by what the golden run showed.
 
 Generic: it reads only the properties, the interface and the golden run's trace. A property's
-basic type says what falsifies its condition (DESIGN §6):
+basic type says what falsifies its condition (docs/reference/verdicts.md):
 
 - PC[x, Q]: an x sent before every q in Q has ended ok (before q is sent, or while it runs);
 - ES[x, y]: an x sent while a y runs;  EE[x, y]: a y sent while an accepted x runs;
@@ -74,7 +74,7 @@ def _generic(prop: Property) -> list[Falsifier]:
     return aims or [_es(x, x)]
 
 
-# The aims of the paper's types (DESIGN §6), by what falsifies each one's condition.
+# The aims of the paper's types (docs/reference/verdicts.md), by what falsifies each one's condition.
 AIMS = {"PC": lambda p: [Falsifier("before_ok", send=p.x, need=p.q)],
         "ES": lambda p: [_es(p.x, p.y)],
         "EE": lambda p: [_ee(p.x, p.y)],

@@ -1,4 +1,4 @@
-"""The DuckDB trace store (DESIGN §5): schema, and loading traces through Arrow."""
+"""The DuckDB trace store (docs/reference/store.md): schema, and loading traces through Arrow."""
 from __future__ import annotations
 
 import json

@@ -1,4 +1,4 @@
-"""`python -m harness import FILE --interface FILE`: traces from elsewhere into the store (DESIGN §5).
+"""`python -m harness import FILE --interface FILE`: traces from elsewhere into the store (docs/reference/store.md).
 
 The file (CSV, JSON lines or Parquet) holds the events columns, one event per row, plus
 optionally `outcome` and `sut` per trace. Every row is checked against the interface first;

@@ -1,4 +1,4 @@
-"""The interface description and the properties, read from TOML data files (DESIGN §2-§3)."""
+"""The interface description and the properties, read from TOML data files (docs/reference/interface.md and docs/reference/properties.md)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -56,7 +56,7 @@ class Interface:
         return list(dict.fromkeys(s.module for s in self.services.values()))
 
     def describe(self) -> dict:
-        """What a SUT is told of the interface in the protocol's hello (DESIGN §8)."""
+        """What a SUT is told of the interface in the protocol's hello (docs/reference/protocol.md)."""
         modules: dict[str, dict[str, str]] = {}
         for s in self.services.values():
             modules.setdefault(s.module, {})[s.name] = s.kind

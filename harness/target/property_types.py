@@ -1,4 +1,4 @@
-"""The basic property types, read from the oracle templates (DESIGN §6): a template
+"""The basic property types, read from the oracle templates (docs/reference/verdicts.md): a template
 sql/oracles/<type>.sql (not starting with `_`) defines a type named <TYPE>, and its macro
 `ctes(name, ...)` declares the parameters a property of that type gives, in order. A new type is
 a new template (and the fixtures that test it); no Python changes.

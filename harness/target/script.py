@@ -1,4 +1,4 @@
-"""The mission-script language (DESIGN §4): parse, validate and render scripts.
+"""The mission-script language (docs/reference/mission-language.md): parse, validate and render scripts.
 
     send MODULE.SERVICE [name=value ...] [as HANDLE]   # non-blocking request
     wait HANDLE|all [timeout=SECONDS]                  # block until final replies

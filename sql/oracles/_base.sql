@@ -1,4 +1,4 @@
-{#- Building blocks of every oracle (DESIGN §6), imported by the type templates.
+{#- Building blocks of every oracle (docs/reference/verdicts.md), imported by the type templates.
     A request has two instants: (t, seq) when it was sent, or when the SUT replied that it took
     it (table taken_events), and (final_t, final_seq) when its first final reply came. "Before"
     is the lexicographic order on (t, seq).

@@ -1,4 +1,4 @@
-{#- One property's oracle query (DESIGN §6): the requests of its scope in `events` (the
+{#- One property's oracle query (docs/reference/verdicts.md): the requests of its scope in `events` (the
     observed `events` or the ground-truth `internal_events`), its type's CTE chain from
     `template`, and its verdict rows with the contract columns; with `explain`, the pairs that
     decided the condition of some requests instead (explain.requests: (trace_id, rqst_id) pairs);

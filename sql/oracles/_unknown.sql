@@ -1,4 +1,4 @@
-{#- The rows of a property whose oracle failed (DESIGN §6): verdict 'unknown' on every request
+{#- The rows of a property whose oracle failed (docs/reference/verdicts.md): verdict 'unknown' on every request
     it judges (`judged`: "module.Service" names), read from `events` without the oracles'
     building blocks, which may be what failed. No ordering of events changes an oracle's failure,
     so the row is certain, with no alternatives (and not suspicious). -#}

@@ -1,4 +1,4 @@
-{#- How many traces ended each way (DESIGN §5 traces.outcome), over the rows of `outcome`. -#}
+{#- How many traces ended each way (docs/reference/store.md traces.outcome), over the rows of `outcome`. -#}
 {% macro counts(outcome='outcome') -%}
 count(*) filter (where {{ outcome }} = 'completed') as completed,
        count(*) filter (where {{ outcome }} = 'hung') as hung,

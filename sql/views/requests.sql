@@ -1,4 +1,4 @@
-{#- Every request with its first final reply and that reply's class (DESIGN §5-§6): the same
+{#- Every request with its first final reply and that reply's class (docs/reference/store.md and docs/reference/verdicts.md): the same
     derivation the oracles use. -#}
 {% import 'oracles/_base.sql' as base %}
 create or replace view requests as

@@ -1,4 +1,4 @@
-{#- Shared codes (DESIGN §6), run on `target` (verdicts or verdicts_internal) once every
+{#- Shared codes (docs/reference/verdicts.md), run on `target` (verdicts or verdicts_internal) once every
     property has inserted its rows. -#}
 -- A rejection or interruption that a property did not call for (FP) but that another property
 -- with the same code called for on the same request (TP) was enforced for that other property:

@@ -1,4 +1,4 @@
-{#- The verdicts table (DESIGN §6), filled by the analyzer with every property's oracle query
+{#- The verdicts table (docs/reference/verdicts.md), filled by the analyzer with every property's oracle query
     in the order of the properties file, then corrected by shared_codes.sql. `target` is
     verdicts (observed events) or verdicts_internal (the ground truth); `temp`: a temporary table
     (where the analyzer stages each oracle's rows); `source`: a table whose rows it gets. -#}

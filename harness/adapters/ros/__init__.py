@@ -1,4 +1,4 @@
-"""A ROS 1 system under test behind the `untimely/1` protocol (DESIGN §8; docs/ros.md).
+"""A ROS 1 system under test behind the `untimely/1` protocol (docs/reference/protocol.md; docs/ros.md).
 
 launcher.py starts a rosmaster and the SUT's node and runs adapter.py on stdio; adapter.py is
 generic (it reads the interface from the bench's hello and the mapping file, ros.toml); only

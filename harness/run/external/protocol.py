@@ -1,4 +1,4 @@
-"""The `untimely/1` wire format (DESIGN §8): one JSON object per line, each with an `op`.
+"""The `untimely/1` wire format (docs/reference/protocol.md): one JSON object per line, each with an `op`.
 
 Shared by the bench's side and the adapters the project ships, so both read and write the
 same lines. A line that breaks the format raises ProtocolViolation, quoting what was wrong.

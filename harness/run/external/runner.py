@@ -1,4 +1,4 @@
-"""Runs against an external SUT over `untimely/1` (DESIGN §8), in wall-clock time.
+"""Runs against an external SUT over `untimely/1` (docs/reference/protocol.md), in wall-clock time.
 
 The same Executive plays the script, with the same watchdog and drain rules, on a kernel paced
 by the monotonic clock; its layer is a ProtocolLayer that turns requests and pings into lines
