@@ -26,7 +26,7 @@ from harness.store.database import connect
 from harness.store.reads import ordered, relations
 from harness.store.sql import render_query, render_view, view_order
 from harness.target.interface import Interface, Property, load_interface, load_properties
-from harness.textable import counted, format_table, percent, rate_interval, with_certain
+from harness.textable import counted, format_table, percent, rate_interval, with_orders
 
 # (events source, verdicts table): the observed timeline and the ground truth.
 SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
@@ -160,9 +160,10 @@ def family_order(con) -> list[str]:
 
 def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
     """Paper layout: one row per family (properties-file order, then All), one column per variant;
-    each cell the rate, its 95% Wilson interval and n, then c= the rate counting only certain FN or FP."""
-    cells = {(sut, family): with_certain(rate_interval(*values), certain) for sut, family, certain, *values in
-             con.execute(f"select sut, family, {column}_certain, {column}, {column}_low, {column}_high, n "
+    each cell the rate, its 95% Wilson interval and n, then o= its interval over the orders of events."""
+    cells = {(sut, family): with_orders(rate_interval(*values), lowest, highest)
+             for sut, family, lowest, highest, *values in
+             con.execute(f"select sut, family, {column}_min, {column}_max, {column}, {column}_low, {column}_high, n "
                          f"from {view}").fetchall()}
     return format_table(["family"] + suts,
                         [[f] + [cells.get((s, f), "-") for s in suts] for f in family_order(con)])
@@ -187,10 +188,10 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
                                     for r in robustness])
     parts = ["Table II - per trace results\n" + table2,
              "Table III - true positive rates TP/(TP+FN), % [95% Wilson interval] n=TP+FN "
-             "c=counting only certain FN\n"
+             "o=[lowest, highest] over the orders of events closer than epsilon\n"
              + _rates_by_family(con, "tp_rates", "tp_rate", suts),
              "Table IV - false positive rates FP/(FP+TN), % [95% Wilson interval] n=FP+TN "
-             "c=counting only certain FP\n"
+             "o=[lowest, highest] over the orders of events closer than epsilon\n"
              + _rates_by_family(con, "fp_rates", "fp_rate", suts)]
     left_out = con.execute("select left_out, count(*) from trace_scope where not counted group by all "
                            "order by all").fetchall()
