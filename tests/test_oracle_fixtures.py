@@ -84,6 +84,8 @@ ALTERNATIVES = {
     ("flag", "flag_fn_to_na", "AIB(ndd.GotoPosition)", 1): ["na"],
     ("flag", "flag_tp_to_na", "AIB(ndd.GotoPosition)", 1): ["na"],
     ("flag", "flag_control_is_no_cause", "AIB(ndd.GotoPosition)", 1): [],
+    ("flag", "flag_omega_hung", "AIB(ndd.GotoPosition)", 1): ["FN", "FP", "TN", "TP", "op"],
+    ("flag", "flag_untaken_in_hung", "AIB(ndd.GotoPosition)", 1): ["TN"],
     ("causes", "rejected_request_is_no_cause", "AIB(ndd.GotoPosition)", 1): ["op"],
     ("causes", "cause_sent_just_before", "EXC(aspect.Reset,ndd.GotoPosition)", 2): ["FP", "TP"],
     ("causes", "cause_sent_just_before", "EXC(antenna.Communication,ndd.GotoPosition)", 2): ["FP"],
