@@ -55,6 +55,20 @@ def test_every_interval_contains_the_true_rate(fuzzed):
     assert outside(con) == []
 
 
+def test_where_the_sut_tells_its_order_the_intervals_are_points(fuzzed):
+    """`telling` replies `taken` to every request it takes, on the channel of its other replies: its
+    completed traces are judged with epsilon 0 (view trace_epsilon) and every verdict is certain."""
+    con, _ = fuzzed
+    told, uncertain = con.execute("""select count(distinct trace_id), count(*) filter (where not v.certain)
+                                     from verdicts v join traces t using (trace_id) join trace_epsilon e using (trace_id)
+                                     where t.sut = 'telling' and t.outcome = 'completed' and e.source = 'taken'
+                                  """).fetchone()
+    completed = con.execute("select count(*) from traces where sut = 'telling' and outcome = 'completed'").fetchone()[0]
+    assert (told, uncertain) == (completed, 0)
+    assert con.execute("select settled, told_traces from order_doubt where sut = 'telling'").fetchone() == (0, completed)
+    assert con.execute("select min(settled) from order_doubt where sut <> 'telling'").fetchone()[0] > 0
+
+
 def test_a_broken_alternative_makes_the_checks_fail(fuzzed):
     """Drop TN from every alternative list of the AIB FN verdicts (as a template that forgot that the
     conflicting request could have come after the end): some internal TN is then missed, and an

@@ -218,15 +218,16 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
 
 
 def epsilons(con) -> str:
-    """Which epsilon the traces were judged with (view trace_epsilon): the analysis's, or per
-    real-time trace the one its pings measured."""
+    """Which epsilon the traces were judged with (view trace_epsilon): the analysis's, per
+    real-time trace the one its pings measured, or 0 where the SUT told its order."""
     found = con.execute("""select source, count(*), min(epsilon_s), max(epsilon_s) from trace_epsilon
                            group by source order by source""").fetchall()
     said = []
     for source, n, low, high in found:
         value = f"{low:g} s" if low == high else f"{low:g} to {high:g} s"
         said.append(f"{value} for {n} trace{'s' * (n != 1)} "
-                    + ("(the analysis's --epsilon)" if source == "analysis" else "(measured by the pings of each real-time run)"))
+                    + {"analysis": "(the analysis's --epsilon)", "taken": "(the SUT replied taken to every request: "
+                       "it told its order)"}.get(source, "(measured by the pings of each real-time run)"))
     return "Epsilon (view trace_epsilon): " + "; ".join(said) + "."
 
 

@@ -38,6 +38,8 @@ _BUILDERS: dict[str, Callable[[IndexTables], Table]] = {
     "crash_reasons": lambda t: queries.crash_reasons(t.con),
     "table2": lambda t: queries.view(t.con, "trace_robustness", percent=frozenset({"t_rob", "t_rob_min", "t_rob_max"}))
                                .link_column("sut", html.bad_href),
+    "order_doubt": lambda t: queries.view(t.con, "order_doubt",
+                                          percent=frozenset({"t_rob_width", "tp_rate_width", "fp_rate_width"})),
     "tp_rates": _rates("tp_rates", "tp_rate"),
     "fp_rates": _rates("fp_rates", "fp_rate"),
     "table3": lambda t: pages.pivot(t["tp_rates"], "tp_rate", "table3", t.suts, t.families),

@@ -11,7 +11,7 @@
 insert into {{ into }} by name
 {% endif %}
 with {{ base.requests(events, modules, explain.traces if explain else none, oracle.needs_args is defined, taken) }},
-{{ eps.per_trace(runs) }},
+{{ eps.per_trace(runs, taken) }},
 {{ oracle.ctes('p', **parameters) }}
 {% if explain %}
 select * from p_pairs where (trace_id, rqst_id) in ({{ explain.requests | join(', ') }})
