@@ -65,7 +65,8 @@ def test_where_the_sut_tells_its_order_the_intervals_are_points(fuzzed):
                                   """).fetchone()
     completed = con.execute("select count(*) from traces where sut = 'telling' and outcome = 'completed'").fetchone()[0]
     assert (told, uncertain) == (completed, 0)
-    assert con.execute("select settled, told_traces from order_doubt where sut = 'telling'").fetchone() == (0, completed)
+    settled, told_traces = con.execute("select settled, told_traces from order_doubt where sut = 'telling'").fetchone()
+    assert settled == 0 and told_traces >= completed  # a hung trace whose every request was taken is told too
     assert con.execute("select min(settled) from order_doubt where sut <> 'telling'").fetchone()[0] > 0
 
 

@@ -43,7 +43,7 @@
            n.rqst_id is not null as y_named_x,
            y.final_t is null and {{ judge.ended_first('x.trace_id') }} as y_untaken
     from {{ name }}_x x
-    left join {{ name }}_y y on y.trace_id = x.trace_id and y.rqst_id <> x.rqst_id
+    join {{ name }}_y y on y.trace_id = x.trace_id and y.rqst_id <> x.rqst_id  -- an x(i) without y(j) has no pair
     left join {{ name }}_sole sx on sx.trace_id = x.trace_id and sx.rqst_id = x.rqst_id and sx.cause_id = y.rqst_id
     left join {{ name }}_sole sy on sy.trace_id = x.trace_id and sy.rqst_id = y.rqst_id and sy.cause_id = x.rqst_id
     left join {{ name }}_named n on n.trace_id = x.trace_id and n.rqst_id = x.rqst_id and n.y_rqst_id = y.rqst_id

@@ -2,7 +2,9 @@
     or FP verdict. One row per trace Tables II-IV count (trace_scope), with its verdict counts, and
     what its verdicts' alternatives allow (view verdict_options): `_min` whatever the order of the
     events closer than epsilon was, `_max` in some order.
-    `temp`: a temporary view, for a store analysed before this view existed and read as it is. -#}
+    `temp`: a temporary view, for a store analysed before this view existed and read as it is;
+    `alternatives`: what stands for the column in such a store, which predates it ('[]'). -#}
+{%- set alternatives = alternatives | default('alternatives') %}
 create or replace {{ 'temp ' if temp | default(false) }}view trace_badness as
 with counted as (
     select t.trace_id, t.sut, t.outcome, t.script_id
@@ -14,11 +16,11 @@ tallied as (
            count(*) filter (where verdict = 'FP') as fp,
            count(*) filter (where verdict = 'TP') as tp,
            count(*) filter (where suspicious and verdict in ('FN', 'FP')) as suspicious,
-           bool_or(must_be(verdict, alternatives, ['FN'])) as fn_min,
-           bool_or(can_be(verdict, alternatives, ['FN'])) as fn_max,
-           bool_or(must_be(verdict, alternatives, ['FP'])) as fp_min,
-           bool_or(can_be(verdict, alternatives, ['FP'])) as fp_max,
-           bool_or(must_be(verdict, alternatives, ['FN', 'FP'])) as fn_or_fp_min
+           bool_or(must_be(verdict, {{ alternatives }}, ['FN'])) as fn_min,
+           bool_or(can_be(verdict, {{ alternatives }}, ['FN'])) as fn_max,
+           bool_or(must_be(verdict, {{ alternatives }}, ['FP'])) as fp_min,
+           bool_or(can_be(verdict, {{ alternatives }}, ['FP'])) as fp_max,
+           bool_or(must_be(verdict, {{ alternatives }}, ['FN', 'FP'])) as fn_or_fp_min
     from verdicts
     group by trace_id
 ),

@@ -4,18 +4,14 @@
 -- extremes are the sums of each trace's), and t_rob its interval [t_rob_min, t_rob_max].
 create or replace view trace_robustness as
 select sut, count(*) as total,
-       count(*) filter (where hung) as hung,
-       count(*) filter (where crashed) as crashed,
-       count(*) filter (where with_fn) as with_fn,
-       count(*) filter (where with_fp) as with_fp,
-       count(*) filter (where bad) as bad,
+{% for flag in ['hung', 'crashed', 'with_fn', 'with_fp', 'bad'] %}
+       count(*) filter (where {{ flag }}) as {{ flag }},
+{% endfor %}
        count(*) filter (where not bad) / count(*) as t_rob,
-       count(*) filter (where with_fn_min) as with_fn_min,
-       count(*) filter (where with_fn_max) as with_fn_max,
-       count(*) filter (where with_fp_min) as with_fp_min,
-       count(*) filter (where with_fp_max) as with_fp_max,
-       count(*) filter (where bad_min) as bad_min,
-       count(*) filter (where bad_max) as bad_max,
+{% for flag in ['with_fn', 'with_fp', 'bad'] %}
+       count(*) filter (where {{ flag }}_min) as {{ flag }}_min,
+       count(*) filter (where {{ flag }}_max) as {{ flag }}_max,
+{% endfor %}
        count(*) filter (where not bad_max) / count(*) as t_rob_min,
        count(*) filter (where not bad_min) / count(*) as t_rob_max
 from trace_badness
