@@ -85,7 +85,8 @@ ALTERNATIVES = {
     ("flag", "flag_tp_to_na", "AIB(ndd.GotoPosition)", 1): ["na"],
     ("flag", "flag_control_is_no_cause", "AIB(ndd.GotoPosition)", 1): [],
     ("flag", "flag_omega_hung", "AIB(ndd.GotoPosition)", 1): ["FN", "FP", "TN", "TP", "op"],
-    ("flag", "flag_untaken_in_hung", "AIB(ndd.GotoPosition)", 1): ["TN"],
+    # the Stop without a reply may never have been taken (TN), or rejected with its reply lost (na)
+    ("flag", "flag_untaken_in_hung", "AIB(ndd.GotoPosition)", 1): ["TN", "na"],
     ("causes", "rejected_request_is_no_cause", "AIB(ndd.GotoPosition)", 1): ["op"],
     ("causes", "cause_sent_just_before", "EXC(aspect.Reset,ndd.GotoPosition)", 2): ["FP", "TP"],
     # FP where the Communication came after the end; then the Reset's EXC may be the TP that makes it op

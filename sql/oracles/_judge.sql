@@ -13,7 +13,7 @@ coalesce(round({{ seconds }}, 6) < coalesce({{ trace_epsilon }}, {{ epsilon }}),
 {{ trace_id }} in (select trace_id from traces where outcome <> 'completed')
 {%- endmacro %}
 
-{% macro condition(name, defined='true', caused='false', movable='p.shift') -%}
+{% macro condition(name, defined='true', caused='false', movable='p.shift', untaken='false') -%}
 -- C per request: false iff some pair conflicts. To flip C, every conflict would have to go
 -- (the largest conflicting shift) or any one non-conflict would have to start (the smallest).
 -- A pair is `near` when its shift is below epsilon, both rounded to microseconds (a 10 ms gap
@@ -21,6 +21,7 @@ coalesce(round({{ seconds }}, 6) < coalesce({{ trace_epsilon }}, {{ epsilon }}),
 -- `caused`: a pair that says C is false with a conflict that was not rejected (x(i)'s end had a
 -- cause, see ee.sql). `movable`: the distance of the pair's events whose order is not sure (a
 -- template's pairs may say, rule 7, that an order is sure whatever its shift: 'infinity').
+-- `untaken`: a conflict whose taking is unknown (rule 10): it may also have been rejected.
 {{ name }}_agg as (
     select trace_id, rqst_id,
            bool_or(conflicts) as any_conflict,
@@ -31,7 +32,7 @@ coalesce(round({{ seconds }}, 6) < coalesce({{ trace_epsilon }}, {{ epsilon }}),
            -- every conflict rejected (na), C false with a conflict that was not rejected
            not coalesce(bool_or(conflicts and not near or {{ caused }}), false) as may_hold,
            coalesce(bool_and(conflict_rejected) filter (where conflicts and not near), true)
-               and coalesce(bool_or((conflicts or near) and conflict_rejected), false)
+               and coalesce(bool_or((conflicts or near) and (conflict_rejected or {{ untaken }})), false)
                and not coalesce(bool_or({{ caused }}), false) as may_be_na,
            coalesce(bool_or((conflicts or near) and not conflict_rejected), false) as may_fail
     from (select p.*, {{ near(movable) }} as near from {{ name }}_pairs p left join epsilons e using (trace_id))

@@ -64,9 +64,9 @@
                 when y_ended then 'infinity'::double
                 when y_ended_x or y_named_x then 'infinity'::double
                 else y_t - t end as movable,
-           y_class is not distinct from 'R' as conflict_rejected
+           y_class is not distinct from 'R' as conflict_rejected, y_untaken as untaken
     from {{ name }}_met
 ),
-{{ judge.condition(name, movable='p.movable') }},
+{{ judge.condition(name, movable='p.movable', untaken='untaken') }},
 {{ judge.judged(name, r_p, ['T', 'Z']) }}
 {%- endmacro %}
