@@ -50,7 +50,8 @@
                 when y_ended_first or x_ended_y then 'infinity'::double
                 else t - y_t end as movable,
            c.caused,
-           y_class is not distinct from 'R' as conflict_rejected, y_untaken as untaken
+           y_untaken as untaken,
+           y_class is not distinct from 'R' as conflict_rejected
     from {{ name }}_met left join {{ name }}_caused c using (trace_id, rqst_id)
 ),
 {{ judge.condition(name, defined="class is distinct from 'R'", caused='caused', movable='p.movable',

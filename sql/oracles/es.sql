@@ -64,7 +64,8 @@
                 when y_ended then 'infinity'::double
                 when y_ended_x or y_named_x then 'infinity'::double
                 else y_t - t end as movable,
-           y_class is not distinct from 'R' as conflict_rejected, y_untaken as untaken
+           y_untaken as untaken,
+           y_class is not distinct from 'R' as conflict_rejected
     from {{ name }}_met
 ),
 {{ judge.condition(name, movable='p.movable', untaken='untaken') }},

@@ -58,8 +58,8 @@
 -- y(j) conflicts when x(i) is outside `domain`, its shift that of ES (none if x(i) is inside)
 {{ name }}_pairs as (
     select trace_id, rqst_id, 'arg ' || argument as item, not legal as conflicts,
-           'infinity'::double as shift, 'infinity'::double as movable, false as conflict_rejected,
-           false as untaken
+           'infinity'::double as shift, 'infinity'::double as movable, false as untaken,
+           false as conflict_rejected
     from {{ name }}_args
 {%- if y %}
     union all
@@ -74,7 +74,8 @@
                 when y_first and not y_ended then least(t - y_t, y_final_t - t)
                 when y_ended then t - y_final_t
                 else y_t - t end as movable,
-           y_class is not distinct from 'R' as conflict_rejected, y_untaken as untaken
+           y_untaken as untaken,
+           y_class is not distinct from 'R' as conflict_rejected
     from {{ name }}_met
 {%- endif %}
 ),
