@@ -22,9 +22,10 @@ def rate_interval(rate: float | None, low: float | None, high: float | None, n: 
     return f"{percent(rate)} [{percent(low)}, {percent(high)}] n={n}"
 
 
-def with_certain(text: str, certain: float | None) -> str:
-    """A rate's text and, after it, the rate counting only certain FN or FP ("c" for certain)."""
-    return f"{text} c={percent(certain)}"
+def with_orders(text: str, lowest: float | None, highest: float | None) -> str:
+    """A rate's text and, after it, the interval in which the rate lies whatever the order of the events
+    closer than epsilon was ("o" for order): the lowest and highest rate its verdicts' alternatives allow."""
+    return f"{text} o=[{percent(lowest)}, {percent(highest)}]"
 
 
 def cell(value, null: str = "NULL") -> str:

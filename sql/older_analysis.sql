@@ -7,7 +7,9 @@ select trace_id, sut, campaign_id, true as counted, null::varchar as left_out
 from traces;
 {% endif %}
 {% if 'trace_badness' in missing %}
-{% with temp = true %}{% include 'views/trace_badness.sql' %}{% endwith %};
+-- analysed before trace_badness, and so before verdicts had alternatives: every verdict as observed
+{% with temp = true %}{% include 'views/verdict_options.sql' %}{% endwith %};
+{% with temp = true, alternatives = '[]::varchar[]' %}{% include 'views/trace_badness.sql' %}{% endwith %};
 {% endif %}
 {% if 'shrink_runs' in missing %}
 -- written before shrink runs were stored: it holds none

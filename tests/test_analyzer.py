@@ -143,18 +143,18 @@ def test_analyze_command_prints_tables_ii_to_iv(tmp_path, capsys):
     assert "Judged 22 events of 6 traces against 2 properties" in out
     table2, table3, table4 = (_cells(out, a, b) for a, b in (("Table II -", "Table III"),
                                                             ("Table III", "Table IV"), ("Table IV", "Epsilon (view")))
-    assert table2 == [["sut", "total", "hung", "crashed", "with_fn", "with_fp", "bad", "t_rob", "with_fn_certain",
-                       "with_fp_certain", "bad_certain", "t_rob_certain"],
-                      ["A", "4", "1", "0", "1", "1", "3", "25.0%", "1", "1", "3", "25.0%"],
-                      ["B", "2", "0", "1", "0", "0", "1", "50.0%", "0", "0", "1", "50.0%"]]
+    assert table2 == [["sut", "total", "hung", "crashed", "with_fn", "with_fp", "bad", "t_rob", "with_fn_min",
+                       "with_fn_max", "with_fp_min", "with_fp_max", "bad_min", "bad_max", "t_rob_min", "t_rob_max"],
+                      ["A", "4", "1", "0", "1", "1", "3", "25.0%", "1", "1", "1", "1", "3", "3", "25.0%", "25.0%"],
+                      ["B", "2", "0", "1", "0", "0", "1", "50.0%", "0", "0", "0", "0", "1", "1", "50.0%", "50.0%"]]
     # each rate with its 95% Wilson interval (textbook values: 1/2 -> 9.5-90.5, 1/1 -> 20.7-100) and n,
-    # then counting only certain FN or FP (all are certain here)
-    assert table3 == [["family", "A", "B"], ["PEX", "50.0 [9.5, 90.5] n=2 c=50.0", "100.0 [20.7, 100.0] n=1 c=100.0"],
-                      ["AIB", "100.0 [20.7, 100.0] n=1 c=100.0", "- n=0 c=-"],
-                      ["All", "66.7 [20.8, 93.9] n=3 c=66.7", "100.0 [20.7, 100.0] n=1 c=100.0"]]
-    assert table4 == [["family", "A", "B"], ["PEX", "50.0 [9.5, 90.5] n=2 c=50.0", "- n=0 c=-"],
-                      ["AIB", "0.0 [0.0, 79.3] n=1 c=0.0", "0.0 [0.0, 79.3] n=1 c=0.0"],
-                      ["All", "33.3 [6.1, 79.2] n=3 c=33.3", "0.0 [0.0, 79.3] n=1 c=0.0"]]
+    # then o= its interval over the orders of events closer than epsilon (a point: all are certain here)
+    assert table3 == [["family", "A", "B"], ["PEX", "50.0 [9.5, 90.5] n=2 o=[50.0, 50.0]", "100.0 [20.7, 100.0] n=1 o=[100.0, 100.0]"],
+                      ["AIB", "100.0 [20.7, 100.0] n=1 o=[100.0, 100.0]", "- n=0 o=[-, -]"],
+                      ["All", "66.7 [20.8, 93.9] n=3 o=[66.7, 66.7]", "100.0 [20.7, 100.0] n=1 o=[100.0, 100.0]"]]
+    assert table4 == [["family", "A", "B"], ["PEX", "50.0 [9.5, 90.5] n=2 o=[50.0, 50.0]", "- n=0 o=[-, -]"],
+                      ["AIB", "0.0 [0.0, 79.3] n=1 o=[0.0, 0.0]", "0.0 [0.0, 79.3] n=1 o=[0.0, 0.0]"],
+                      ["All", "33.3 [6.1, 79.2] n=3 o=[33.3, 33.3]", "0.0 [0.0, 79.3] n=1 o=[0.0, 0.0]"]]
     # the two properties, fewest C-false requests first, on their worst variant
     assert "view coverage): AIB(ndd.GotoPosition) 0 (B), PEX(rflex) 1 (B)." in out
 

@@ -15,9 +15,10 @@ def con():
 def test_trace_robustness_is_table_ii(con):
     rows = con.execute("select * from trace_robustness order by sut").fetchall()
     assert [d[0] for d in con.description] == ["sut", "total", "hung", "crashed", "with_fn", "with_fp",
-                                               "bad", "t_rob", "with_fn_certain", "with_fp_certain",
-                                               "bad_certain", "t_rob_certain"]
-    assert rows == [("A", 4, 1, 0, 1, 1, 3, 0.25, 1, 1, 3, 0.25), ("B", 2, 0, 1, 0, 0, 1, 0.5, 0, 0, 1, 0.5)]
+                                               "bad", "t_rob", "with_fn_min", "with_fn_max", "with_fp_min",
+                                               "with_fp_max", "bad_min", "bad_max", "t_rob_min", "t_rob_max"]
+    assert rows == [("A", 4, 1, 0, 1, 1, 3, 0.25, 1, 1, 1, 1, 3, 3, 0.25, 0.25),
+                    ("B", 2, 0, 1, 0, 0, 1, 0.5, 0, 0, 0, 0, 1, 1, 0.5, 0.5)]
 
 
 def test_trace_badness_is_the_one_rule_of_a_bad_trace(con):
@@ -116,17 +117,23 @@ def test_bad_behaviours_are_distinct_per_variant_property_and_verdict(con):
     assert rows == [("A", "PEX(rflex)", "FN", 1), ("A", "PEX(rflex)", "FP", 1), ("A", None, "hung", 1)]
 
 
-def test_tables_ii_to_iv_count_certain_fn_and_fp_beside_all_of_them():
-    """tests/traces/flag.trace: three FNs, of which only the until-stopped one is certain (the other two
-    may be a TN and an na); one hung trace. Counting only certain FNs: TP rate 4/5, one trace with FN."""
+def test_tables_ii_to_iv_give_each_figure_its_interval_over_the_orders_of_events():
+    """tests/traces/flag.trace: 4 TP (2 certain), 4 FN of which only the until-stopped one is certain (the
+    others may be a TN or an na), an na that may be an FN, an omega of a hung trace that may be any of
+    TP, FN, FP, TN; two hung traces. The lowest TP rate counts every possible FN as one and a TP only
+    where it is certain (2/8); the highest the other way round (5/6)."""
     flag = judged_store(load(HERE / "flag.trace"), EPSILON)
-    assert flag.execute("select tp, fn, fn_certain, tp_rate, tp_rate_certain from tp_rates where family = 'AIB'"
-                        ).fetchone() == (4, 3, 1, pytest.approx(4 / 7), pytest.approx(4 / 5))
-    assert flag.execute("select fp, fp_certain, fp_rate, fp_rate_certain from fp_rates where family = 'AIB'"
-                        ).fetchone() == (0, 0, 0.0, 0.0)
-    assert flag.execute("""select total, hung, with_fn, bad, t_rob, with_fn_certain, bad_certain, t_rob_certain
-                           from trace_robustness""").fetchone() == (
-        12, 1, 3, 4, pytest.approx(8 / 12), 1, 2, pytest.approx(10 / 12))
+    counts = flag.execute("select tp_can, tp_must, fn_can, fn_must, fp_can, fp_must, tn_can, tn_must "
+                          "from family_verdicts where family = 'AIB'").fetchone()
+    assert counts == (5, 2, 6, 1, 2, 0, 4, 1)
+    assert flag.execute("select tp, fn, tp_rate, tp_rate_min, tp_rate_max from tp_rates where family = 'AIB'"
+                        ).fetchone() == (4, 4, 0.5, pytest.approx(2 / 8), pytest.approx(5 / 6))
+    assert flag.execute("select fp, tn, fp_rate, fp_rate_min, fp_rate_max from fp_rates where family = 'AIB'"
+                        ).fetchone() == (0, 1, 0.0, 0.0, pytest.approx(2 / 3))
+    # 14 traces: 2 hung, 1 with a certain FN (bad in any order), 4 more that may hold an FN or FP
+    assert flag.execute("""select total, hung, with_fn, bad, with_fn_min, with_fn_max, bad_min, bad_max,
+                                  t_rob_min, t_rob, t_rob_max from trace_robustness""").fetchone() == (
+        14, 2, 4, 5, 1, 6, 3, 7, pytest.approx(7 / 14), pytest.approx(9 / 14), pytest.approx(11 / 14))
 
 
 def test_views_are_created_after_the_views_they_read(tmp_path, monkeypatch):

@@ -81,3 +81,29 @@ def test_an_unknown_fail_on_kind_is_refused_naming_it(campaign, capsys):
     assert main(["analyze", "--db", str(campaign), "--fail-on", "fn,slow"]) == 2
     err = capsys.readouterr().err
     assert "--fail-on 'fn,slow': 'slow' is not a kind of bad behaviour" in err and "fn, fp, hung, crashed" in err
+
+
+def test_a_failure_that_is_only_possible_says_so(campaign, tmp_path):
+    """A test case whose every failing verdict has alternatives (another order of the events closer
+    than epsilon would pass it) says it is only possible; one with certain failures does not."""
+    out = tmp_path / "junit.xml"
+    assert main(["analyze", "--db", str(campaign), "--junit", str(out)]) == 0
+    counts = {(sut, p): (n, possible) for sut, p, n, possible in _count(campaign, """
+        select t.sut, v.property_id, count(*), count(*) filter (where not v.certain)
+        from verdicts v join trace_scope t using (trace_id)
+        where t.counted and v.verdict in ('FN', 'FP') group by all""")}
+    failures = {(c.get("classname"), c.get("name")): c.find("failure").get("message")
+                for c in ET.parse(out).getroot().iter("testcase") if c.find("failure") is not None}
+    kinds = set()
+    for key, (n, possible) in counts.items():
+        message = failures[key]
+        if possible == n:
+            kinds.add("all")
+            assert message.endswith("each only possible: another order of events closer than epsilon would pass it")
+        elif possible:
+            kinds.add("some")
+            assert f", {possible} of them only possible" in message
+        else:
+            kinds.add("none")
+            assert "possible" not in message
+    assert "none" in kinds and kinds & {"all", "some"}, "the campaign has failures for sure and only possible"

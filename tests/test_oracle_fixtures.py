@@ -85,9 +85,14 @@ ALTERNATIVES = {
     ("flag", "flag_fn_to_na", "AIB(ndd.GotoPosition)", 1): ["na"],
     ("flag", "flag_tp_to_na", "AIB(ndd.GotoPosition)", 1): ["na"],
     ("flag", "flag_control_is_no_cause", "AIB(ndd.GotoPosition)", 1): [],
+    ("flag", "flag_omega_hung", "AIB(ndd.GotoPosition)", 1): ["FN", "FP", "TN", "TP", "op"],
+    # the Stop without a reply may never have been taken (TN), or rejected with its reply lost (na)
+    ("flag", "flag_untaken_in_hung", "AIB(ndd.GotoPosition)", 1): ["TN", "na"],
     ("causes", "rejected_request_is_no_cause", "AIB(ndd.GotoPosition)", 1): ["op"],
     ("causes", "cause_sent_just_before", "EXC(aspect.Reset,ndd.GotoPosition)", 2): ["FP", "TP"],
-    ("causes", "cause_sent_just_before", "EXC(antenna.Communication,ndd.GotoPosition)", 2): ["FP"],
+    # FP where the Communication came after the end; then the Reset's EXC may be the TP that makes it op
+    # (the shared-code rule, rule 6: issue 35 added 'op')
+    ("causes", "cause_sent_just_before", "EXC(antenna.Communication,ndd.GotoPosition)", 2): ["FP", "op"],
     ("causes", "cause_sent_just_before", "EXC(antenna.Communication,ndd.GotoPosition)", 3): ["FN"],
 }
 

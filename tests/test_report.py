@@ -203,16 +203,16 @@ def test_tables_3_and_4_equal_the_rate_views(site, table, view, rate):
     suts = rows[0][1:]
     cells = {(row[0], sut): text for row in rows[1:] for sut, text in zip(suts, row[1:])}
 
-    def with_interval(r):  # the rate, its 95% interval, n, then the rate counting only certain FN or FP
-        certain = f" c={shown(r[rate + '_certain'], rate=True)}"
+    def with_interval(r):  # the rate, its 95% interval, n, then its interval over the orders of events
+        orders = f" o=[{shown(r[rate + '_min'], rate=True)}, {shown(r[rate + '_max'], rate=True)}]"
         if not r["n"]:
-            return "- n=0" + certain
+            return "- n=0" + orders
         return (f"{shown(r[rate], rate=True)} [{shown(r[rate + '_low'], rate=True)}, "
-                f"{shown(r[rate + '_high'], rate=True)}] n={r['n']}{certain}")
+                f"{shown(r[rate + '_high'], rate=True)}] n={r['n']}{orders}")
     expected = {(r["family"], r["sut"]): with_interval(r) for r in found}
-    assert cells == {key: expected.get(key, "- n=0 c=-") for key in cells}  # a variant without such verdicts: no case
+    assert cells == {key: expected.get(key, "- n=0 o=[-, -]") for key in cells}  # a variant without such verdicts: no case
     assert set(expected) <= set(cells)
-    assert table == "table4" or "- n=0 c=-" in cells.values()  # a family without a case says so
+    assert table == "table4" or "- n=0 o=[-, -]" in cells.values()  # a family without a case says so
     assert [row[0] for row in rows[1:]] == ["PEX", "AIB", "PRE", "EXC", "VAL", "All"]
 
 
@@ -303,11 +303,11 @@ def test_table3_cells_reach_trace_pages_in_two_clicks(site):
             assert len(links) == len(rows_shown) and all((out / link).exists() for link in links)
             cell = next((r for r in rates if (r["sut"], r["family"]) == (sut, row[0][0])), None)
             if cell is None:  # the variant has no verdict of the family: its cell says "- n=0", lists none
-                assert row[suts.index(sut) + 1][0] == "- n=0 c=-" and rows_shown == []
+                assert row[suts.index(sut) + 1][0] == "- n=0 o=[-, -]" and rows_shown == []
                 continue
             interval = (f"{shown(cell['tp_rate'], rate=True)} [{shown(cell['tp_rate_low'], rate=True)}, "
                         f"{shown(cell['tp_rate_high'], rate=True)}] n={cell['n']}" if cell["n"] else "- n=0")
-            interval += f" c={shown(cell['tp_rate_certain'], rate=True)}"
+            interval += f" o=[{shown(cell['tp_rate_min'], rate=True)}, {shown(cell['tp_rate_max'], rate=True)}]"
             assert f"TP {cell['tp']}, FN {cell['fn']}: TP rate (%, 95% interval, n)\n{interval}." in \
                 (out / href).read_text()
 

@@ -26,7 +26,7 @@ from harness.store.database import connect
 from harness.store.reads import ordered, relations
 from harness.store.sql import render_query, render_view, view_order
 from harness.target.interface import Interface, Property, load_interface, load_properties
-from harness.textable import counted, format_table, percent, rate_interval, with_certain
+from harness.textable import counted, format_table, percent, rate_interval, with_orders
 
 # (events source, verdicts table): the observed timeline and the ground truth.
 SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
@@ -185,9 +185,10 @@ def family_order(con) -> list[str]:
 
 def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
     """Paper layout: one row per family (properties-file order, then All), one column per variant;
-    each cell the rate, its 95% Wilson interval and n, then c= the rate counting only certain FN or FP."""
-    cells = {(sut, family): with_certain(rate_interval(*values), certain) for sut, family, certain, *values in
-             con.execute(f"select sut, family, {column}_certain, {column}, {column}_low, {column}_high, n "
+    each cell the rate, its 95% Wilson interval and n, then o= its interval over the orders of events."""
+    cells = {(sut, family): with_orders(rate_interval(*values), lowest, highest)
+             for sut, family, lowest, highest, *values in
+             con.execute(f"select sut, family, {column}_min, {column}_max, {column}, {column}_low, {column}_high, n "
                          f"from {view}").fetchall()}
     return format_table(["family"] + suts,
                         [[f] + [cells.get((s, f), "-") for s in suts] for f in family_order(con)])
@@ -212,10 +213,10 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
                                     for r in robustness])
     parts = ["Table II - per trace results\n" + table2,
              "Table III - true positive rates TP/(TP+FN), % [95% Wilson interval] n=TP+FN "
-             "c=counting only certain FN\n"
+             "o=[lowest, highest] over the orders of events closer than epsilon\n"
              + _rates_by_family(con, "tp_rates", "tp_rate", suts),
              "Table IV - false positive rates FP/(FP+TN), % [95% Wilson interval] n=FP+TN "
-             "c=counting only certain FP\n"
+             "o=[lowest, highest] over the orders of events closer than epsilon\n"
              + _rates_by_family(con, "fp_rates", "fp_rate", suts)]
     left_out = con.execute("select left_out, count(*) from trace_scope where not counted group by all "
                            "order by all").fetchall()
@@ -242,15 +243,16 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
 
 
 def epsilons(con) -> str:
-    """Which epsilon the traces were judged with (view trace_epsilon): the analysis's, or per
-    real-time trace the one its pings measured."""
+    """Which epsilon the traces were judged with (view trace_epsilon): the analysis's, per
+    real-time trace the one its pings measured, or 0 where the SUT told its order."""
     found = con.execute("""select source, count(*), min(epsilon_s), max(epsilon_s) from trace_epsilon
                            group by source order by source""").fetchall()
     said = []
     for source, n, low, high in found:
         value = f"{low:g} s" if low == high else f"{low:g} to {high:g} s"
         said.append(f"{value} for {n} trace{'s' * (n != 1)} "
-                    + ("(the analysis's --epsilon)" if source == "analysis" else "(measured by the pings of each real-time run)"))
+                    + {"analysis": "(the analysis's --epsilon)", "taken": "(the SUT replied taken to every request: "
+                       "it told its order)"}.get(source, "(measured by the pings of each real-time run)"))
     return "Epsilon (view trace_epsilon): " + "; ".join(said) + "."
 
 

@@ -9,7 +9,7 @@ from pathlib import Path
 from jinja2 import Environment, FileSystemLoader, StrictUndefined
 
 from harness.report.tables import yes_no
-from harness.textable import percent, rate_interval, with_certain
+from harness.textable import percent, rate_interval, with_orders
 
 TEMPLATES = Path(__file__).parent / "templates"
 SHOWN_ROWS = 200  # longer tables are cut on the page; their CSV has every row
@@ -52,12 +52,13 @@ def bad_href(sut: str) -> str:
 
 
 def rate_text(r: dict, rate: str, n: int) -> str:
-    """A rate of a tp_rates/fp_rates row with its interval and n, then the rate counting only
-    certain FN or FP (a store analysed before the views had intervals: the rate alone)."""
+    """A rate of a tp_rates/fp_rates row with its interval and n, then its interval over the orders
+    of the events closer than epsilon (a store analysed before the views had them: the rate alone, or
+    without the second interval)."""
     if f"{rate}_low" not in r:
         return percent(r[rate])
     text = rate_interval(r[rate], r[f"{rate}_low"], r[f"{rate}_high"], n)
-    return with_certain(text, r[f"{rate}_certain"]) if f"{rate}_certain" in r else text
+    return with_orders(text, r[f"{rate}_min"], r[f"{rate}_max"]) if f"{rate}_min" in r else text
 
 
 _env.filters.update(percent=percent, yes_no=yes_no, duration=duration, mutation=mutation)

@@ -27,7 +27,7 @@ class IndexTables:
 
 
 def _rates(view: str, rate: str) -> Callable[[IndexTables], Table]:
-    return lambda t: queries.view(t.con, view, percent=frozenset({rate, f"{rate}_certain"}))
+    return lambda t: queries.view(t.con, view, percent=frozenset({rate, f"{rate}_min", f"{rate}_max"}))
 
 
 _BUILDERS: dict[str, Callable[[IndexTables], Table]] = {
@@ -36,8 +36,10 @@ _BUILDERS: dict[str, Callable[[IndexTables], Table]] = {
     "trace_outcomes": lambda t: queries.trace_counts(t.con),
     "invalid_mutants": lambda t: queries.invalid_mutants(t.con),
     "crash_reasons": lambda t: queries.crash_reasons(t.con),
-    "table2": lambda t: queries.view(t.con, "trace_robustness", percent=frozenset({"t_rob", "t_rob_certain"}))
+    "table2": lambda t: queries.view(t.con, "trace_robustness", percent=frozenset({"t_rob", "t_rob_min", "t_rob_max"}))
                                .link_column("sut", html.bad_href),
+    "order_doubt": lambda t: queries.view(t.con, "order_doubt",
+                                          percent=frozenset({"t_rob_width", "tp_rate_width", "fp_rate_width"})),
     "tp_rates": _rates("tp_rates", "tp_rate"),
     "fp_rates": _rates("fp_rates", "fp_rate"),
     "table3": lambda t: pages.pivot(t["tp_rates"], "tp_rate", "table3", t.suts, t.families),

@@ -57,13 +57,25 @@ def _failure_text(con, rows: list[dict]) -> str:
     return "\n\n".join(parts)
 
 
+def _possible(possible: int, failures: int) -> str:
+    """What a message adds when some failures are only possible: verdicts that another order of the
+    events closer than epsilon would change (their alternatives), which the trace cannot settle."""
+    if not possible:
+        return ""
+    if possible == failures:
+        return ", each only possible: another order of events closer than epsilon would pass it"
+    return f", {possible} of them only possible (another order of events closer than epsilon would pass them)"
+
+
 def _case(suite: ET.Element, con, sut: str, name: str, failures: list[dict], note: str) -> None:
     case = ET.SubElement(suite, "testcase", classname=sut, name=name, time="0")
     if failures:
         kinds = sorted({f["failure"] for f in failures})
         traces = sorted({f["trace_id"] for f in failures})
+        possible = sum(not f["certain"] for f in failures)
         failure = ET.SubElement(case, "failure", type=",".join(kinds),
-                                message=f"{len(failures)} {'/'.join(kinds)} in {len(traces)} trace(s) of {sut}")
+                                message=f"{len(failures)} {'/'.join(kinds)} in {len(traces)} trace(s) of {sut}"
+                                        + _possible(possible, len(failures)))
         failure.text = _failure_text(con, failures)
     ET.SubElement(case, "system-out").text = note
 

@@ -10,7 +10,7 @@ from harness.report import charts
 from harness.report.html import SHOWN_ROWS, VERDICTS, bad_href, list_href, rate_text, render
 from harness.report.tables import Table
 from harness.campaign.shrink import Behaviour, mission_file, original, write_mission
-from harness.textable import rate_interval, with_certain
+from harness.textable import rate_interval, with_orders
 
 
 def shrunk_href(script_id: int | None) -> str | None:
@@ -34,7 +34,7 @@ def pivot(view: Table, rate: str, name: str, suts: list[str], families: list[str
     cell = {(r["family"], r["sut"]): rate_text(r, rate, r.get("n")) for r in view.records()}
     families = [f for f in families if any((f, s) in cell for s in suts)]
     suts = [s for s in suts if any((f, s) in cell for f in families)]
-    no_case = with_certain(rate_interval(None, None, None, 0), None)  # a variant with no verdict of the family
+    no_case = with_orders(rate_interval(None, None, None, 0), None, None)  # a variant with no verdict of the family
     table = Table(name, ["family", *suts], [(f, *(cell.get((f, s), no_case) for s in suts)) for f in families])
     for r, family in enumerate(families):
         for c, sut in enumerate(suts, start=1):

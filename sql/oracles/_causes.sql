@@ -60,7 +60,7 @@
     select x.trace_id, x.rqst_id, x.t, x.seq, x.final_t, x.final_seq, m.module, null, false
     from {{ ended }} x
     cross join (values {% for m in modules %}({{ m | lit }}){{ ', ' if not loop.last }}{% endfor %}) as m(module)
-    where x.class is distinct from 'Z' and {{ base.among(until_stopped, 'x.') }}
+    where x.class = 'T' and {{ base.among(until_stopped, 'x.') }}  -- it ran and ended: a rejection needs no cause
 {% endif %}
 ),
 -- every candidate cause c of each such end (`interrupted`: x(i) was)

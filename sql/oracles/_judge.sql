@@ -7,7 +7,13 @@
 coalesce(round({{ seconds }}, 6) < coalesce({{ trace_epsilon }}, {{ epsilon }}), false)
 {%- endmacro %}
 
-{% macro condition(name, defined='true', caused='false', movable='p.shift') -%}
+{% macro ended_first(trace_id='trace_id') -%}
+-- the trace ended before every message reached its end (hung, crashed): a request without a reply may
+-- never have been taken, and a reply may have been lost on its way
+{{ trace_id }} in (select trace_id from traces where outcome <> 'completed')
+{%- endmacro %}
+
+{% macro condition(name, defined='true', caused='false', movable='p.shift', untaken='false') -%}
 -- C per request: false iff some pair conflicts. To flip C, every conflict would have to go
 -- (the largest conflicting shift) or any one non-conflict would have to start (the smallest).
 -- A pair is `near` when its shift is below epsilon, both rounded to microseconds (a 10 ms gap
@@ -15,6 +21,7 @@ coalesce(round({{ seconds }}, 6) < coalesce({{ trace_epsilon }}, {{ epsilon }}),
 -- `caused`: a pair that says C is false with a conflict that was not rejected (x(i)'s end had a
 -- cause, see ee.sql). `movable`: the distance of the pair's events whose order is not sure (a
 -- template's pairs may say, rule 7, that an order is sure whatever its shift: 'infinity').
+-- `untaken`: a conflict whose taking is unknown (rule 10): it may also have been rejected.
 {{ name }}_agg as (
     select trace_id, rqst_id,
            bool_or(conflicts) as any_conflict,
@@ -25,7 +32,7 @@ coalesce(round({{ seconds }}, 6) < coalesce({{ trace_epsilon }}, {{ epsilon }}),
            -- every conflict rejected (na), C false with a conflict that was not rejected
            not coalesce(bool_or(conflicts and not near or {{ caused }}), false) as may_hold,
            coalesce(bool_and(conflict_rejected) filter (where conflicts and not near), true)
-               and coalesce(bool_or((conflicts or near) and conflict_rejected), false)
+               and coalesce(bool_or((conflicts or near) and (conflict_rejected or {{ untaken }})), false)
                and not coalesce(bool_or({{ caused }}), false) as may_be_na,
            coalesce(bool_or((conflicts or near) and not conflict_rejected), false) as may_fail
     from (select p.*, {{ near(movable) }} as near from {{ name }}_pairs p left join epsilons e using (trace_id))
@@ -55,7 +62,9 @@ case when reply is null then 'omega'
 -- the reply classes that mean the activity ran; c_holds NULL = C undefined for this request.
 -- alternatives: the other verdicts that the conditions reordering the near pairs could give
 -- would make, sorted; none: the verdict is certain. A rejection with the property's own code is
--- the layer's account that C was false when it took x(i): C true is no alternative for it.
+-- the layer's account that C was false when it took x(i): C true is no alternative for it. No
+-- final reply in a trace that ended first: the reply may have been lost, any reply in any
+-- reachable condition is an alternative (the property's code, an accepted one, another one).
 {{ name }}_verdict as (
     select *, {{ verdict('c_holds', 'conflicts_rejected', code, accepted) }} as verdict
     from {{ name }}_cond
@@ -68,8 +77,13 @@ case when reply is null then 'omega'
                     case when may_hold and not (reply = {{ code | lit }} and class = 'R')
                          then {{ verdict('true', 'false', code, accepted) }} end,
                     case when may_be_na then {{ verdict('false', 'true', code, accepted) }} end,
-                    case when may_fail then {{ verdict('false', 'false', code, accepted) }} end],
-                    lambda other: other <> verdict))) end as alternatives
+                    case when may_fail then {{ verdict('false', 'false', code, accepted) }} end]
+                    || case when reply is null and {{ ended_first() }} then
+                           (case when may_hold then ['FP', 'TN', 'op'] else [] end)
+                           || (case when may_be_na then ['na'] else [] end)
+                           || (case when may_fail then ['TP', 'FN', 'op'] else [] end)
+                       else [] end,
+                    lambda other: other is not null and other <> verdict))) end as alternatives
     from {{ name }}_verdict
 )
 {%- endmacro %}

@@ -19,7 +19,7 @@ with requests as (select * from {{ shared }} where {{ where }}),
 {% else %}
 with {{ base.requests(events, where, explain.traces if explain else none, oracle.needs_args is defined, taken) }},
 {% endif %}
-{{ eps.per_trace(runs) }},
+{{ eps.per_trace(runs, taken) }},
 {{ oracle.ctes('p', **parameters) }}
 {% if explain %}
 select * from p_pairs where (trace_id, rqst_id) in ({{ explain.requests | join(', ') }})

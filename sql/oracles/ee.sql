@@ -24,9 +24,10 @@
            {{ base.before('x.', 'y.') }} as x_first,
            coalesce({{ base.before('y.', 'x.final_') }}, true) as y_before_end,
            coalesce({{ base.before('y.final_', 'x.') }}, false) as y_ended_first,
-           sx.cause_id is not null as y_ended_x, sy.cause_id is not null as x_ended_y
+           sx.cause_id is not null as y_ended_x, sy.cause_id is not null as x_ended_y,
+           y.final_t is null and {{ judge.ended_first('x.trace_id') }} as y_untaken
     from {{ name }}_x x
-    left join {{ name }}_y y on y.trace_id = x.trace_id and y.rqst_id <> x.rqst_id
+    join {{ name }}_y y on y.trace_id = x.trace_id and y.rqst_id <> x.rqst_id  -- an x(i) without y(j) has no pair
     left join {{ name }}_sole sx on sx.trace_id = x.trace_id and sx.rqst_id = x.rqst_id and sx.cause_id = y.rqst_id
     left join {{ name }}_sole sy on sy.trace_id = x.trace_id and sy.rqst_id = y.rqst_id and sy.cause_id = x.rqst_id
 ),
@@ -40,14 +41,17 @@
            case when x_first and y_before_end then least(y_t - t, final_t - y_t)
                 when x_first then y_t - final_t
                 else t - y_t end as shift,
-           case when x_first and y_before_end then (case when y_ended_x then 'infinity'::double else least(y_t - t, final_t - y_t) end)
+           case when x_first and y_before_end and y_untaken then 0  -- it may never have been taken
+                when x_first and y_before_end then (case when y_ended_x then 'infinity'::double else least(y_t - t, final_t - y_t) end)
                 when x_first then 'infinity'::double
                 when y_ended_first or x_ended_y then 'infinity'::double
                 else t - y_t end as movable,
            c.caused,
+           y_untaken as untaken,
            y_class is not distinct from 'R' as conflict_rejected
     from {{ name }}_met left join {{ name }}_caused c using (trace_id, rqst_id)
 ),
-{{ judge.condition(name, defined="class is distinct from 'R'", caused='caused', movable='p.movable') }},
+{{ judge.condition(name, defined="class is distinct from 'R'", caused='caused', movable='p.movable',
+                   untaken='untaken') }},
 {{ judge.judged(name, z_p, ['T']) }}
 {%- endmacro %}

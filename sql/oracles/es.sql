@@ -37,9 +37,10 @@
            {{ base.before('y.', 'x.') }} as y_first,
            coalesce({{ base.before('y.final_', 'x.') }}, false) as y_ended,
            sx.cause_id is not null as y_ended_x, sy.cause_id is not null as x_ended_y,
-           n.rqst_id is not null as y_named_x
+           n.rqst_id is not null as y_named_x,
+           y.final_t is null and {{ judge.ended_first('x.trace_id') }} as y_untaken
     from {{ name }}_x x
-    left join {{ name }}_y y on y.trace_id = x.trace_id and y.rqst_id <> x.rqst_id
+    join {{ name }}_y y on y.trace_id = x.trace_id and y.rqst_id <> x.rqst_id  -- an x(i) without y(j) has no pair
     left join {{ name }}_sole sx on sx.trace_id = x.trace_id and sx.rqst_id = x.rqst_id and sx.cause_id = y.rqst_id
     left join {{ name }}_sole sy on sy.trace_id = x.trace_id and sy.rqst_id = y.rqst_id and sy.cause_id = x.rqst_id
     left join {{ name }}_named n on n.trace_id = x.trace_id and n.rqst_id = x.rqst_id and n.y_rqst_id = y.rqst_id
@@ -55,13 +56,15 @@
            case when y_first and not y_ended then least(t - y_t, y_final_t - t)
                 when y_ended then t - y_final_t
                 else y_t - t end as shift,
-           case when y_first and not y_ended then (case when x_ended_y then 'infinity'::double else least(t - y_t, y_final_t - t) end)
+           case when y_first and not y_ended and y_untaken then 0  -- it may never have been taken
+                when y_first and not y_ended then (case when x_ended_y then 'infinity'::double else least(t - y_t, y_final_t - t) end)
                 when y_ended then 'infinity'::double
                 when y_ended_x or y_named_x then 'infinity'::double
                 else y_t - t end as movable,
+           y_untaken as untaken,
            y_class is not distinct from 'R' as conflict_rejected
     from {{ name }}_met
 ),
-{{ judge.condition(name, movable='p.movable') }},
+{{ judge.condition(name, movable='p.movable', untaken='untaken') }},
 {{ judge.judged(name, r_p, ['T', 'Z']) }}
 {%- endmacro %}

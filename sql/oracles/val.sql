@@ -48,7 +48,8 @@
     select x.trace_id, x.rqst_id, x.t, coalesce(w.legal_while, true) as legal_while,
            y.rqst_id as y_rqst_id, y.t as y_t, y.final_t as y_final_t, y.class as y_class,
            {{ base.before('y.', 'x.') }} as y_first,
-           coalesce({{ base.before('y.final_', 'x.') }}, false) as y_ended
+           coalesce({{ base.before('y.final_', 'x.') }}, false) as y_ended,
+           y.final_t is null and {{ judge.ended_first('x.trace_id') }} as y_untaken
     from {{ name }}_x x
     left join {{ name }}_while w using (trace_id, rqst_id)
     join {{ name }}_y y on y.trace_id = x.trace_id and y.rqst_id <> x.rqst_id
@@ -58,7 +59,8 @@
 -- y(j) conflicts when x(i) is outside `domain`, its shift that of ES (none if x(i) is inside)
 {{ name }}_pairs as (
     select trace_id, rqst_id, 'arg ' || argument as item, not legal as conflicts,
-           'infinity'::double as shift, false as conflict_rejected
+           'infinity'::double as shift, 'infinity'::double as movable, false as untaken,
+           false as conflict_rejected
     from {{ name }}_args
 {%- if y %}
     union all
@@ -68,10 +70,16 @@
                 when y_first and not y_ended then least(t - y_t, y_final_t - t)
                 when y_ended then t - y_final_t
                 else y_t - t end as shift,
+           case when legal_while then 'infinity'::double
+                when y_first and not y_ended and y_untaken then 0  -- it may never have been taken
+                when y_first and not y_ended then least(t - y_t, y_final_t - t)
+                when y_ended then t - y_final_t
+                else y_t - t end as movable,
+           y_untaken as untaken,
            y_class is not distinct from 'R' as conflict_rejected
     from {{ name }}_met
 {%- endif %}
 ),
-{{ judge.condition(name) }},
+{{ judge.condition(name, movable='p.movable', untaken='untaken') }},
 {{ judge.judged(name, r_p, ['T', 'Z']) }}
 {%- endmacro %}

@@ -1,7 +1,10 @@
 {#- The one definition of a bad trace (paper Table II): it hung, crashed, or holds at least one FN
-    or FP verdict; `bad_certain` counts only certain FN and FP. One row per trace Tables II-IV
-    count (trace_scope), with its verdict counts.
-    `temp`: a temporary view, for a store analysed before this view existed and read as it is. -#}
+    or FP verdict. One row per trace Tables II-IV count (trace_scope), with its verdict counts, and
+    what its verdicts' alternatives allow (view verdict_options): `_min` whatever the order of the
+    events closer than epsilon was, `_max` in some order.
+    `temp`: a temporary view, for a store analysed before this view existed and read as it is;
+    `alternatives`: what stands for the column in such a store, which predates it ('[]'). -#}
+{%- set alternatives = alternatives | default('alternatives') %}
 create or replace {{ 'temp ' if temp | default(false) }}view trace_badness as
 with counted as (
     select t.trace_id, t.sut, t.outcome, t.script_id
@@ -13,8 +16,11 @@ tallied as (
            count(*) filter (where verdict = 'FP') as fp,
            count(*) filter (where verdict = 'TP') as tp,
            count(*) filter (where suspicious and verdict in ('FN', 'FP')) as suspicious,
-           count(*) filter (where not suspicious and verdict = 'FN') as fn_certain,
-           count(*) filter (where not suspicious and verdict = 'FP') as fp_certain
+           bool_or(must_be(verdict, {{ alternatives }}, ['FN'])) as fn_min,
+           bool_or(can_be(verdict, {{ alternatives }}, ['FN'])) as fn_max,
+           bool_or(must_be(verdict, {{ alternatives }}, ['FP'])) as fp_min,
+           bool_or(can_be(verdict, {{ alternatives }}, ['FP'])) as fp_max,
+           bool_or(must_be(verdict, {{ alternatives }}, ['FN', 'FP'])) as fn_or_fp_min
     from verdicts
     group by trace_id
 ),
@@ -23,10 +29,12 @@ judged as (
            coalesce(v.suspicious, 0) as suspicious,
            c.outcome = 'hung' as hung, c.outcome = 'crashed' as crashed,
            coalesce(v.fn, 0) > 0 as with_fn, coalesce(v.fp, 0) > 0 as with_fp,
-           -- counting only certain FN and FP (suspicious = not certain)
-           coalesce(v.fn_certain, 0) > 0 as with_fn_certain, coalesce(v.fp_certain, 0) > 0 as with_fp_certain
+           coalesce(v.fn_min, false) as with_fn_min, coalesce(v.fn_max, false) as with_fn_max,
+           coalesce(v.fp_min, false) as with_fp_min, coalesce(v.fp_max, false) as with_fp_max,
+           coalesce(v.fn_or_fp_min, false) as fn_or_fp_min
     from counted c left join tallied v using (trace_id)
 )
-select *, hung or crashed or with_fn or with_fp as bad,
-       hung or crashed or with_fn_certain or with_fp_certain as bad_certain
+select * exclude (fn_or_fp_min), hung or crashed or with_fn or with_fp as bad,
+       hung or crashed or fn_or_fp_min as bad_min,
+       hung or crashed or with_fn_max or with_fp_max as bad_max
 from judged

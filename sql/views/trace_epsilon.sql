@@ -1,8 +1,8 @@
 {% import 'oracles/_epsilon.sql' as eps %}
 -- Which epsilon each trace was judged with (sql/oracles/_epsilon.sql): the one its pings
--- measured (real-time runs), else the analysis's.
+-- measured (real-time runs), 0 where the SUT replied `taken` to every request, else the analysis's.
 create or replace view trace_epsilon as
 with {{ eps.per_trace() }}
 select t.trace_id, t.sut, coalesce(e.epsilon, a.epsilon) as epsilon_s,
-       case when e.epsilon is null then 'analysis' else 'pings' end as source
+       coalesce(e.source, 'analysis') as source
 from traces t cross join analysis a left join epsilons e using (trace_id)

@@ -1,17 +1,18 @@
 -- Paper Table II, one row per variant: how many counted traces are bad (view trace_badness) and
--- why; t_rob is the fraction of good traces. The _certain columns count only certain FN and FP
--- verdicts: t_rob_certain is t_rob if every possible one were a false observation.
+-- why; t_rob is the fraction of good traces. Each count has its interval over the orders of the
+-- events closer than epsilon (_min, _max: each trace is bad or not on its own verdicts, so the
+-- extremes are the sums of each trace's), and t_rob its interval [t_rob_min, t_rob_max].
 create or replace view trace_robustness as
 select sut, count(*) as total,
-       count(*) filter (where hung) as hung,
-       count(*) filter (where crashed) as crashed,
-       count(*) filter (where with_fn) as with_fn,
-       count(*) filter (where with_fp) as with_fp,
-       count(*) filter (where bad) as bad,
+{% for flag in ['hung', 'crashed', 'with_fn', 'with_fp', 'bad'] %}
+       count(*) filter (where {{ flag }}) as {{ flag }},
+{% endfor %}
        count(*) filter (where not bad) / count(*) as t_rob,
-       count(*) filter (where with_fn_certain) as with_fn_certain,
-       count(*) filter (where with_fp_certain) as with_fp_certain,
-       count(*) filter (where bad_certain) as bad_certain,
-       count(*) filter (where not bad_certain) / count(*) as t_rob_certain
+{% for flag in ['with_fn', 'with_fp', 'bad'] %}
+       count(*) filter (where {{ flag }}_min) as {{ flag }}_min,
+       count(*) filter (where {{ flag }}_max) as {{ flag }}_max,
+{% endfor %}
+       count(*) filter (where not bad_max) / count(*) as t_rob_min,
+       count(*) filter (where not bad_min) / count(*) as t_rob_max
 from trace_badness
 group by sut
