@@ -27,6 +27,7 @@ from harness.textable import format_table
 
 Key = tuple[int, str, int]  # (trace_id, property_id, rqst_id): one verdict row
 ARGUMENT_ITEM = "arg "  # how a value-domain oracle names an argument among its items (sql/oracles/val.sql)
+SPAN_ITEM = "state"  # how IN and OUT name the state x(i) stands in (sql/oracles/_span.sql)
 
 
 def judged_files(con, properties: str | None = None) -> tuple[Path, Path]:
@@ -128,6 +129,9 @@ class Explainer:
                 what, events = f"q {pair['item']}", "ok at " + (", ".join(map(_seconds, found)) or "never")
             elif pair["item"] is None:  # a verdict no y request decided (x interrupted by nothing of y)
                 what, events = "no y request", "the trace holds no request of y"
+            elif pair["item"] == SPAN_ITEM:  # IN's C holds inside the span, OUT's outside
+                inside = pair["conflicts"] == (prop.type == "OUT")
+                what, events = "state", ("inside" if inside else "outside") + " the span an ok of q enters, an ok of y leaves"
             elif pair["item"].startswith(ARGUMENT_ITEM):  # a value-domain oracle's argument of x(i)
                 service, *_, args = requests[(trace_id, rqst_id)]
                 name = pair["item"][len(ARGUMENT_ITEM):]
