@@ -11,6 +11,12 @@ The value-domain family VAL (issue 25) added verdict rows to every campaign: eac
 under `before_val`, what main stored before it (the verdicts' fingerprint and Tables III-IV), and
 the tests check that leaving the VAL rows out gives exactly that back: its properties changed
 nothing else, and the value operators, not selected, changed no script, trace or event.
+
+Complete alternatives (issue 35) changed the `verdicts` fingerprints, and only them: the columns
+`suspicious`, `certain` and `alternatives` of verdicts whose order or taking cannot be observed
+(e.g. an omega in a hung trace). Every other table, Tables II-IV, and every verdict's trace, request,
+property, C, verdict and margin stayed the same on all three campaigns (compared row by row before
+the new digests were written in).
 """
 import json
 from pathlib import Path
