@@ -119,7 +119,12 @@ def _shared_memory(domain_id: int) -> set[str]:
     return {port.string for port in ports if port and (int(port.group(1)) - 7400) // 250 == domain_id}
 
 
+def _living_children() -> set[int]:
+    return {p.pid for p in psutil.Process().children(recursive=True) if p.status() != psutil.STATUS_ZOMBIE}
+
+
 def test_a_killed_run_leaves_no_process_shared_memory_or_log_folder():
+    earlier = _living_children()  # what earlier tests of the session still run is not this run's
     with Ros2Environment(ROOT, DEFAULT_DISTRO, slot=0) as ros:
         before, domain_id = _shared_memory(ros.domain_id), ros.domain_id
         server = subprocess.Popen([str(ros.python), str(PEER), "serve", "untimely_killed"], env=ros.env,
@@ -133,6 +138,6 @@ def test_a_killed_run_leaves_no_process_shared_memory_or_log_folder():
         log_dir = ros.log_dir
         assert any(log_dir.iterdir()), "the nodes logged nothing in their log folder"
     assert not log_dir.exists()
-    assert not psutil.Process().children(recursive=True)
+    assert not _living_children() - earlier
     left = _shared_memory(domain_id) - before
     assert not left, f"left in /dev/shm: {sorted(left)}"

@@ -116,16 +116,16 @@ wait far
 def _stopped_during_the_drive(sut, script, interface, after_s: float):
     """The script run through the bench, the Dala node stopped (SIGSTOP) `after_s` after it appeared:
     (its trace, the run's other processes, the node, its log folder)."""
-    traces = []
+    traces, earlier = [], descendants(os.getpid())  # processes of earlier tests are not this run's
     bench = threading.Thread(target=lambda: traces.append(run_external(script, sut, 0, interface)))
     bench.start()
     deadline, node = time.monotonic() + 120, None
     while node is None:
         assert time.monotonic() < deadline, "the Dala node never started"
-        node = next((p for p in descendants(os.getpid()) if running_module(p) == NODE), None)
+        node = next((p for p in descendants(os.getpid()) - earlier if running_module(p) == NODE), None)
         time.sleep(0.2)
     time.sleep(after_s)
-    children = descendants(os.getpid()) - {node}
+    children = descendants(os.getpid()) - earlier - {node}
     log_dir = next(v for v in Path(f"/proc/{node}/environ").read_bytes().decode().split("\0")
                    if v.startswith("ROS_LOG_DIR=")).split("=", 1)[1]
     os.kill(node, signal.SIGSTOP)
