@@ -244,7 +244,7 @@ def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
 
 def epsilons(con) -> str:
     """Which epsilon the traces were judged with (view trace_epsilon): the analysis's, per
-    real-time trace the one its pings measured, or 0 where the SUT told its order."""
+    real-time trace the one its pings measured, or 0 for another trace whose SUT told its order."""
     found = con.execute("""select source, count(*), min(epsilon_s), max(epsilon_s) from trace_epsilon
                            group by source order by source""").fetchall()
     said = []

@@ -2,8 +2,8 @@
     measures it: two events closer than the slowest ping round trip of the run may be observed in
     either order (each line can be late by a one-way trip; the round trip bounds both), in mission
     seconds (wall seconds x time_scale), rounded up to 0.1 ms. Any other trace (simulated in
-    virtual time, imported) gets the analysis's epsilon (`--epsilon`); a trace whose SUT replied
-    `taken` to every request gets 0. Read by the oracles
+    virtual time, imported) gets the analysis's epsilon (`--epsilon`), or 0 when its SUT replied
+    `taken` to every request. Read by the oracles
     (_judge.sql) and by views interface_latency and trace_epsilon. -#}
 
 {% macro measured(rtt_s, time_scale) -%}
@@ -12,10 +12,12 @@ greatest(ceil({{ rtt_s }} * {{ time_scale }} * 1e4) / 1e4, 1e-4)
 
 {% macro per_trace(runs=true, taken=true) -%}
 -- epsilon per trace: measured by the pings of a real-time run, else the analysis's (`runs`
--- false: a store from before trace_runs, read as it is); 0 where the SUT told the order it took
--- every request in (a `taken` reply each, on the one channel of its replies: every instant an
--- oracle reads then comes in the layer's own order, so no two are in doubt; `taken` false: a
--- store from before taken_events). `source` says which.
+-- false: a store from before trace_runs, read as it is); 0 for a trace without pings whose SUT
+-- told the order it took every request in (a `taken` reply each, on the one channel of its
+-- replies: every instant an oracle reads then comes in the layer's own order; `taken` false: a
+-- store from before taken_events). A real-time run keeps its measured epsilon even then: a live
+-- adapter may learn `taken` and the other replies over different channels (ROS 2's introspection
+-- and result topics), whose order its stdio does not keep. `source` says which.
 epsilons as (
     select trace_id, arg_min(epsilon, epsilon) as epsilon, arg_min(source, epsilon) as source from (
 {% if runs %}
@@ -29,6 +31,9 @@ epsilons as (
         select r.trace_id, 0.0, 'taken'
         from events r left join taken_events k using (trace_id, rqst_id)
         where r.kind = 'request'
+{% if runs %}
+            and r.trace_id not in (select trace_id from trace_runs where rtt_max_s is not null)
+{% endif %}
         group by r.trace_id having bool_and(k.trace_id is not null)
 {% endif %}
     ) group by trace_id
