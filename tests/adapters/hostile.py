@@ -90,7 +90,8 @@ for raw in sys.stdin:
             sys.exit(3)
         send(hello())
         if case == "flood":
-            threading.Thread(target=flood, daemon=True).start()
+            flooding = threading.Thread(target=flood, daemon=True)
+            flooding.start()
         if case == "deaf":
             sleep_forever()
     elif op == "request":
@@ -100,4 +101,6 @@ for raw in sys.stdin:
     elif op == "ping" and case != "never-pong":
         send(json.dumps({"op": "pong", "id": msg["id"]}))
     elif op == "bye":
+        if case == "flood":  # the whole million is sent, however slowly a loaded machine let it go
+            flooding.join()
         break
