@@ -12,12 +12,13 @@ greatest(ceil({{ rtt_s }} * {{ time_scale }} * 1e4) / 1e4, 1e-4)
 
 {% macro per_trace(runs=true, taken=true) -%}
 -- epsilon per trace: measured by the pings of a real-time run, else the analysis's (`runs`
--- false: a store from before trace_runs, read as it is); 0 for a trace without pings whose SUT
+-- false: a store from before trace_runs, read as it is); 0 for a run without pings whose SUT
 -- told the order it took every request in (a `taken` reply each, on the one channel of its
 -- replies: every instant an oracle reads then comes in the layer's own order; `taken` false: a
--- store from before taken_events). A real-time run keeps its measured epsilon even then: a live
--- adapter may learn `taken` and the other replies over different channels (ROS 2's introspection
--- and result topics), whose order its stdio does not keep. `source` says which.
+-- store from before taken_events). A real-time run keeps its measured epsilon even then, and an
+-- imported trace (it has a label) the analysis's: a live adapter or a recording may learn `taken`
+-- and the other replies over different channels (ROS 2's introspection and result topics), whose
+-- order neither stdio nor a bag keeps. `source` says which.
 epsilons as (
     select trace_id, arg_min(epsilon, epsilon) as epsilon, arg_min(source, epsilon) as source from (
 {% if runs %}
@@ -30,7 +31,7 @@ epsilons as (
         union all
         select r.trace_id, 0.0, 'taken'
         from events r left join taken_events k using (trace_id, rqst_id)
-        where r.kind = 'request'
+        where r.kind = 'request' and r.trace_id in (select trace_id from traces where label is null)
 {% if runs %}
             and r.trace_id not in (select trace_id from trace_runs where rtt_max_s is not null)
 {% endif %}
