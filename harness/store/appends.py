@@ -52,18 +52,20 @@ def _write_problem(error: duckdb.Error) -> StoreError:
 @contextmanager
 def transaction(con):
     """The block's writes commit together, or on any exception are rolled back and it propagates."""
-    con.begin()
+    committing = False
     try:
+        # begin and commit inside the try: a stop signal's exception raised just after begin
+        # returns, or just before commit (Python runs handlers between bytecodes), must roll the
+        # transaction back too, or the interrupted shrink stored next cannot begin its own
+        con.begin()
         yield
+        committing = True
+        con.commit()
     except BaseException as e:
         try:
             con.rollback()
         except duckdb.TransactionException:
-            pass  # DuckDB already ended a transaction whose write failed
-        if isinstance(e, duckdb.IOException):
-            raise _write_problem(e) from None
+            pass  # no transaction left: DuckDB ended the one whose write or commit failed, or none began
+        if isinstance(e, duckdb.IOException) or (committing and isinstance(e, duckdb.Error)):
+            raise _write_problem(e) from None  # a full disk shows at commit, when the write-ahead log is written
         raise
-    try:
-        con.commit()
-    except duckdb.Error as e:  # a full disk shows here, when the write-ahead log is written
-        raise _write_problem(e) from None
