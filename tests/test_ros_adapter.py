@@ -4,7 +4,7 @@ import signal
 import time
 import xmlrpc.client
 
-from harness.adapters.ros import processes
+from harness.sut.ros import processes
 
 from tests.ros_driver import MAPPING, Launcher, descendants, hello, request, requires_ros, wait_gone
 

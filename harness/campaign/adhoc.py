@@ -10,12 +10,12 @@ from pathlib import Path
 
 from harness import store
 from harness.errors import UntimelyError
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.files import existing_file
-from harness.run.external.runner import run_external
+from harness.sut.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import load_script
-from harness.run.external.definitions import resolve
+from harness.sut.definitions import resolve
 from harness.trace import Trace
 
 

@@ -29,7 +29,7 @@ from harness.campaign import budgeted, representatives, sharding, shrink
 from harness.campaign.config import campaign_config, find_campaign
 from harness.campaign.slots import campaign_slots
 from harness.errors import StoreError
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.files import read_text
 from harness.target.interface import Interface
 from harness.target.mission import load_mission
@@ -39,8 +39,8 @@ from harness.store.reads import observed_events
 from harness.store.sql import render_query
 from harness.progress import Progress
 from harness.analysis.provenance import last_epsilon
-from harness.run.external.definitions import ExternalSut
-from harness.run.external.kept import kept_adapters
+from harness.sut.definitions import ExternalSut
+from harness.sut.external.kept import kept_adapters
 from harness.trace import Trace
 from harness.run.workers import Pool, Setup, Task, script_label
 
@@ -241,7 +241,7 @@ def _focused(args, con, campaign_id, config, mission, interface, golden, propert
 
 
 def main(args, runner=None) -> int:
-    """`runner` replaces harness.run.executive.run_script (tests inject failing ones)."""
+    """`runner` replaces harness.sut.executive.run_script (tests inject failing ones)."""
     config = campaign_config(args)
     target = load_mission(args.mission)
     mission, interface = target.folder, target.interface

@@ -26,15 +26,15 @@ from pathlib import Path
 from harness import DEFAULT_EPSILON_S, store
 from harness.errors import ScriptError, StoreError, UntimelyError
 from harness.files import make_folder
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.analysis.judge import Judge
 from harness.analysis.provenance import campaign_target
 from harness.mutator.ddmin import ddmin
 from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
-from harness.run.external.kept import kept_adapters
-from harness.run.external.definitions import SUTS_FILE, ExternalSut, load_suts_file, resolve
+from harness.sut.external.kept import kept_adapters
+from harness.sut.definitions import SUTS_FILE, ExternalSut, load_suts_file, resolve
 from harness.trace import Trace
 from harness.run.workers import Setup, Task
 
