@@ -20,13 +20,13 @@ from pathlib import Path
 
 from pydantic import ConfigDict, Field, model_validator
 
-from harness import ROOT
+from harness import ROOT, current_modules
 from harness.errors import InputFileError, UntimelyError
 from harness.files import read_toml
 from harness.schema import Strict, accepted, cut, validated, where
+from harness.target.mission import SUTS_FILE
 
 NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")
-SUTS_FILE = "suts.toml"
 # The transports, by the URL scheme of `--sut NAME=URL`: the key of a SUT's definition that the
 # rest of the URL fills (suts.toml writes the same key), and what it reaches.
 TRANSPORTS = {"cmd:": ("command", "stdio"), "tcp://": ("address", "tcp HOST:PORT")}
@@ -45,8 +45,10 @@ class ExternalSut:
     cwd: str | None = None  # where the command starts: the target folder of a suts.toml entry
 
     def argv(self) -> list[str]:
+        """The command's words, placeholders filled in; a module it names by a name from before
+        harness/sut/ runs under its current name (a store's recorded command, an older suts.toml)."""
         return [part.replace("{python}", sys.executable).replace("{root}", str(ROOT))
-                for part in shlex.split(self.command)]
+                for part in shlex.split(current_modules(self.command))]
 
     def config(self) -> dict:
         """Its fields as stored in campaigns.config (`cwd` only when set: older stores lack it)."""

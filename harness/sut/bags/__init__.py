@@ -16,6 +16,7 @@ from harness.sut.ros.mapping import load_mapping
 from harness.errors import InputFileError, UntimelyError
 from harness.sut.bags.routes import Routes
 from harness.target.interface import Interface
+from harness.target.mission import ROS_MAPPING_FILE
 
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
 COLUMNS = ("trace_id", "seq", "t", "kind", "rqst_id", "module", "service", "args", "reply", "outcome", "sut")
@@ -55,7 +56,7 @@ def bags(path: Path) -> list[Path]:
 
 def mapping_for(interface: Interface, ros: str | None):
     """The mapping file given, else ros.toml beside the interface."""
-    path = Path(ros) if ros else Path(interface.path).with_name("ros.toml")
+    path = Path(ros) if ros else Path(interface.path).with_name(ROS_MAPPING_FILE)
     if not ros and not path.is_file():
         raise InputFileError(path, "", "no mapping file beside the interface; pass --ros FILE (docs/ros.md)")
     return load_mapping(path)

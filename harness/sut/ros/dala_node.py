@@ -48,6 +48,7 @@ from harness.sut.ros.routes import Route, read_field
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.sut.simulated.host import LayerHost
+from harness.target.mission import INTERFACE_FILE, ROS_MAPPING_FILE, WORLD_FILE
 
 HEARTBEAT_HZ = 5.0  # actionlib's default status rate
 
@@ -102,9 +103,9 @@ class Call:
 
 class DalaNode:
     def __init__(self, variant: str, mission: Path, mapping: Path, time_scale: float):
-        self.interface = load_interface(mission / "interface.toml")
+        self.interface = load_interface(mission / INTERFACE_FILE)
         self.mapping = load_mapping(mapping)
-        self.variant, self.world_file, self.time_scale = variant, mission / "world.toml", time_scale
+        self.variant, self.world_file, self.time_scale = variant, mission / WORLD_FILE, time_scale
         self.failure: str | None = None
         self.world_pub = rospy.Publisher(self.mapping.world_topic, String, queue_size=100) \
             if self.mapping.world_topic else None
@@ -255,7 +256,7 @@ class DalaNode:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = dala_arguments(argv, __doc__.split("\n\n")[0], "ros.toml")
+    args = dala_arguments(argv, __doc__.split("\n\n")[0], ROS_MAPPING_FILE)
     stopped = threading.Event()
     for signum in (signal.SIGTERM, signal.SIGINT):
         signal.signal(signum, lambda *_: stopped.set())

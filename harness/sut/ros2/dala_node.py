@@ -51,6 +51,7 @@ from harness.sut.ros2.types import route_class
 from harness.errors import UntimelyError
 from harness.sut.simulated.host import LayerHost
 from harness.target.interface import load_interface
+from harness.target.mission import INTERFACE_FILE, ROS2_MAPPING_FILE, WORLD_FILE
 
 QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
 
@@ -80,8 +81,8 @@ class DalaNode(LifecycleNode):
         if not self.mapping.node:
             raise UntimelyError(f"{mapping_file}: the Dala ROS 2 node needs `node`, its name (e.g. \"/dala\")")
         super().__init__(self.mapping.node.rsplit("/", 1)[1], namespace=self.mapping.node.rsplit("/", 1)[0] or "/")
-        self.interface = load_interface(mission / "interface.toml")
-        self.variant, self.world_file, self.time_scale = variant, mission / "world.toml", time_scale
+        self.interface = load_interface(mission / INTERFACE_FILE)
+        self.variant, self.world_file, self.time_scale = variant, mission / WORLD_FILE, time_scale
         self.host: LayerHost | None = None
         self.active, self.origin, self.failure = False, 0.0, None
         self.ids = itertools.count(1)
@@ -228,7 +229,7 @@ class DalaNode(LifecycleNode):
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = dala_arguments(argv, __doc__.split("\n\n")[0], "ros2.toml")
+    args = dala_arguments(argv, __doc__.split("\n\n")[0], ROS2_MAPPING_FILE)
     rclpy.init()
     try:
         node = DalaNode(args.variant, args.mission, args.mapping, args.time_scale)

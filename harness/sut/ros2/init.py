@@ -18,6 +18,7 @@ from harness import ROOT
 from harness.sut.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment, installed
 from harness.errors import UntimelyError
 from harness.target import scaffold
+from harness.target.mission import SUTS_FILE
 from harness.target.ros2_graph import derive
 from harness.target.ros2_texts import WRITTEN, write
 
@@ -84,6 +85,6 @@ def main(args) -> int:
     for note in target.notes:
         print(f"  not derived: {note}")
     print(f"next: untimely campaign --mission {folder} --strategy focused --budget 10m --sut "
-          + ",".join(f"{line.strip('[]')}" for line in (folder / "suts.toml").read_text().splitlines()
+          + ",".join(f"{line.strip('[]')}" for line in (folder / SUTS_FILE).read_text().splitlines()
                      if line.startswith("[")))
     return 0

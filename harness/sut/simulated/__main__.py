@@ -23,6 +23,7 @@ from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.sut.protocol import BENCH_MESSAGES, PROTO, REUSE, ProtocolViolation, decode, encode
 from harness.sut.simulated.host import LayerHost
+from harness.target.mission import INTERFACE_FILE, WORLD_FILE
 
 
 class Session:
@@ -49,8 +50,8 @@ class Session:
             self.send("reply", id=rqst_id, kind="taken")
 
     def start(self, hello: dict) -> None:
-        interface = load_interface(self.mission / "interface.toml")
-        self.host = LayerHost(self.variant, interface, self.mission / "world.toml", hello["time_scale"],
+        interface = load_interface(self.mission / INTERFACE_FILE)
+        self.host = LayerHost(self.variant, interface, self.mission / WORLD_FILE, hello["time_scale"],
                               on_world=lambda t, kind, detail: self.send("world", t=t, kind=kind,
                                                                          detail=json.loads(detail)),
                               on_error=lambda message: self.send("error", message=message))
