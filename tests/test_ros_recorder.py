@@ -7,7 +7,7 @@ from xmlrpc.server import SimpleXMLRPCServer
 
 import pytest
 
-from harness.sut.ros.processes import ChildError
+from harness.sut.processes import ChildError
 from harness.sut.ros.recorder import wait_connected
 
 

@@ -8,13 +8,22 @@ them. SIGTERM and SIGHUP become `Stopped` (a KeyboardInterrupt), so the same cle
 Ctrl-C runs. What cannot be caught: SIGKILL of the bench itself (its workers and adapters are
 then told by PR_SET_PDEATHSIG where they asked for it), and a daemon that escapes to another
 subreaper or into another cgroup (systemd-run, a container runtime).
+
+The adapters' own children (a rosmaster, the SUT's node, a recorder) are `Child`ren: their stderr
+forwarded, told by PR_SET_PDEATHSIG when the adapter dies, ended as the bench ends its adapters.
 """
 from __future__ import annotations
 
+import collections
 import ctypes
 import os
 import signal
+import subprocess
+import sys
+import threading
 import time
+
+from harness.errors import UntimelyError
 
 PR_SET_PDEATHSIG = 1
 PR_SET_CHILD_SUBREAPER = 36
@@ -57,12 +66,14 @@ def stop_on_signals() -> None:
         signal.signal(signum, _raise_stopped)
 
 
+try:  # looked up before any fork: a child's preexec_fn only calls it
+    _PRCTL = getattr(ctypes.CDLL(None, use_errno=True), "prctl", None)  # Linux only
+except OSError:
+    _PRCTL = None
+
+
 def _prctl(option: int, value: int) -> bool:
-    try:
-        libc = ctypes.CDLL(None, use_errno=True)
-        return libc.prctl(option, value, 0, 0, 0) == 0
-    except (OSError, AttributeError):  # not Linux
-        return False
+    return _PRCTL is not None and _PRCTL(option, value, 0, 0, 0) == 0
 
 
 def become_subreaper() -> bool:
@@ -75,19 +86,31 @@ def die_with_parent(signum: int = signal.SIGTERM) -> bool:
     return _prctl(PR_SET_PDEATHSIG, signum)
 
 
-def end_group(pgid: int, leader=None, grace_s: float = TERM_GRACE_S) -> None:
-    """SIGTERM to a process group, then SIGKILL once `grace_s` has passed or the leader (a
-    Popen) has exited; the leader is reaped."""
-    if not _signal_group(pgid, signal.SIGTERM):
-        if leader is not None:
-            leader.wait()
-        return
+def dying_with_parent(signum: int):
+    """A preexec_fn: the child gets `signum` when the process that starts it dies (Linux)."""
+    return lambda: die_with_parent(signum)
+
+
+def end(processes: list[subprocess.Popen], grace_s: float = TERM_GRACE_S, groups: bool = False) -> None:
+    """SIGTERM to each process (with `groups`, to the process group it leads) all at once, so that
+    their shutdowns overlap; SIGKILL to whatever outlives `grace_s` (with `groups`, to whatever is
+    left of each group, children included, once its leader exited or the grace passed); each reaped."""
+    for process in processes:
+        if groups:
+            _signal_group(process.pid, signal.SIGTERM)
+        elif process.poll() is None:
+            process.terminate()
     deadline = time.monotonic() + grace_s
-    while time.monotonic() < deadline and (leader is None or leader.poll() is None):
-        time.sleep(0.02)
-    _signal_group(pgid, signal.SIGKILL)  # whatever of the group is left, children included
-    if leader is not None:
-        leader.wait()
+    for process in processes:
+        try:
+            process.wait(max(0.0, deadline - time.monotonic()))
+        except subprocess.TimeoutExpired:
+            pass
+        if groups:
+            _signal_group(process.pid, signal.SIGKILL)
+        elif process.poll() is None:
+            process.kill()
+        process.wait()
 
 
 def _signal_group(pgid: int, signum: int) -> bool:
@@ -160,3 +183,44 @@ def _reaped(pid: int) -> bool:
         return os.waitpid(pid, os.WNOHANG)[0] == pid
     except ChildProcessError:
         return True
+
+
+class ChildError(UntimelyError):
+    """A child process could not start or died during start-up (the launcher reports it as `error`)."""
+
+
+class Child:
+    """A process whose stderr is forwarded to ours, keeping its last lines for error messages."""
+
+    def __init__(self, name: str, argv: list[str], env: dict[str, str], death_signal: int = signal.SIGKILL,
+                 own_group: bool = False):
+        """`death_signal` reaches the child when the launcher dies; `own_group` keeps it out of the
+        launcher's process group, which the bench kills after its grace period."""
+        self.name, self.argv = name, argv
+        try:
+            self.process = subprocess.Popen(argv, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                            stderr=subprocess.PIPE, text=True, errors="replace",
+                                            preexec_fn=dying_with_parent(death_signal), start_new_session=own_group)
+        except OSError as e:
+            raise ChildError(f"cannot start the {name} ({' '.join(argv)!r}): {e}; check the command") from None
+        self.last_lines: collections.deque[str] = collections.deque(maxlen=20)
+        threading.Thread(target=self._forward, name=f"{name} stderr", daemon=True).start()
+
+    def _forward(self) -> None:
+        for line in self.process.stderr:
+            self.last_lines.append(line.rstrip("\n"))
+            print(f"[{self.name}] {line}", end="", file=sys.stderr, flush=True)
+
+    def failure(self) -> str | None:
+        """Why the child is no longer running, with its last stderr lines; None while it runs."""
+        status = self.process.poll()
+        if status is None:
+            return None
+        return f"the {self.name} exited with status {status}; its last lines: " + " | ".join(self.last_lines)
+
+    def stop(self, grace_s: float = 5.0) -> None:
+        stop_all([self], grace_s)
+
+
+def stop_all(children: list[Child], grace_s: float = 5.0) -> None:
+    end([child.process for child in children], grace_s)

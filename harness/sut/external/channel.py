@@ -225,7 +225,7 @@ class Connection:
             self.process.wait(GRACE_S)
         except subprocess.TimeoutExpired:
             pass
-        processes.end_group(self.process.pid, self.process)
+        processes.end([self.process], groups=True)
         with _starting:
             _live.discard(self.process.pid)
             processes.end_orphans(self.started, _live)

@@ -21,7 +21,8 @@ import sys
 
 from harness.sut.ros.lines import LineWriter, read_hello, run_main, serve
 from harness.sut.ros.mapping import interface_services, load_mapping
-from harness.sut.ros.processes import Child, ros_home, start_master, stop_all
+from harness.sut.processes import Child, stop_all
+from harness.sut.ros.master import ros_home, start_master
 from harness.sut.ros.recorder import (recorded_topics, recording_folder, start_recorder, stop_recorder,
                                           wait_connected)
 from harness.errors import UntimelyError

@@ -24,7 +24,7 @@ import xmlrpc.client
 from pathlib import Path
 
 from harness.sut.ros.mapping import Mapping
-from harness.sut.ros.processes import Child, ChildError
+from harness.sut.processes import Child, ChildError
 
 ROSBAG_ENV = "UNTIMELY_ROSBAG"
 ACTION_TOPICS = ("goal", "cancel", "status", "feedback", "result")

@@ -19,7 +19,7 @@ import subprocess
 import sys
 
 from harness import ROOT
-from harness.sut.ros.processes import _dying_with_parent
+from harness.sut.processes import dying_with_parent
 from harness.sut.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment
 from harness.errors import UntimelyError
 from harness.sut.protocol import encode
@@ -43,7 +43,7 @@ def main(argv: list[str] | None = None) -> int:
         adapter = subprocess.Popen(
             [str(ros.python), "-m", "harness.sut.ros2.serve", "--mapping", args.mapping,
              "--startup-timeout", str(args.startup_timeout), "--", *args.node],
-            env={**ros.env, "UNTIMELY_ROS2_DISTRO": args.distro}, preexec_fn=_dying_with_parent(signal.SIGTERM))
+            env={**ros.env, "UNTIMELY_ROS2_DISTRO": args.distro}, preexec_fn=dying_with_parent(signal.SIGTERM))
         signal.signal(signal.SIGTERM, lambda *_: stop(adapter, ros))
         return adapter.wait()
     finally:

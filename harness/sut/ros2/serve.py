@@ -21,7 +21,7 @@ from pathlib import Path
 
 from harness.sut.ros.lines import LineWriter, read_hello, run_main, serve
 from harness.sut.ros.mapping import load_mapping
-from harness.sut.ros.processes import Child, stop_all
+from harness.sut.processes import Child, stop_all
 from harness.sut.ros.recorder import recording_folder
 from harness.sut.protocol import PROTO
 
