@@ -20,7 +20,7 @@ DEFAULT_EPSILON_S = 0.01
 MOVED_MODULES = {"harness.adapters.sim": "harness.sut.simulated", "harness.adapters.ros2": "harness.sut.ros2",
                  "harness.adapters.ros": "harness.sut.ros", "harness.sim.dala": "harness.sut.dala",
                  "harness.sim": "harness.sut.simulated"}
-_MOVED = re.compile(r"\b(" + "|".join(map(re.escape, MOVED_MODULES)) + r")\b")
+_MOVED = re.compile(r"(?<![\w.])(" + "|".join(map(re.escape, MOVED_MODULES)) + r")\b")  # not my.harness.sim
 
 
 def current_modules(text: str) -> str:
