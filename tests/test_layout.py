@@ -61,9 +61,11 @@ def test_no_module_path_from_before_harness_sut_is_left():
     left = []
     for relative in filter(None, listed.stdout.split("\0")):
         path = ROOT / relative
-        if relative in ("harness/__init__.py", "docs/architecture.md", "tests/test_layout.py") or not path.is_file():
+        if relative in ("harness/__init__.py", "tests/test_layout.py") or not path.is_file():
             continue
         text = path.read_text(errors="replace")
+        if relative == "docs/architecture.md":
+            text = "\n\n".join(p for p in text.split("\n\n") if "MOVED_MODULES" not in p)
         left += [f"{relative}: {name}" for name in old if _names_module(text, name)]
     assert left == []
 
