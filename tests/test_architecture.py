@@ -30,3 +30,15 @@ def test_the_contract_fails_on_an_upward_import(tmp_path):
     result = lint(config)
     assert result.returncode != 0
     assert "BROKEN" in result.stdout
+
+
+def test_the_store_contract_fails_on_a_package_that_imports_a_sut(tmp_path):
+    # The same contract with campaign in the store's place: campaign imports harness.sut, so it is broken.
+    text = (ROOT / "pyproject.toml").read_text()
+    swapped = text.replace('source_modules = ["harness.store"]', 'source_modules = ["harness.campaign"]')
+    assert swapped != text
+    config = tmp_path / "pyproject.toml"
+    config.write_text(swapped)
+    result = lint(config)
+    assert result.returncode != 0
+    assert "the store knows no SUT BROKEN" in result.stdout
