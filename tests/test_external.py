@@ -151,6 +151,19 @@ def test_suts_file_entries_are_checked_naming_file_and_key(tmp_path):
     assert external["ros"] == ExternalSut("ros", command="launch", slots=8, time_scale=2.0, cwd=str(tmp_path.resolve()))
 
 
+def test_an_external_sut_is_a_suts_table_with_a_name_and_round_trips_through_the_store():
+    from harness.sut.definitions import KEYS, SutTable
+    sut = ExternalSut("toy", command="adapter")
+    # one home for the fields and their defaults: a table with no key but its transport gives them
+    assert {key: getattr(sut, key) for key in KEYS} == SutTable(command="adapter").model_dump()
+    # campaigns.config keeps the order it always had (the fingerprint tests hash it), cwd only when set
+    assert list(sut.config()) == ["name", *KEYS]
+    kept = sut.model_copy(update={"cwd": "/robot", "slots": 3})
+    assert list(kept.config())[-1] == "cwd" and ExternalSut(**kept.config()) == kept
+    with pytest.raises(ValueError, match="give exactly one of command"):
+        ExternalSut("both", command="adapter", address="127.0.0.1:7400")
+
+
 def test_run_on_the_command_line_stores_where_and_how_fast_it_ran(tmp_path, capsys):
     db = tmp_path / "r.duckdb"
     mission = tmp_path / "short.mission"

@@ -15,7 +15,6 @@ from __future__ import annotations
 import re
 import shlex
 import sys
-from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 from pydantic import ConfigDict, Field, model_validator
@@ -30,29 +29,6 @@ NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*")
 # The transports, by the URL scheme of `--sut NAME=URL`: the key of a SUT's definition that the
 # rest of the URL fills (suts.toml writes the same key), and what it reaches.
 TRANSPORTS = {"cmd:": ("command", "stdio"), "tcp://": ("address", "tcp HOST:PORT")}
-
-
-@dataclass(frozen=True)
-class ExternalSut:
-    name: str
-    command: str | None = None  # stdio: started for every run
-    address: str | None = None  # tcp: "HOST:PORT"
-    env: dict[str, str] = field(default_factory=dict)
-    slots: int = 1
-    time_scale: float = 1.0
-    startup_s: float = 30.0  # wall seconds for the adapter to answer hello
-    probe_timeout_s: float = 3.0  # wall seconds for a pong
-    cwd: str | None = None  # where the command starts: the target folder of a suts.toml entry
-
-    def argv(self) -> list[str]:
-        """The command's words, placeholders filled in; a module it names by a name from before
-        harness/sut/ runs under its current name (a store's recorded command, an older suts.toml)."""
-        return [part.replace("{python}", sys.executable).replace("{root}", str(ROOT))
-                for part in shlex.split(current_modules(self.command))]
-
-    def config(self) -> dict:
-        """Its fields as stored in campaigns.config (`cwd` only when set: older stores lack it)."""
-        return {k: v for k, v in asdict(self).items() if k != "cwd" or v is not None}
 
 
 class SutTable(Strict):
@@ -79,6 +55,30 @@ class SutTable(Strict):
         return self
 
 
+class ExternalSut(SutTable):
+    """A SUT reached over `untimely/1`: a table of `suts.toml` (or a `--sut NAME=URL`) with its name,
+    and the folder its command starts in; the fields and their defaults are SutTable's."""
+    # Not strict: it is also rebuilt from the JSON of campaigns.config, where a number may be an int.
+    model_config = ConfigDict(title="a SUT", strict=False)
+    name: str
+    cwd: str | None = None  # where the command starts: the target folder of a suts.toml entry
+
+    def __init__(self, name: str | None = None, /, **fields):
+        # ExternalSut("toy", command=...) reads as the dataclass it was; a stored config gives name=.
+        super().__init__(**fields if name is None else {"name": name, **fields})
+
+    def argv(self) -> list[str]:
+        """The command's words, placeholders filled in; a module it names by a name from before
+        harness/sut/ runs under its current name (a store's recorded command, an older suts.toml)."""
+        return [part.replace("{python}", sys.executable).replace("{root}", str(ROOT))
+                for part in shlex.split(current_modules(self.command))]
+
+    def config(self) -> dict:
+        """Its fields as stored in campaigns.config, name first (`cwd` only when set: older stores lack it)."""
+        fields = self.model_dump(exclude={"name", "cwd"} if self.cwd is None else {"name"})
+        return {"name": self.name, **fields}
+
+
 KEYS = accepted(SutTable)  # the keys of a SUT's table (docs/reference names every one)
 
 
@@ -100,7 +100,7 @@ def load_suts_file(path: Path) -> dict[str, ExternalSut]:
         if isinstance(spec.get("command"), str):
             spec = {**spec, "command": spec["command"].replace("{mission}", shlex.quote(str(path.parent.resolve())))}
         sut = _checked(name, spec, path, text)
-        suts[name] = replace(sut, cwd=str(path.parent.resolve())) if sut.command else sut
+        suts[name] = sut.model_copy(update={"cwd": str(path.parent.resolve())}) if sut.command else sut
     return suts
 
 
@@ -125,5 +125,5 @@ def resolve(option: str, mission: Path, time_scale: float | None = None) -> tupl
     if time_scale is not None:
         if not time_scale > 0:
             raise UntimelyError(f"--time-scale {time_scale}: give a factor > 0 (1 = real time)")
-        external = {n: ExternalSut(**{**s.config(), "time_scale": time_scale}) for n, s in external.items()}
+        external = {n: s.model_copy(update={"time_scale": time_scale}) for n, s in external.items()}
     return names, external
