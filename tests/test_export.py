@@ -107,3 +107,10 @@ def test_export_of_a_missing_store_says_what_to_do(tmp_path, capsys):
     assert cli.main(["export", "--db", str(tmp_path / "none.duckdb"), str(tmp_path / "out")]) == 2
     assert "error: no store at" in capsys.readouterr().err
     assert not (tmp_path / "out").exists()
+
+
+def test_a_folder_whose_name_holds_a_quote_is_exported_to(campaign_store, tmp_path):
+    # copy takes no parameters: the path goes into the statement through the store's one quoter
+    out = tmp_path / "robot's export"
+    assert cli.main(["export", "--format", "csv", "--db", str(campaign_store), str(out)]) == 0
+    assert (out / "events.csv").read_text().startswith("trace_id")

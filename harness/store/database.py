@@ -17,7 +17,7 @@ from harness.errors import StoreError
 from harness.files import make_folder
 from harness.target.interface import Interface
 from harness.store.appends import append, schema
-from harness.store.sql import ENV
+from harness.store.sql import ENV, sql_literal
 from harness.trace import EVENT_COLUMNS, TAKEN_EVENT_COLUMNS, WORLD_EVENT_COLUMNS, Trace
 
 if TYPE_CHECKING:
@@ -125,8 +125,8 @@ def _migrate(path: Path) -> Path:
         leftover.unlink(missing_ok=True)
     try:
         with duckdb.connect() as con:
-            con.execute(f"attach {quoted(path)} as original (read_only)")
-            con.execute(f"attach {quoted(fresh)} as migrated (storage_version '{STORAGE_VERSION}')")
+            con.execute(f"attach {sql_literal(path)} as original (read_only)")
+            con.execute(f"attach {sql_literal(fresh)} as migrated (storage_version '{STORAGE_VERSION}')")
             con.execute("copy from database original to migrated")
             con.execute("use migrated")
             _apply_schema(con, 0)
@@ -137,11 +137,6 @@ def _migrate(path: Path) -> Path:
     os.replace(path, backup)
     os.replace(fresh, path)
     return backup
-
-
-def quoted(path: str | Path) -> str:
-    """A path as a SQL string literal (DuckDB takes no parameters in attach or copy)."""
-    return "'" + str(path).replace("'", "''") + "'"
 
 
 def _open_problem(path: str, error: duckdb.Error) -> str:

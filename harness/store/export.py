@@ -23,7 +23,8 @@ import pyarrow as pa
 from harness.store.reads import ordered
 from harness.errors import StoreError
 from harness.files import make_folder
-from harness.store.database import connect, quoted, schema_version, snapshot
+from harness.store.database import connect, schema_version, snapshot
+from harness.store.sql import sql_literal
 
 FORMATS = {"parquet": "(format parquet)", "csv": "(format csv, header)"}
 MANIFEST = "manifest.json"
@@ -95,7 +96,7 @@ def export(con, store: str | Path, out: Path, fmt: str) -> dict:
             for name, kind in relations(con):
                 file = out / f"{name}.{fmt}"
                 query = _as_text_json(con, name)
-                rows = con.execute(f"copy ({query}) to {quoted(file)} {FORMATS[fmt]}").fetchone()[0]
+                rows = con.execute(f"copy ({query}) to {sql_literal(file)} {FORMATS[fmt]}").fetchone()[0]
                 entries.append({"name": name, "kind": kind, "file": file.name, "rows": rows})
             version = schema_version(con)
     except duckdb.Error as e:
@@ -122,7 +123,7 @@ def with_exported_traces(path: Path, events: pa.Table) -> pa.Table:
     con = duckdb.connect()
     try:
         known = con.sql(f"select trace_id::varchar as trace_id, sut, outcome "
-                        f"from {reader}({quoted(traces)})").to_arrow_table()
+                        f"from {reader}({sql_literal(traces)})").to_arrow_table()
     except duckdb.Error as e:
         raise StoreError(f"cannot read {str(traces)!r}, the traces of the export {str(path)!r}: {e}") from None
     finally:

@@ -11,7 +11,8 @@ import duckdb
 
 from harness.errors import StoreError
 from harness.store.appends import append, transaction
-from harness.store.database import PER_TRACE, add_campaign, quoted
+from harness.store.database import PER_TRACE, add_campaign
+from harness.store.sql import sql_literal
 
 # Stored once per campaign, the same in every shard: copied from the first.
 SHARED = ("scripts", "reply_codes", "variant_positions", "module_positions")
@@ -24,7 +25,7 @@ def copy(con: duckdb.DuckDBPyConnection, stores: list[str], campaign_ids: list[i
     transaction, as campaign 1 of `config`."""
     names = [f"shard{n}" for n in range(len(stores))]
     for name, path in zip(names, stores):
-        con.execute(f"attach {quoted(path)} as {name} (read_only)")
+        con.execute(f"attach {sql_literal(path)} as {name} (read_only)")
     try:
         digests = {path: con.execute(SCRIPT_DIGEST.format(name, campaign_id)).fetchone()[0]
                    for name, path, campaign_id in zip(names, stores, campaign_ids)}

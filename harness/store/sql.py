@@ -13,6 +13,8 @@ VERDICTS = ("TN", "TP", "FN", "FP", "op", "na", "omega", "unknown")
 
 
 def sql_literal(value) -> str:
+    """A value as an SQL string literal: for templates (the `lit` filter) and for the statements
+    DuckDB takes no parameters in (attach, copy)."""
     return "'" + str(value).replace("'", "''") + "'"
 
 
