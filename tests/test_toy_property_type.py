@@ -8,8 +8,9 @@ import pytest
 from harness import DEFAULT_MISSION_DIR, SQL_DIR
 from harness.analysis import analyzer
 from harness.cli import main
-from harness.errors import InputFileError
-from harness.mutator.targeted import Falsifier, falsifiers
+from harness.analysis.oracles import interrupters
+from harness.errors import InputFileError, PropertyError
+from harness.mutator.targeted import Falsifier, disturbers, falsifiers
 from harness.store import sql as templates
 from harness.store.database import connect
 from harness.target import property_types
@@ -65,3 +66,40 @@ def test_a_targeted_campaign_runs_with_the_toy_type(sql_with_toy_type, tmp_path)
     con = connect(db, read_only=True)
     assert con.execute("select count(*) from verdicts where property_id = 'NR(ndd.GotoPosition)' "
                        "and verdict = 'TN'").fetchone()[0] >= 4
+
+
+BY_ANY = """{% import 'oracles/ee.sql' as ee with context %}
+{% set interrupts = [['x', 'y']] %}
+{% macro ctes(name, x, y, z_p) -%}
+{{ ee.ctes(name, x, y, z_p) }}
+{%- endmacro %}
+"""
+STOPPED = """[[property]]
+id = "STOP(rflex.TrackSpeedStart)"
+family = "STOP"
+type = "STOP"
+x = ["rflex.TrackSpeedStart"]
+y = ["rflex.Stop"]
+z_p = "interrupted"
+"""
+
+
+def test_a_type_whose_template_declares_interrupts_gets_its_causes_and_disturbers(sql_with_toy_type, tmp_path):
+    (sql_with_toy_type / "oracles" / "stop.sql").write_text(BY_ANY)
+    (tmp_path / "properties.toml").write_text(STOPPED)
+    stop = load_properties(tmp_path / "properties.toml", INTERFACE)[0]
+    assert property_types.interruptions()["STOP"] == (("x", "y"),)
+    # the analyzer searches an interruption's cause among its y, as for EE ...
+    assert interrupters([stop]) == [("rflex.TrackSpeedStart", "interrupted", "rflex.Stop")]
+    # ... and targeted generation sends other services of x's module while x runs
+    assert disturbers(stop, INTERFACE) and all(f.disturb and f.running == ("rflex.TrackSpeedStart",)
+                                               for f in disturbers(stop, INTERFACE))
+    # a type that does not declare it (NR) has neither
+    nr = load_properties(TOY / "properties.toml", INTERFACE)[0]
+    assert interrupters([nr]) == [] and disturbers(nr, INTERFACE) == []
+
+
+def test_a_template_declaring_interrupts_wrongly_is_refused_naming_it(sql_with_toy_type):
+    (sql_with_toy_type / "oracles" / "stop.sql").write_text(BY_ANY.replace("['x', 'y']", "['x', 'q']"))
+    with pytest.raises(PropertyError, match=r"stop.sql sets interrupts to .*write e.g. \{% set interrupts"):
+        property_types.interruptions()

@@ -17,7 +17,7 @@ from harness import DEFAULT_EPSILON_S
 from harness.errors import PropertyError
 from harness.store.sql import ENV
 from harness.target.interface import Interface, Property
-from harness.target.property_types import PARAMETERS, property_types
+from harness.target.property_types import PARAMETERS, interruptions, property_types
 
 _TABLE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _SERVICE = re.compile(r"[^.\s']+\.[^.\s']+")
@@ -66,13 +66,11 @@ def _scope(prop: Property, enders: list[tuple[str, str, str]]) -> tuple[list[str
 
 def interrupters(properties: list[Property]) -> list[tuple[str, str, str]]:
     """(x service, interruption code, y service) for every request that a property says may end an
-    x activity with that code: the y of EE, EX and MX_I properties (both ways for MX_I). The
-    cause of an interruption is looked for among them (sql/oracles/ee.sql)."""
-    found = set()
+    x activity with that code: the ways its template declares (`interrupts`: EE's y ends x, MX_I's
+    both ways). The cause of an interruption is looked for among them (sql/oracles/ee.sql)."""
+    found, declared = set(), interruptions()
     for p in properties:
-        if p.type not in ("EE", "EX", "MX_I") or not p.z_p:
-            continue
-        ways = [(p.x, p.y), (p.y, p.x)] if p.type == "MX_I" else [(p.x, p.y)]
+        ways = [(getattr(p, ended), getattr(p, ender)) for ended, ender in declared[p.type]] if p.z_p else []
         found |= {(x, p.z_p, y) for xs, ys in ways for x in xs for y in ys}
     return sorted(found)
 

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from harness.target.interface import Interface, Property
+from harness.target.property_types import interruptions
 from harness.mutator.operators import Mutant, plausible, random_request, step_text, validated
 from harness.target.script import Script, Step
 from harness.mutator.timeline import Timeline
@@ -90,8 +91,9 @@ def falsifiers(prop: Property) -> list[Falsifier]:
 
 
 def disturbers(prop: Property, interface: Interface) -> list[Falsifier]:
-    """For each x of an EE-type property: its module's services that neither are x nor dominate it."""
-    if prop.type not in ("EE", "EX", "MX_I"):
+    """For each x of a property whose template says its activities may be interrupted (EE, EX,
+    MX_I): its module's services that neither are x nor dominate it."""
+    if not interruptions()[prop.type]:
         return []
     found = []
     for x in prop.x:

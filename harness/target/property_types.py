@@ -1,10 +1,12 @@
 """The basic property types, read from the oracle templates (docs/reference/verdicts.md): a template
 sql/oracles/<type>.sql (not starting with `_`) defines a type named <TYPE>, and its macro
-`ctes(name, ...)` declares the parameters a property of that type gives, in order. A new type is
-a new template (and the fixtures that test it); no Python changes.
+`ctes(name, ...)` declares the parameters a property of that type gives, in order; a type whose
+activities a request may interrupt says so with `{% set interrupts = [['x', 'y']] %}`. A new type
+is a new template (and the fixtures that test it); no Python changes.
 """
 from __future__ import annotations
 
+from functools import cache
 from pathlib import Path
 
 import jinja2
@@ -23,12 +25,16 @@ DOMAIN = "domain"
 PARAMETERS = (*SERVICE_LISTS, *REPLY_CODES, DOMAIN)
 
 
-def _parameters(path: Path) -> tuple[tuple[str, ...], tuple[str, ...]]:
-    """The parameters the template's ctes macro declares, and those of them it gives a default."""
+def _tree(path: Path) -> nodes.Template:
     try:
-        tree = jinja2.Environment().parse(path.read_text())
+        return jinja2.Environment().parse(path.read_text())
     except (OSError, jinja2.TemplateSyntaxError) as e:
         raise PropertyError(f"the oracle template {path} cannot be read: {e}; fix it or remove it") from None
+
+
+def _parameters(path: Path) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The parameters the template's ctes macro declares, and those of them it gives a default."""
+    tree = _tree(path)
     macro = next((m for m in tree.find_all(nodes.Macro) if m.name == "ctes"), None)
     if macro is None or not macro.args or macro.args[0].name != "name":
         raise PropertyError(f"the oracle template {path} defines no macro ctes(name, ...); a type's template "
@@ -53,5 +59,32 @@ def optional_parameters(folder: Path | None = None) -> dict[str, tuple[str, ...]
 
 
 def _templates(folder: Path | None) -> dict[str, tuple[tuple[str, ...], tuple[str, ...]]]:
-    return {path.stem.upper(): _parameters(path) for path in sorted((folder or TEMPLATES).glob("*.sql"))
-            if not path.name.startswith("_")}
+    return {path.stem.upper(): _parameters(path) for path in _paths(folder)}
+
+
+def _paths(folder: Path | None) -> list[Path]:
+    return [path for path in sorted((folder or TEMPLATES).glob("*.sql")) if not path.name.startswith("_")]
+
+
+def interruptions(folder: Path | None = None) -> dict[str, tuple[tuple[str, str], ...]]:
+    """Type name -> the (ended, ender) role pairs its template declares in `{% set interrupts = ... %}`:
+    a request of the ender role (y) may end an activity of the ended role (x) with the property's
+    z_p (EE: x by y; MX_I: both ways). A type that declares none has (): nothing interrupts."""
+    return {path.stem.upper(): _interrupts(path, path.stat().st_mtime_ns) for path in _paths(folder)}
+
+
+@cache  # by the template's path and time of change: oracles and the mutator ask once per property
+def _interrupts(path: Path, _changed: int) -> tuple[tuple[str, str], ...]:
+    assigned = [a.node for a in _tree(path).body if isinstance(a, nodes.Assign)
+                and isinstance(a.target, nodes.Name) and a.target.name == "interrupts"]
+    try:
+        pairs = tuple(tuple(pair) for pair in assigned[0].as_const()) if assigned else ()
+    except (nodes.Impossible, TypeError):
+        pairs = None
+    declared = _parameters(path)[0]
+    if pairs is None or any(len(p) != 2 or not set(p) <= set(SERVICE_LISTS) & set(declared) for p in pairs) \
+            or (pairs and "z_p" not in declared):
+        raise PropertyError(f"the oracle template {path} sets interrupts to something other than a list of "
+                            "[ended, ender] role pairs among the service lists its ctes macro takes, with z_p; "
+                            "write e.g. {% set interrupts = [['x', 'y']] %} (see sql/oracles/ee.sql)")
+    return pairs

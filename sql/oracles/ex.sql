@@ -4,6 +4,7 @@
 {% import 'oracles/es.sql' as es with context %}
 {% import 'oracles/ee.sql' as ee with context %}
 {% import 'oracles/_judge.sql' as judge with context %}
+{% set interrupts = [['x', 'y']] %}{# a y may end an x activity with z_p (its EE side) #}
 
 {% macro ctes(name, x, y, r_p, z_p) -%}
 {{ es.ctes(name ~ '_es', x, y, r_p) }},

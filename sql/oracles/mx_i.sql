@@ -2,6 +2,7 @@
     request interrupts the running activity. Both the x and the y requests are judged,
     under one property id. -#}
 {% set judges = ['x', 'y'] %}{# the roles whose requests get verdicts (default: x) #}
+{% set interrupts = [['x', 'y'], ['y', 'x']] %}{# each ends the other's activity with z_p #}
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/ee.sql' as ee with context %}
 
