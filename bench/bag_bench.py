@@ -18,6 +18,7 @@ from harness import DEFAULT_MISSION_DIR  # noqa: E402
 from harness.store.database import connect  # noqa: E402
 from harness.campaign.importing import import_path  # noqa: E402
 from harness.target.interface import load_interface  # noqa: E402
+from harness.trace import EVENT_COLUMNS  # noqa: E402
 from tests import test_ros_bag1_reader as ros1, test_ros_bags2 as ros2  # noqa: E402
 
 GOALS = 3000
@@ -55,10 +56,10 @@ def timed(path: Path, interface, **options) -> tuple[float, int]:
 def as_csv(bag: Path, interface, out: Path, **options) -> Path:
     con = connect(":memory:")
     import_path(con, bag, interface, **options)
-    rows = con.execute("select 'bag', seq, t, kind, rqst_id, module, service, args, reply from events order by seq")
+    rows = con.execute(f"select 'bag', {', '.join(EVENT_COLUMNS)} from events order by seq")
     with out.open("w", newline="") as f:
         writer = csv.writer(f)
-        writer.writerow(["trace_id", "seq", "t", "kind", "rqst_id", "module", "service", "args", "reply"])
+        writer.writerow(["trace_id", *EVENT_COLUMNS])
         writer.writerows(rows.fetchall())
     return out
 

@@ -5,6 +5,8 @@ from dataclasses import dataclass, field
 
 # Column order of an event row, shared by `events` and `internal_events` (docs/reference/store.md).
 EVENT_COLUMNS = ("seq", "t", "kind", "rqst_id", "module", "service", "args", "reply")
+# A file of events to import, and a bag read into rows: each event with its trace, and the trace's outcome and SUT.
+IMPORTED_COLUMNS = ("trace_id", *EVENT_COLUMNS, "outcome", "sut")
 WORLD_EVENT_COLUMNS = ("t", "kind", "detail")
 # A `taken` reply (seq on the counter of the trace's events, which skip its numbers).
 TAKEN_EVENT_COLUMNS = ("seq", "t", "rqst_id")

@@ -210,3 +210,15 @@ def test_the_same_file_twice_is_refused_and_nothing_is_written(tmp_path, interfa
                                              r"\(trace ids 1-2\); nothing was imported"):
         import_file(con, copy, interface)
     assert counts(con) == before
+
+
+def test_an_imported_trace_reads_back_as_its_events_in_the_order_a_trace_holds_them(tmp_path, interface):
+    from harness.store.reads import observed_events
+    from harness.trace import IMPORTED_COLUMNS
+    con = connect(":memory:")
+    # a file with every column an import takes (those a bag gives), in that order, and a SUT
+    rows = [[*r[:-1], "completed", "robot-1"] for r in ROWS if r[0] == "run-a"]
+    import_file(con, write(tmp_path / "robot.csv", rows, IMPORTED_COLUMNS), interface)
+    assert con.execute("select sut from traces").fetchall() == [("robot-1",)]
+    assert observed_events(con, 1) == [(seq, t, kind, rqst_id, module, service, args, reply)
+                                       for _, seq, t, kind, rqst_id, module, service, args, reply, *_ in rows]

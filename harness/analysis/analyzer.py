@@ -83,9 +83,19 @@ def render_oracles(properties: list[Property], epsilon: float, interface: Interf
     if not properties:
         raise PropertyError("no properties to judge; give a properties file with [[property]] entries")
     return Rendered([render_shared(properties, events, epsilon, interface, _shared(events)) for events, _ in SOURCES],
-                    [Oracle(p, events, target, render_property(p, events, epsilon, interface, peers=properties,
-                                                               into=staged(target), shared=_shared(events)))
-                     for events, target in SOURCES for p in properties])
+                    [Oracle(p, events, target, sql)
+                     for events, target in SOURCES
+                     for p, sql in zip(properties, oracle_statements(properties, epsilon, interface, events,
+                                                                     staged(target), _shared(events)))])
+
+
+def oracle_statements(properties: list[Property], epsilon: float, interface: Interface | None, events: str,
+                      into: str, shared: Shared | None = None) -> list[str]:
+    """Each property's statement inserting its verdicts on `events` into the table `into`, judged
+    beside the others (its peers say where an interruption may come from); the analysis and the
+    in-memory judge (judge.py) both fill their verdicts tables with these."""
+    return [render_property(p, events, epsilon, interface, peers=properties, into=into, shared=shared)
+            for p in properties]
 
 
 def _stage(con, rendered: Rendered) -> None:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from harness import DEFAULT_EPSILON_S, store
 from harness.target.interface import Interface, Property
-from harness.analysis.oracles import render_property
+from harness.analysis.analyzer import oracle_statements
 from harness.store.sql import render_view
 from harness.trace import Trace
 
@@ -19,10 +19,9 @@ class Judge:
         self.con = store.connect(":memory:")
         store.add_reply_codes(self.con, interface)
         self.con.execute(render_view("properties", properties=properties))
-        self.sql = "\n".join([render_view("verdicts", target="verdicts") + ";"]
-                             + [render_property(p, "events", epsilon, interface, peers=properties, into="verdicts") + ";"
-                                for p in properties]
-                             + [render_view("shared_codes", target="verdicts") + ";"])
+        self.sql = "\n".join(s + ";" for s in [render_view("verdicts", target="verdicts"),
+                                                *oracle_statements(properties, epsilon, interface, "events", "verdicts"),
+                                                render_view("shared_codes", target="verdicts")])
         self.con.execute(render_view("verdicts", target="verdicts"))  # for the view, until verdicts() makes it
         self.con.execute(render_view("trace_findings"))
 

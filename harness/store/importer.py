@@ -30,10 +30,10 @@ from harness.schema import cut
 from harness.target.interface import Interface
 from harness.store.appends import append, transaction
 from harness.store.database import add_campaign, add_reply_codes, next_id, place
-from harness.trace import OUTCOMES
+from harness.trace import IMPORTED_COLUMNS, OUTCOMES
 
-REQUIRED = ("trace_id", "seq", "t", "kind", "rqst_id", "module", "service")
 OPTIONAL = ("args", "reply", "outcome", "sut")
+REQUIRED = tuple(c for c in IMPORTED_COLUMNS if c not in OPTIONAL)
 SHOWN = 10  # problems listed in one error message
 MAX_T_S = 1e9  # a trace's times are seconds since it started: beyond this the file is not one
 

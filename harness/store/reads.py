@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from harness.errors import StoreError
 from harness.store.sql import ENV, VERDICTS
+from harness.trace import EVENT_COLUMNS
 
 POSITIONS = {"sut": "variant_positions", "family": "family_positions", "property_id": "property_positions"}
 
@@ -57,5 +58,5 @@ def read_older_analysis(con) -> None:
 
 def observed_events(con, trace_id: int) -> list[tuple]:
     """A stored trace's observed events as a Trace holds them (EVENT_COLUMNS order)."""
-    return con.execute("select seq, t, kind, rqst_id, module, service, args, reply from events "
-                       "where trace_id = ? order by seq", [trace_id]).fetchall()
+    return con.execute(f"select {', '.join(EVENT_COLUMNS)} from events where trace_id = ? order by seq",
+                       [trace_id]).fetchall()

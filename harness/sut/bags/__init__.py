@@ -17,9 +17,10 @@ from harness.errors import InputFileError, UntimelyError
 from harness.sut.bags.routes import Routes
 from harness.target.interface import Interface
 from harness.target.mission import ROS_MAPPING_FILE
+from harness.trace import IMPORTED_COLUMNS
 
 BAG_SUFFIXES = (".bag", ".mcap", ".db3")
-COLUMNS = ("trace_id", "seq", "t", "kind", "rqst_id", "module", "service", "args", "reply", "outcome", "sut")
+COLUMNS = IMPORTED_COLUMNS
 
 
 def is_bag(path: Path) -> bool:
