@@ -16,7 +16,7 @@ import duckdb
 
 from harness import SQL_DIR
 from harness.analysis import diff
-from harness.analysis.oracles import Shared, render_property, render_shared, render_unknown
+from harness.analysis.oracles import Shared, oracle_statements, render_shared, render_unknown
 from harness.analysis.provenance import default_properties, last_epsilon, sources
 from harness.errors import InputFileError, PropertyError, StoreError
 from harness.store.analyses import (OracleFailure, drop_staged, keep_previous, publish, record, replace_old_analysis,
@@ -88,14 +88,6 @@ def render_oracles(properties: list[Property], epsilon: float, interface: Interf
                      for p, sql in zip(properties, oracle_statements(properties, epsilon, interface, events,
                                                                      staged(target), _shared(events)))])
 
-
-def oracle_statements(properties: list[Property], epsilon: float, interface: Interface | None, events: str,
-                      into: str, shared: Shared | None = None) -> list[str]:
-    """Each property's statement inserting its verdicts on `events` into the table `into`, judged
-    beside the others (its peers say where an interruption may come from); the analysis and the
-    in-memory judge (judge.py) both fill their verdicts tables with these."""
-    return [render_property(p, events, epsilon, interface, peers=properties, into=into, shared=shared)
-            for p in properties]
 
 
 def _stage(con, rendered: Rendered) -> None:

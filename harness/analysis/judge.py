@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from harness import DEFAULT_EPSILON_S, store
 from harness.target.interface import Interface, Property
-from harness.analysis.analyzer import oracle_statements
+from harness.analysis.oracles import oracle_statements
 from harness.store.sql import render_view
 from harness.trace import Trace
 

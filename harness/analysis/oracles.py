@@ -136,6 +136,15 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
                             "(the type does not use it); remove it from the property's entry") from None
 
 
+def oracle_statements(properties: list[Property], epsilon: float, interface: Interface | None, events: str,
+                      into: str, shared: Shared | None = None) -> list[str]:
+    """Each property's statement inserting its verdicts on `events` into the table `into`, judged
+    beside the others (its peers say where an interruption may come from); the analysis and the
+    in-memory judge (harness/analysis/judge.py) both fill their verdicts tables with these."""
+    return [render_property(p, events, epsilon, interface, peers=properties, into=into, shared=shared)
+            for p in properties]
+
+
 def render_shared(properties: list[Property], events: str, epsilon: float, interface: Interface | None,
                   into: Shared) -> str:
     """The statements making what every oracle of an analysis shares, once per events table
