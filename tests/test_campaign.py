@@ -12,7 +12,6 @@ import signal
 import subprocess
 import sys
 import time
-from functools import partial
 from pathlib import Path
 
 import pytest
@@ -21,7 +20,7 @@ from harness import DEFAULT_MISSION_DIR, ROOT, cli, store
 from harness.campaign import campaign
 from harness.run import workers
 from harness.errors import InputFileError, StoreError, UntimelyError
-from harness.sut.executive import run_script
+from harness.sut.executive import Runner
 from harness.progress import Progress
 
 HERE = Path(__file__).resolve().parent
@@ -41,7 +40,7 @@ class FakeLayer:
         self.env.call_at(self.env.now + 0.01, answer)
 
 
-fake_runner = partial(run_script, layer_factory=FakeLayer)
+fake_runner = Runner(FakeLayer)
 
 
 def failing_runner(script, sut, seed, interface, world_file, max_delay):

@@ -1,7 +1,7 @@
 """The executive against a small fake layer: sends, waits, delays, hang, crash, determinism."""
 import pytest
 
-from harness.sut.executive import DRAIN_S, REACTION_S, run_script
+from harness.sut.executive import DRAIN_S, REACTION_S, Runner
 from harness.target.script import parse, validate
 
 
@@ -37,7 +37,7 @@ class FakeLayer:
 def play(interface, text, seed=1, layer=FakeLayer, **kw):
     script = parse(text, "t.mission")
     validate(script, interface)
-    return run_script(script, "fake", seed, interface, None, layer_factory=layer, **kw)
+    return Runner(layer)(script, "fake", seed, interface, None, **kw)
 
 
 SCRIPT = "send rflex.Init as ri\nsend sick.Init as si\nwait ri\nsleep 2\nsend ndd.Init\nwait all\n"

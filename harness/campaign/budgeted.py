@@ -25,7 +25,7 @@ from harness import store
 from harness.campaign import shrink
 from harness.campaign.budget import RULE, Budget, VariantState
 from harness.campaign.slots import Slots
-from harness.store.budgets import record_budget
+from harness.store.budgets import BudgetRow, record_budget
 from harness.store.scripts import ScriptRow, add_scripts
 from harness.store.sql import render_query
 from harness.analysis.judge import Judge
@@ -68,7 +68,7 @@ class MeteredOriginal(shrink.Original):
 
 
 def record(con, campaign_id: int, budget: Budget, shrink_s: float, tests: int, stopped: str | None) -> None:
-    record_budget(con, campaign_id, budget.limit_s, RULE.format(patience=PATIENCE), shrink_s, tests, stopped)
+    record_budget(con, BudgetRow(campaign_id, budget.limit_s, RULE.format(patience=PATIENCE), shrink_s, tests, stopped))
 
 
 class FocusedRun:

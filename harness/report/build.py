@@ -165,7 +165,7 @@ def _write_rest(con, out: Path, page_ids: set[int]) -> dict[str, int]:
     for table in csv_tables:
         table.write_csv(out)
     tp, fp = tables["tp_rates"], tables["fp_rates"]
-    lists = pages.write_lists(out, tables["family_traces"], tables["bad_traces"], suts, families, (tp, fp), page_ids)
+    lists = pages.write_lists(out, tables)
     pages.write_index(out, dict(
         sections=shown, campaigns=queries.campaigns(con), analysis=queries.analysis(con), tables=tables,
         suts=suts, first_analysis=analyses_made(con) < 2,

@@ -3,6 +3,7 @@ trace pages are harness/report/trace_pages.py's."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from markupsafe import Markup
 
@@ -11,6 +12,9 @@ from harness.report.html import SHOWN_ROWS, VERDICTS, bad_href, list_href, rate_
 from harness.report.tables import Table
 from harness.campaign.shrink import Behaviour, mission_file, original, write_mission
 from harness.textable import rate_interval, with_orders
+
+if TYPE_CHECKING:  # index_tables imports this module for its links
+    from harness.report.index_tables import IndexTables
 
 
 def shrunk_href(script_id: int | None) -> str | None:
@@ -46,17 +50,17 @@ def write_index(out: Path, context: dict) -> None:
     render("index.html.j2", out / "index.html", shown_rows=SHOWN_ROWS, **context)
 
 
-def write_lists(out: Path, family_traces: Table, bad: Table, suts: list[str], families: list[str],
-                rate_views: tuple[Table, ...], page_ids: set[int]) -> int:
+def write_lists(out: Path, tables: IndexTables) -> int:
     """The pages a Table II-IV cell links to: per (variant, family), and bad traces per variant.
     A trace without a page is named with the command that writes it."""
     by_cell: dict[tuple[str, str], list[dict]] = {}
-    for r in family_traces.records():
+    for r in tables["family_traces"].records():
         by_cell.setdefault((r["sut"], r["family"]), []).append(r)
     counts: dict[tuple[str, str], dict] = {}
-    for view in rate_views:
+    for view in (tables["tp_rates"], tables["fp_rates"]):
         for r in view.records():
             counts.setdefault((r["sut"], r["family"]), {}).update(r)
+    suts, families, page_ids, bad = tables.suts, tables.families, tables.page_ids, tables["bad_traces"]
     for sut in suts:
         for family in families:
             traces = by_cell.get((sut, family), [])

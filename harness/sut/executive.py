@@ -20,6 +20,7 @@ import time
 import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 from harness.target.interface import Interface
 from harness.target.script import Script, Step
@@ -33,6 +34,13 @@ DRAIN_S = 10.0  # how long outstanding replies are awaited after the last step
 REACTION_S = 0.02
 PROBE_PERIOD_S = 1.0
 PROBE_TIMEOUT_S = 0.5
+
+
+@dataclass(frozen=True)
+class Probe:
+    """The liveness probe, in mission seconds: a ping every `period_s`, answered within `timeout_s`."""
+    period_s: float = PROBE_PERIOD_S
+    timeout_s: float = PROBE_TIMEOUT_S
 
 
 class LayerMisbehaved(Exception):
@@ -63,10 +71,10 @@ class _Log:
 
 class Executive:
     def __init__(self, env: Environment, layer, interface: Interface, rng: random.Random,
-                 max_delay: float, probe_period: float = PROBE_PERIOD_S, probe_timeout: float = PROBE_TIMEOUT_S):
+                 max_delay: float, probe: Probe = Probe()):
         self.env, self.layer, self.interface = env, layer, interface
         self.rng, self.max_delay = rng, max_delay
-        self.probe_period, self.probe_timeout = probe_period, probe_timeout
+        self.probe_period, self.probe_timeout = probe.period_s, probe.timeout_s
         self.requests: dict[int, Request] = {}
         self.handles: dict[str, Request] = {}
         self.observed, self.internal = _Log(), _Log()
@@ -164,30 +172,36 @@ class Executive:
                 return
 
 
-def run_script(script: Script, sut: str, seed: int, interface: Interface, world_file: Path,
-               max_delay: float = 0.003, layer_factory=None) -> Trace:
-    """Run one script on one variant; never raises for a hung or crashing layer.
+@dataclass(frozen=True)
+class Runner:
+    """Runs one script on one variant; never raises for a hung or crashing layer. The layers are
+    what `layer_factory(env, sut, interface, world_file)` builds: by default the simulated layer
+    that the world file's mission folder describes (layer.toml), a fake one in the executive's and
+    the campaign's tests. The worker pool calls (and pickles) a runner: it is a value, not a closure."""
+    layer_factory: Callable | None = None
 
-    `layer_factory(env, sut, interface, world_file)` builds the layer; by default the simulated
-    layer that the world file's mission folder describes (layer.toml), a fake one in the
-    executive's own tests.
-    """
-    if layer_factory is None:
-        from harness.sut.simulated.layer import FunctionalLayer as layer_factory
-    wall = time.perf_counter()
-    env = Environment()
-    trace = Trace(sut=sut, seed=seed)
-    layer = layer_factory(env, sut, interface, world_file)  # a bad variant or world is the user's error
-    executive = Executive(env, layer, interface, random.Random(seed), max_delay)
-    try:
-        env.process(executive.play(script), "executive")
-        env.process(executive.probe(), "liveness probe")
-        env.run(until=executive.done)
-        trace.outcome = executive.done.value
-    except Exception as e:  # noqa: BLE001 - any failure inside the layer is a crashed trace
-        trace.outcome = "crashed"
-        trace.error = "".join(traceback.format_exception_only(e)).strip()
-    return trace_of(executive, env, trace, wall, executive.internal.rows, layer.world_events)
+    def __call__(self, script: Script, sut: str, seed: int, interface: Interface, world_file: Path | None,
+                 max_delay: float = 0.003) -> Trace:
+        layer_factory = self.layer_factory
+        if layer_factory is None:
+            from harness.sut.simulated.layer import FunctionalLayer as layer_factory
+        wall = time.perf_counter()
+        env = Environment()
+        trace = Trace(sut=sut, seed=seed)
+        layer = layer_factory(env, sut, interface, world_file)  # a bad variant or world is the user's error
+        executive = Executive(env, layer, interface, random.Random(seed), max_delay)
+        try:
+            env.process(executive.play(script), "executive")
+            env.process(executive.probe(), "liveness probe")
+            env.run(until=executive.done)
+            trace.outcome = executive.done.value
+        except Exception as e:  # noqa: BLE001 - any failure inside the layer is a crashed trace
+            trace.outcome = "crashed"
+            trace.error = "".join(traceback.format_exception_only(e)).strip()
+        return trace_of(executive, env, trace, wall, executive.internal.rows, layer.world_events)
+
+
+run_script = Runner()  # on the simulated layer
 
 
 def trace_of(executive: Executive, env: Environment, trace: Trace, wall_start: float,

@@ -97,7 +97,9 @@ class WorldFile(Strict):
     rock: list[RockTable] = Field([], description="write each rock as a [[rock]] table")
 
 
-def _inside(path, text, keys, x, y, margin, x_range, y_range) -> None:
+def _inside(path, text, keys, disc: RoverTable | RockTable, bounds: BoundsTable) -> None:
+    """Refuses a rover or rock (its table at `keys`) that does not lie whole inside the bounds."""
+    x, y, margin, x_range, y_range = disc.x, disc.y, disc.radius, bounds.x, bounds.y
     if not (x_range[0] + margin <= x <= x_range[1] - margin and y_range[0] + margin <= y <= y_range[1] - margin):
         raise InputFileError(path, where(text, keys), f"{dotted(keys)}: ({x:g}, {y:g}) with radius {margin:g} is "
                              f"not inside the bounds x={list(x_range)} y={list(y_range)}; move it inside")
@@ -115,9 +117,9 @@ def _parse_world(path: Path, content: bytes) -> WorldSpec:
     spec = validated(WorldFile, parse_toml(path, text), path, text)
     x_range, y_range = tuple(spec.bounds.x), tuple(spec.bounds.y)
     rover = spec.rover
-    _inside(path, text, ("rover",), rover.x, rover.y, rover.radius, x_range, y_range)
+    _inside(path, text, ("rover",), rover, spec.bounds)
     for n, rock in enumerate(spec.rock):
-        _inside(path, text, ("rock", n), rock.x, rock.y, rock.radius, x_range, y_range)
+        _inside(path, text, ("rock", n), rock, spec.bounds)
         if math.dist((rock.x, rock.y), (rover.x, rover.y)) < rock.radius + rover.radius:
             raise InputFileError(path, where(text, ("rock", n)), f"rock #{n + 1}: rock at ({rock.x:g}, {rock.y:g}) "
                                  "overlaps the rover's start; move it")

@@ -24,7 +24,7 @@ from datetime import datetime, timezone
 
 from harness.sut.external import kept
 from harness.sut.external.channel import GRACE_S, Connection, Unresponsive, quoted
-from harness.sut.executive import Executive, LayerMisbehaved, trace_of
+from harness.sut.executive import Executive, LayerMisbehaved, Probe, trace_of
 from harness.target.interface import Interface
 from harness.target.script import Script
 from harness.sut.protocol import (INTERNAL_KINDS, PROTO, REPLY_KINDS, REUSE, SUT_FAREWELL,
@@ -188,8 +188,7 @@ def _session(sut: ExternalSut, seed: int, interface: Interface) -> tuple:
     env = RealtimeEnvironment(sut.time_scale)
     layer = ProtocolLayer(env, interface)
     executive = Executive(env, layer, interface, random.Random(seed), max_delay=0.0,
-                          probe_period=PROBE_PERIOD_WALL_S * sut.time_scale,
-                          probe_timeout=sut.probe_timeout_s * sut.time_scale)
+                          probe=Probe(PROBE_PERIOD_WALL_S * sut.time_scale, sut.probe_timeout_s * sut.time_scale))
     return env, layer, executive
 
 
