@@ -35,14 +35,15 @@ def generation_speed():
     properties = load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface)
     golden = load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
     start = time.perf_counter()
-    operators.generate(golden, interface, MUTANTS, SEED)
+    list(operators.generate(golden, interface, operators.Draw(MUTANTS, SEED)))
     random_s = time.perf_counter() - start
     start = time.perf_counter()
     trace = run_script(golden, "genom", SEED, interface, DEFAULT_MISSION_DIR / "world.toml")
     verdicts = Judge(interface, properties).verdicts([trace])[0]
     golden_s = time.perf_counter() - start
     start = time.perf_counter()
-    targeted.generate(golden, trace, verdicts, interface, properties, MUTANTS, SEED)
+    targeted.generate(targeted.GoldenRun(golden, trace, verdicts), interface, properties,
+                      operators.Draw(MUTANTS, SEED, targeted.SITES_PER_MUTANT))
     targeted_s = time.perf_counter() - start
     print(f"random           {MUTANTS / random_s:,.0f} mutants/s")
     print(f"targeted         {MUTANTS / targeted_s:,.0f} mutants/s; {MUTANTS / (targeted_s + golden_s):,.0f} "

@@ -3,7 +3,7 @@ import re
 from collections import Counter
 
 from harness import DEFAULT_MISSION_DIR, ROOT
-from harness.mutator.operators import generate
+from harness.mutator.operators import Draw, generate
 from harness.target.script import load_script
 
 DOC = (ROOT / "docs" / "campaign.md").read_text()
@@ -11,7 +11,7 @@ DOC = (ROOT / "docs" / "campaign.md").read_text()
 
 def test_the_default_mutants_are_as_docs_campaign_says(interface):
     golden = load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
-    mutants = generate(golden, interface, 300, 2012)
+    mutants = list(generate(golden, interface, Draw(300, 2012)))
     invalid = sum(not m.valid for m in mutants)
     ops = Counter(m.operations[0]["op"] for m in mutants)
     distinct = len({m.body for m in mutants} | {golden.renumbered().render()})

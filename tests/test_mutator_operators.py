@@ -7,7 +7,7 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR
 from harness.mutator import operators
-from harness.mutator.operators import generate, mutate
+from harness.mutator.operators import Draw, chosen, generate, mutate
 from harness.target.script import load_script, parse, validate
 
 SMALL = """\
@@ -98,22 +98,22 @@ def test_operators_without_a_target_do_not_apply(interface):
     assert operators.swap_requests(steps, rng, interface) is None
     assert operators.drop_wait(steps, rng, interface) is None
     assert operators.change_sleep(steps, rng, interface) is None
-    mutant = mutate(parse("send rflex.Init as ri\n"), interface, rng, operations=3, time_mutations=True)
+    mutant = mutate(parse("send rflex.Init as ri\n"), interface, rng, operations=3, operators=chosen(None, True))
     assert len(mutant.operations) == 3
 
 
 def test_time_operators_only_behind_the_flag(golden, interface):
-    plain = {op["op"] for m in generate(golden, interface, 60, seed=3) for op in m.operations}
-    timed = {op["op"] for m in generate(golden, interface, 60, seed=3, time_mutations=True)
+    plain = {op["op"] for m in generate(golden, interface, Draw(60, seed=3)) for op in m.operations}
+    timed = {op["op"] for m in generate(golden, interface, Draw(60, seed=3, time_mutations=True))
              for op in m.operations}
     assert plain == {"delete_request", "insert_request", "swap_requests"}
     assert timed == plain | {"drop_wait", "change_sleep"}
 
 
 def test_same_seed_gives_byte_identical_mutants(golden, interface):
-    first = generate(golden, interface, 40, seed=2012, operations=2, time_mutations=True)
-    again = generate(golden, interface, 40, seed=2012, operations=2, time_mutations=True)
-    other = generate(golden, interface, 40, seed=2013, operations=2, time_mutations=True)
+    first = list(generate(golden, interface, Draw(40, seed=2012, operations=2, time_mutations=True)))
+    again = list(generate(golden, interface, Draw(40, seed=2012, operations=2, time_mutations=True)))
+    other = list(generate(golden, interface, Draw(40, seed=2013, operations=2, time_mutations=True)))
     assert [m.body for m in first] == [m.body for m in again]
     assert [json.dumps(m.operations) for m in first] == [json.dumps(m.operations) for m in again]
     assert [m.body for m in first] != [m.body for m in other]
@@ -121,14 +121,14 @@ def test_same_seed_gives_byte_identical_mutants(golden, interface):
 
 
 def test_mutants_are_distinct_and_differ_from_golden(golden, interface):
-    mutants = generate(golden, interface, 100, seed=7)
+    mutants = list(generate(golden, interface, Draw(100, seed=7)))
     bodies = [m.body for m in mutants]
     assert len(set(bodies)) == 100 and golden.renumbered().render() not in bodies
 
 
 def test_deleting_a_waited_request_gives_an_invalid_mutant(interface):
     script = parse("send rflex.Init as ri\nwait ri\n", "tiny")
-    mutants = generate(script, interface, 12, seed=5)
+    mutants = list(generate(script, interface, Draw(12, seed=5)))
     deleted = [m for m in mutants if m.operations[0]["op"] == "delete_request"]
     assert deleted, "seed 5 should draw a deletion among 12 mutants"
     for m in deleted:
@@ -140,7 +140,7 @@ def test_deleting_a_waited_request_gives_an_invalid_mutant(interface):
 
 def test_swapping_a_wait_before_its_send_is_invalid(interface):
     script = parse("send rflex.Init as ri\nwait ri\nsend sick.Init as si\n", "tiny")
-    mutants = generate(script, interface, 30, seed=1)
+    mutants = list(generate(script, interface, Draw(30, seed=1)))
     swapped = [m for m in mutants if m.operations[0]["op"] == "swap_requests"]
     assert swapped and all("wait on handle 'ri'" in m.invalid_reason for m in swapped)
 
@@ -150,11 +150,11 @@ def test_operators_named_from_the_registry_are_the_only_ones_drawn(golden, inter
     assert operators.chosen(None, time_mutations=True)[3:] == ("drop_wait", "change_sleep")
     named = operators.chosen("change_sleep, swap_requests")
     assert named == ("swap_requests", "change_sleep")  # in the registry's order, whatever the order given
-    drawn = {op["op"] for m in generate(golden, interface, 40, seed=3, operators=named) for op in m.operations}
+    drawn = {op["op"] for m in generate(golden, interface, Draw(40, seed=3, operators=named)) for op in m.operations}
     assert drawn == {"swap_requests", "change_sleep"}
     # absent, the default draws exactly as before the registry
-    assert [m.body for m in generate(golden, interface, 20, seed=3)] == \
-        [m.body for m in generate(golden, interface, 20, seed=3, operators=operators.chosen(None))]
+    assert [m.body for m in generate(golden, interface, Draw(20, seed=3))] == \
+        [m.body for m in generate(golden, interface, Draw(20, seed=3, operators=operators.chosen(None)))]
 
 
 @pytest.mark.parametrize("names, time_mutations, message", [

@@ -13,9 +13,15 @@ from harness.sut.executive import run_script
 from harness.target.interface import Property, load_interface, load_properties
 from harness.analysis.judge import Judge
 from harness.mutator import targeted
+from harness.mutator.operators import Draw
+from harness.mutator.targeted import GoldenRun
 from harness.target.script import load_script, parse
 from harness.mutator.timeline import Timeline
 from harness.trace import Trace
+
+
+def aimed(count: int, seed: int) -> Draw:
+    return Draw(count, seed, targeted.SITES_PER_MUTANT)
 
 
 def test_each_type_is_falsified_the_way_its_condition_says():
@@ -63,9 +69,9 @@ def test_the_timeline_says_what_runs_and_what_ended_ok_at_each_place(interface, 
 
 def test_same_seed_same_bytes_and_every_mutant_names_its_aim(interface, properties, golden_run):
     golden, trace, verdicts = golden_run
-    first = targeted.generate(golden, trace, verdicts, interface, properties, 60, seed=5)
-    again = targeted.generate(golden, trace, verdicts, interface, properties, 60, seed=5)
-    other = targeted.generate(golden, trace, verdicts, interface, properties, 60, seed=6)
+    first = targeted.generate(GoldenRun(golden, trace, verdicts), interface, properties, aimed(60, 5))
+    again = targeted.generate(GoldenRun(golden, trace, verdicts), interface, properties, aimed(60, 5))
+    other = targeted.generate(GoldenRun(golden, trace, verdicts), interface, properties, aimed(60, 6))
     assert [(m.body, m.operations) for m in first] == [(m.body, m.operations) for m in again]
     assert [m.body for m in first] != [m.body for m in other]
     assert len({m.body for m in first}) == 60 and all(m.valid for m in first)
@@ -123,7 +129,7 @@ def test_generation_reads_only_data_a_made_up_mission_works(tmp_path):
               (5, 5.04, "request", 3, "gripper", "Close", "{}", None),
               (6, 6.0, "final", 3, "gripper", "Close", None, "ok")]
     trace = Trace("toy", 0, events=events)
-    mutants = targeted.generate(golden, trace, [], interface, properties, 20, seed=1)
+    mutants = targeted.generate(GoldenRun(golden, trace, []), interface, properties, aimed(20, 1))
     assert all(m.valid for m in mutants)
     assert {op["aim"] for m in mutants for op in m.operations} == {"READY", "STOPS"}
     for m in mutants:

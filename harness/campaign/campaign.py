@@ -104,9 +104,12 @@ def _generate(config: dict, golden, interface: Interface, properties, run_golden
               golden_id: int) -> list[Mutant]:
     """The campaign's mutants (harness.mutator.strategies); a long random generation shows its progress."""
     progress = Progress(config["mutants"], unit="mutants") if config["mutants"] >= SHOW_GENERATION else None
-    mutants = strategies.generate(config, golden, interface, properties, run_golden=run_golden,
-                                  name=lambda n: script_label(golden_id + n),
-                                  on_mutant=progress.advance if progress else lambda: None)
+    mutants = []
+    for mutant in strategies.mutants(config, golden, interface, properties, run_golden,
+                                     name=lambda n: script_label(golden_id + n)):
+        mutants.append(mutant)
+        if progress:
+            progress.advance()
     if progress:
         progress.close()
     return mutants

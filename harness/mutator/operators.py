@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import random
 from dataclasses import dataclass, replace
-from typing import Callable
+from typing import Callable, Iterator
 
 from harness.errors import ScriptError, UntimelyError
 from harness.target.interface import Interface, Service
@@ -160,12 +160,12 @@ def chosen(names: str | None, time_mutations: bool = False, value_mutations: boo
 
 
 def mutate(golden: Script, interface: Interface, rng: random.Random, operations: int = 1,
-           time_mutations: bool = False, label: str = "mutant", operators: tuple[str, ...] | None = None) -> Mutant:
+           label: str = "mutant", operators: tuple[str, ...] | None = None) -> Mutant:
     """Apply `operations` operators drawn uniformly among those that apply (of `operators`, by
-    default chosen(None, time_mutations)), then validate. An operation none of them applies to is
-    left out (insert_request always applies)."""
+    default chosen(None)), then validate. An operation none of them applies to is left out
+    (insert_request always applies)."""
     steps, records = list(golden.steps), []
-    names = chosen(None, time_mutations) if operators is None else operators
+    names = chosen(None) if operators is None else operators
     for _ in range(operations):
         candidates = [OPERATORS[n] for n in names]
         record = None
@@ -187,28 +187,40 @@ def validated(script: Script, records: list[dict], interface: Interface) -> Muta
     return Mutant(script, tuple(records))
 
 
-def generate(golden: Script, interface: Interface, count: int, seed: int, operations: int = 1,
-             time_mutations: bool = False, redraws: int = 50,
-             name: Callable[[int], str] = "mutant {}".format,
-             on_mutant: Callable[[], None] = lambda: None, operators: tuple[str, ...] | None = None) -> list[Mutant]:
-    """`count` seeded mutants; `name(n)` labels the n-th (from 1) in its validator message,
-    `on_mutant()` is called after each (progress). A mutant whose body equals the golden or an
-    earlier mutant's is redrawn (up to `redraws` times), so duplicates only remain when the
-    operators run out of distinct mutants."""
-    names = chosen(None, time_mutations) if operators is None else operators
-    if count and not any(OPERATORS[n](list(golden.steps), random.Random(0), interface) for n in names):
+@dataclass(frozen=True)
+class Draw:
+    """What a generation draws: `count` mutants from `seed`, each of `operations` operations (the
+    targeted strategy's insertion sites) of `operators` (default chosen(None, time_mutations)); a
+    mutant equal to the golden or an earlier one is redrawn up to `redraws` times."""
+    count: int
+    seed: int
+    operations: int = 1
+    time_mutations: bool = False
+    operators: tuple[str, ...] | None = None
+    redraws: int = 50
+
+    def names(self) -> tuple[str, ...]:
+        return chosen(None, self.time_mutations) if self.operators is None else self.operators
+
+
+def generate(golden: Script, interface: Interface, draw: Draw,
+             name: Callable[[int], str] = "mutant {}".format) -> Iterator[Mutant]:
+    """`draw.count` seeded mutants, one at a time (a caller shows its progress); `name(n)` labels
+    the n-th (from 1) in its validator message. A mutant whose body equals the golden or an
+    earlier mutant's is redrawn, so duplicates only remain when the operators run out of
+    distinct mutants."""
+    names = draw.names()
+    if draw.count and not any(OPERATORS[n](list(golden.steps), random.Random(0), interface) for n in names):
         # every "mutant" would be the golden script itself
         raise UntimelyError(f"--operators {','.join(names)}: none of them finds a step to change in the golden "
                             f"script {golden.source}, so every mutant would be the golden script; name others "
                             f"among {', '.join(OPERATORS)}")
-    rng = random.Random(f"untimely-mutants:{seed}")
-    seen, mutants = {golden.renumbered().render()}, []
-    for n in range(1, count + 1):
-        for _ in range(redraws + 1):
-            mutant = mutate(golden, interface, rng, operations, time_mutations, name(n), operators)
+    rng = random.Random(f"untimely-mutants:{draw.seed}")
+    seen = {golden.renumbered().render()}
+    for n in range(1, draw.count + 1):
+        for _ in range(draw.redraws + 1):
+            mutant = mutate(golden, interface, rng, draw.operations, name(n), names)
             if mutant.body not in seen:
                 break
         seen.add(mutant.body)
-        mutants.append(mutant)
-        on_mutant()
-    return mutants
+        yield mutant

@@ -12,7 +12,7 @@ stops by itself (harness.campaign.budgeted); its rates describe its tests only.
 """
 from __future__ import annotations
 
-from typing import Callable
+from typing import Callable, Iterator
 
 from harness.errors import UntimelyError
 from harness.target.interface import Interface, Property
@@ -60,19 +60,23 @@ def _aimed(config: dict, properties: list[Property]) -> list[Property]:
 
 
 def generate(config: dict, golden: Script, interface: Interface, properties: list[Property],
-             run_golden: Callable[[], Trace], name: Callable[[int], str],
-             on_mutant: Callable[[], None] = lambda: None) -> list[Mutant]:
-    """The campaign's mutants; `run_golden` runs the golden on the campaign's first variant with
-    that run's seed (targeted generation reads its timeline and verdicts); random generation
-    calls `on_mutant()` after each mutant (progress)."""
-    count, seed, ops = config["mutants"], config["seed"], config["ops_per_mutant"]
-    value_mutations = config.get("value_mutations", False)
+             run_golden: Callable[[], Trace], name: Callable[[int], str]) -> list[Mutant]:
+    """The campaign's mutants, all of them (mutants() gives them one at a time)."""
+    return list(mutants(config, golden, interface, properties, run_golden, name))
+
+
+def mutants(config: dict, golden: Script, interface: Interface, properties: list[Property],
+            run_golden: Callable[[], Trace], name: Callable[[int], str]) -> Iterator[Mutant]:
+    """The campaign's mutants, as they are drawn (a campaign shows its progress); `run_golden` runs
+    the golden on the campaign's first variant with that run's seed (targeted generation reads its
+    timeline and verdicts)."""
+    named, timed = config.get("operators"), config.get("time_mutations", False)
+    draw = operators.Draw(config["mutants"], config["seed"], config["ops_per_mutant"], timed,
+                          tuple(named) if named else operators.chosen(None, timed, config.get("value_mutations", False)))
     if config["strategy"] == "random":
-        named = config.get("operators")
-        return operators.generate(golden, interface, count, seed, ops, config["time_mutations"], name=name,
-                                  on_mutant=on_mutant, operators=tuple(named) if named else
-                                  operators.chosen(None, config["time_mutations"], value_mutations))
+        yield from operators.generate(golden, interface, draw, name)
+        return
     properties = _aimed(config, properties)
     trace = run_golden()
     verdicts = Judge(interface, properties).verdicts([trace])[0]
-    return targeted.generate(golden, trace, verdicts, interface, properties, count, seed, ops, name=name)
+    yield from targeted.generate(targeted.GoldenRun(golden, trace, verdicts), interface, properties, draw, name)

@@ -31,7 +31,7 @@ from typing import Callable
 
 from harness.target.interface import Interface, Property
 from harness.target.property_types import interruptions
-from harness.mutator.operators import Mutant, plausible, random_request, step_text, validated
+from harness.mutator.operators import Draw, Mutant, plausible, random_request, step_text, validated
 from harness.target.script import Script, Step
 from harness.mutator.timeline import Timeline
 from harness.mutator.values import falsifying_request
@@ -184,19 +184,29 @@ class Planner:
         return validated(Script(tuple(steps), label).renumbered(), records, self.interface), falsifying
 
 
-def generate(golden: Script, golden_trace: Trace, golden_verdicts: list[dict], interface: Interface,
-             properties: list[Property], count: int, seed: int, sites: int = SITES_PER_MUTANT, redraws: int = 50,
+@dataclass(frozen=True)
+class GoldenRun:
+    """The golden script, its run's trace (whose timeline places insertions) and that run's verdicts
+    (the P-conditions it falsifies already)."""
+    script: Script
+    trace: Trace
+    verdicts: list[dict]
+
+
+def generate(golden_run: GoldenRun, interface: Interface, properties: list[Property], draw: Draw,
              name: Callable[[int], str] = "mutant {}".format) -> list[Mutant]:
-    """`count` targeted mutants of `golden`, balanced over `properties` (see the module doc)."""
-    rng = random.Random(f"untimely-targeted:{seed}")
-    planner = Planner(golden, Timeline(golden, golden_trace, interface.replies), interface, properties, rng)
+    """`draw.count` targeted mutants of the golden, balanced over `properties` (see the module doc),
+    each with up to `draw.operations` falsifying insertions (SITES_PER_MUTANT by default)."""
+    golden, sites, redraws = golden_run.script, draw.operations, draw.redraws
+    rng = random.Random(f"untimely-targeted:{draw.seed}")
+    planner = Planner(golden, Timeline(golden, golden_run.trace, interface.replies), interface, properties, rng)
     base = {p.id: 0 for p in properties}
-    for v in golden_verdicts:
+    for v in golden_run.verdicts:
         if v["c_holds"] is False:
             base[v["property_id"]] += 1
     aimed = dict.fromkeys(base, 0)
     seen, mutants = {golden.renumbered().render()}, []
-    for n in range(1, count + 1):
+    for n in range(1, draw.count + 1):
         prop = min(properties, key=lambda p: base[p.id] * (n - 1) + aimed[p.id])
         falsify, disturb = falsifiers(prop), disturbers(prop, interface)
         for _ in range(redraws + 1):
