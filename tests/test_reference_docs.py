@@ -14,7 +14,7 @@ from harness.target.interface import INTERFACE_KEYS, SERVICE_KINDS
 from harness.target.property_types import property_types
 
 PROPERTY_TYPES = list(property_types())
-from harness.target.layer_description import CHECKING, DEFECT_KINDS, INTERRUPTING, LAYER_KEYS, REJECTING
+from harness.target.layer_file import CHECKING, DEFECT_KINDS, INTERRUPTING, LAYER_KEYS, REJECTING
 
 REFERENCE = ROOT / "docs" / "reference"
 

@@ -31,22 +31,16 @@ import functools
 import importlib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Annotated, Literal
-
-from pydantic import ConfigDict, Field, model_validator
 
 from harness import current_modules
 from harness.errors import InputFileError, UntimelyError
 from harness.files import read_toml
-from harness.schema import Strict, accepted, cut, dotted, validated, where
-from harness.target.domains import VIOLATIONS, Bounds, Domain, narrowing
+from harness.schema import cut, dotted, validated, where
+from harness.target.domains import Domain, narrowing
+from harness.target.layer_file import CHECKING, DEFECT_KINDS, DefectTable, LayerFile, ProtectionTable
 from harness.target.interface import Interface
 
 LAYER_FILE = "layer.toml"
-REJECTING = ("requires_init", "requires", "rejects_while")
-CHECKING = ("checks_args", "narrows_while")  # argument checks, made before the rejecting ones
-INTERRUPTING = ("interrupts", "excludes")
-DEFECT_KINDS = {"interrupts_on_init": "reply", "deadlock_on_start": "protection", "leak_during_init": "protection"}
 
 
 @dataclass(frozen=True)
@@ -145,82 +139,6 @@ class LayerDescription:
             return narrowing(arguments, protection.domain)
         except ValueError as e:
             raise InputFileError(self.path, f"[protections.{protection.name}]", str(e)) from None
-
-
-SERVICES_HINT = 'give a table of "module.Service" = ["module.Service", ...]'
-Names = list[str]
-
-
-class LayerTable(Strict):
-    model_config = ConfigDict(title="[layer]")
-    doc: str = ""
-    behaviour: str | None = Field(None, description="give the name of an importable Python module that "
-                                                    "provides build(env, world_file)")
-    slots: int = Field(3, ge=1, description="give a whole number of activities >= 1")
-    invalid_args: str = Field(description="give the reply code it answers invalid arguments with")
-    no_slot: str = Field(description="give the reply code it answers when no activity slot is free")
-    stop: str | None = Field(None, description="give the name of the service that stops its module")
-    default_suts: Names | None = Field(None, min_length=1, description="give a non-empty list of variant names "
-                                       "(a campaign's --sut when none is given), or leave it out for all variants")
-
-
-class TimingTable(Strict):
-    model_config = ConfigDict(title="a timing")
-    start_s: float = Field(0.0, ge=0, description="give a number of seconds >= 0")
-    run_s: float | Literal["forever"] = Field(description='give a number of seconds >= 0 or "forever"')
-
-    @model_validator(mode="after")
-    def _not_negative(self):
-        if self.run_s != "forever" and self.run_s < 0:
-            raise ValueError(f"run_s = {self.run_s!r}; give a number of seconds >= 0 or \"forever\"")
-        return self
-
-
-PROTECTION_KINDS = CHECKING + REJECTING + INTERRUPTING
-
-
-class ProtectionTable(Strict):
-    model_config = ConfigDict(title="a protection")
-    kind: Literal[PROTECTION_KINDS] = Field(description=f"use one of {', '.join(PROTECTION_KINDS)}")
-    reply: str | None = Field(None, description="give the reply code it answers with")
-    checks: list[Literal[VIOLATIONS]] = Field(list(VIOLATIONS), description=f"give some of {', '.join(VIOLATIONS)}")
-    domain: dict[str, Bounds] = Field(default_factory=dict, description="give argument = { min, max, choices, "
-                                                                        "pattern } tables")
-    after: dict[str, Names] = Field(default_factory=dict, description=SERVICES_HINT)
-    while_: dict[str, Names] = Field(default_factory=dict, alias="while", description=SERVICES_HINT)
-    by: dict[str, Names] = Field(default_factory=dict, description=SERVICES_HINT)
-    pairs: list[Annotated[Names, Field(min_length=2, max_length=2)]] = Field(
-        default_factory=list, description='give a list of ["module.Service", "module.Service"] pairs')
-    stop: bool = False
-    doc: str = ""
-
-
-class DefectTable(Strict):
-    model_config = ConfigDict(title="a defect")
-    kind: Literal[tuple(DEFECT_KINDS)] = Field(description=f"use one of {', '.join(DEFECT_KINDS)}")
-    reply: str | None = Field(None, description="give the reply code it answers with")
-    protection: str | None = Field(None, description="give the name of a protection")
-    doc: str = ""
-
-
-class VariantTable(Strict):
-    model_config = ConfigDict(title="a variant")
-    protections: Names = []
-    defects: Names = []
-    doc: str = ""
-
-
-class LayerFile(Strict):
-    model_config = ConfigDict(title="a layer description")
-    layer: LayerTable
-    timing: dict[str, TimingTable] = {}
-    protections: dict[str, ProtectionTable] = {}
-    defects: dict[str, DefectTable] = {}
-    variants: dict[str, VariantTable] = Field(min_length=1, description="add [variants.NAME] tables "
-                                                                       "(protections, defects, doc)")
-
-
-LAYER_KEYS = set(accepted(LayerTable))  # the keys of [layer] (docs/reference names every one)
 
 
 def _protection(path, text, name: str, spec: ProtectionTable, invalid_args: str) -> Protection:
