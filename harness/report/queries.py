@@ -147,11 +147,13 @@ _DETAILS = {
         select e.trace_id, e.seq, e.t, e.kind, e.rqst_id, e.module, e.service, e.args, e.reply, c.class
         from events e left join reply_codes c using (module, service, reply)
         where e.{_WANTED} order by e.trace_id, e.seq""",
-    # the analyzer's requests view pairs each request with its final reply as the oracles do
+    # the analyzer's requests view pairs each request with its final reply as the oracles do;
+    # lifecycle_states names a managed ROS 2 node's state at each request sent to it
     "requests": f"""
         select r.trace_id, r.rqst_id, r.module, r.service, e.args, r.t as start, r.final_t as "end",
-               r.reply, r.class as reply_class
+               r.reply, r.class as reply_class, l.state as lifecycle, l.pending
         from requests r left join events e on e.trace_id = r.trace_id and e.seq = r.seq
+        left join lifecycle_states l on l.trace_id = r.trace_id and l.rqst_id = r.rqst_id
         where r.{_WANTED} order by r.trace_id, r.t, r.seq""",
     "verdicts": f"select * from verdicts where {_WANTED} order by trace_id, rqst_id, property_id",
     "world": f"select * from world_events where {_WANTED} order by trace_id, t",
