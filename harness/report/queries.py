@@ -153,7 +153,8 @@ _DETAILS = {
         select r.trace_id, r.rqst_id, r.module, r.service, e.args, r.t as start, r.final_t as "end",
                r.reply, r.class as reply_class, l.state as lifecycle, l.pending
         from requests r left join events e on e.trace_id = r.trace_id and e.seq = r.seq
-        left join lifecycle_states l on l.trace_id = r.trace_id and l.rqst_id = r.rqst_id
+        left join (select * from lifecycle_states where {_WANTED}) l
+            on l.trace_id = r.trace_id and l.rqst_id = r.rqst_id
         where r.{_WANTED} order by r.trace_id, r.t, r.seq""",
     "verdicts": f"select * from verdicts where {_WANTED} order by trace_id, rqst_id, property_id",
     "world": f"select * from world_events where {_WANTED} order by trace_id, t",

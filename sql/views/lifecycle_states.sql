@@ -10,9 +10,10 @@
 create or replace {{ 'temp ' if temp | default(false) }}view lifecycle_states as
 with managed as (
     select module
-    from requests
+    from events
+    where kind = 'request' and service in ('configure', 'activate')
     group by module
-    having count(*) filter (where service = 'configure') > 0 and count(*) filter (where service = 'activate') > 0
+    having count(distinct service) = 2
 ),
 transitions as (
     select r.trace_id, r.module, r.service, r.seq, r.final_seq, r.reply
