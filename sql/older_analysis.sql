@@ -18,6 +18,6 @@ select trace_id, trace_id as original, '' as body
 from traces
 where false;
 {% endif %}
-{% for name in ('trace_findings', 'findings', 'lifecycle_states') if name in missing %}
+{% for name in ('trace_findings', 'findings') if name in missing %}
 {% with temp = true %}{% include 'views/' ~ name ~ '.sql' %}{% endwith %};
 {% endfor %}

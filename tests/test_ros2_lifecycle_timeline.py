@@ -68,3 +68,11 @@ def test_modules_that_are_no_managed_node_have_no_state():
     assert con.execute("select count(*) from lifecycle_states").fetchone()[0] == 0
     ids = [r[0] for r in con.execute("select trace_id from traces").fetchall()]
     assert all(r.lifecycle is None for batch in trace_rows(con, ids) for t in traces(batch) for r in t["requests"])
+
+
+def test_a_store_analysed_before_the_view_existed_shows_no_state():
+    fixture = load(HERE / "lifecycle.trace")
+    con = judged_store(fixture, 0.01)
+    con.execute("drop view lifecycle_states")
+    drawn = [r for batch in trace_rows(con, [1, 2]) for t in traces(batch) for r in t["requests"]]
+    assert drawn and all(r.lifecycle is None and r.state is None for r in drawn)

@@ -47,11 +47,10 @@ def require_analysis(con, db, needed: tuple[str, ...], what: str) -> None:
 
 
 def read_older_analysis(con) -> None:
-    """A store analysed before views trace_scope, trace_badness, findings or lifecycle_states existed gets them as
+    """A store analysed before views trace_scope, trace_badness or findings existed gets them as
     temporary views (sql/older_analysis.sql), and one written before shrink runs were stored an
     empty shrink_runs: the report reads it as it is."""
-    missing = {"trace_scope", "trace_badness", "trace_findings", "findings", "lifecycle_states",
-               "shrink_runs"} - relations(con)
+    missing = {"trace_scope", "trace_badness", "trace_findings", "findings", "shrink_runs"} - relations(con)
     if missing:
         con.execute(ENV.get_template("older_analysis.sql").render(missing=missing, verdict_names=list(VERDICTS)))
 

@@ -7,7 +7,7 @@
 -- cleanup -> unconfigured, shutdown -> finalized; a refused one changes nothing. The state at a
 -- request is the one the last ok before it (in event order) entered; `pending` lists the
 -- transitions requested before it whose final reply came after it (the node may be between).
-create or replace {{ 'temp ' if temp | default(false) }}view lifecycle_states as
+create or replace view lifecycle_states as
 with managed as (
     select module
     from events
