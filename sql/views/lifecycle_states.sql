@@ -15,34 +15,38 @@ with managed as (
     group by module
     having count(distinct service) = 2
 ),
-transitions as (
-    select r.trace_id, r.module, r.service, r.seq, r.final_seq, r.reply
-    from requests r join managed using (module)
-    where r.service in ('configure', 'activate', 'deactivate', 'cleanup', 'shutdown')
+sent as (
+    select trace_id, rqst_id, module, service, seq, final_seq, reply,
+           service in ('configure', 'activate', 'deactivate', 'cleanup', 'shutdown') as transition
+    from requests
+    where module in (select module from managed)
 ),
-entered as (
-    select trace_id, module, final_seq,
+marks as (
+    -- each request sent to a node (a transition's with its final reply's place), and each ok of
+    -- a transition with the state it enters: one stream per node, so that a filter on the
+    -- traces reaches the requests view (a join after it would compute every trace)
+    select trace_id, module, seq, rqst_id, null::varchar as entered,
+           case when transition then {'service': service, 'final_seq': final_seq} end as requested
+    from sent
+    union all
+    select trace_id, module, final_seq as seq, null as rqst_id,
            case service when 'configure' then 'inactive' when 'activate' then 'active'
                         when 'deactivate' then 'inactive' when 'cleanup' then 'unconfigured'
-                        else 'finalized' end as state
-    from transitions
-    where reply = 'ok'
-),
-sent as (
-    select r.trace_id, r.rqst_id, r.module, r.seq
-    from requests r join managed using (module)
+                        else 'finalized' end as entered, null as requested
+    from sent
+    where transition and reply = 'ok'
 ),
 stated as (
-    select s.trace_id, s.rqst_id, s.module, s.seq, coalesce(e.state, 'unconfigured') as state
-    from sent s asof left join entered e
-        on e.trace_id = s.trace_id and e.module = s.module and s.seq > e.final_seq
-),
-pending as (
-    select s.trace_id, s.rqst_id, string_agg(t.service, ', ' order by t.seq) as pending
-    from sent s join transitions t
-        on t.trace_id = s.trace_id and t.module = s.module and t.seq < s.seq
-       and (t.final_seq is null or t.final_seq > s.seq)
-    group by s.trace_id, s.rqst_id
+    select trace_id, rqst_id, module, seq,
+           coalesce(last_value(entered ignore nulls) over (node rows between unbounded preceding and current row),
+                    'unconfigured') as state,
+           list(requested) over (node rows between unbounded preceding and 1 preceding) as before
+    from marks
+    window node as (partition by trace_id, module order by seq)
 )
-select s.trace_id, s.rqst_id, s.module, s.state, p.pending
-from stated s left join pending p using (trace_id, rqst_id)
+select trace_id, rqst_id, module, state,
+       nullif(array_to_string(list_transform(list_filter(before, lambda t: t is not null
+                                                         and (t.final_seq is null or t.final_seq > seq)),
+                                             lambda t: t.service), ', '), '') as pending
+from stated
+where rqst_id is not null
