@@ -268,6 +268,8 @@ class Plan:
         self.timed = [a for a in self.aims if a.timed]
         self.builder = Builder(golden, timeline, interface, properties, source)
         self.interface, self.seed = interface, seed
+        for service in interface.services:  # a cycle of properties is refused before any test runs
+            self.builder.closure([service])
 
     def aim(self, n: int) -> tuple[Aim, int]:
         """Test n's aim and its round (0: the aim's first test)."""
