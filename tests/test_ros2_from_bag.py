@@ -30,7 +30,8 @@ TRIGGER = "---\nbool success\nstring message\n"
 GRAPH = {"nodes": [{"name": "/seq", "actions": [
     {"name": "/seq/fib", "type": "test_msgs/action/Fibonacci", "fields": {"order": "int32"}}], "services": [
     {"name": "/seq/status", "type": "std_srvs/srv/Trigger", "fields": {},
-     "response": {"success": "boolean", "message": "string"}}]}]}
+     "response": {"success": "boolean", "message": "string"}},
+    {"name": "/seq/get_parameters", "type": "rcl_interfaces/srv/GetParameters", "fields": {}, "response": {}}]}]}
 
 
 def test_the_golden_mission_keeps_the_sessions_order_arguments_and_gaps(tmp_path):
@@ -98,6 +99,14 @@ def test_a_bag_of_a_service_the_graph_lacks_is_refused(draft, tmp_path):
     with pytest.raises(InputFileError) as refused:
         golden_of(bag, *draft)
     for words in (str(bag), "requests of /arm/home, which the graph of", "lacks", "/seq/status"):
+        assert words in str(refused.value)
+
+
+def test_a_bag_of_services_the_target_does_not_drive_only_is_refused(draft, tmp_path):
+    bag = Bag(tmp_path / "parameters").trigger_call("/seq/get_parameters").close()
+    with pytest.raises(InputFileError) as refused:
+        golden_of(bag, *draft)
+    for words in (str(bag), "holds requests of /seq/get_parameters only", "/seq/fib, /seq/status"):
         assert words in str(refused.value)
 
 

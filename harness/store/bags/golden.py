@@ -84,6 +84,10 @@ def _check_topics(bag: Path, target: Ros2Target) -> None:
                              f"lacks (it has {', '.join(sorted(graph))}); give the command that starts the node(s) "
                              "the bag was recorded from")
     driven = {s.route.get("action") or s.route.get("service") for s in target.services}
+    if not introspected & driven:
+        raise InputFileError(bag, "", f"holds requests of {', '.join(sorted(introspected))} only, none of the "
+                             f"services and actions the target drives ({', '.join(sorted(driven))}); record a "
+                             "session that calls them")
     for name in sorted(introspected - driven):
         print(f"{bag}: the requests of {name} are left out: the target does not drive it (infrastructure)",
               file=sys.stderr)
