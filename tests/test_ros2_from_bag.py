@@ -3,7 +3,7 @@ nominal session as the golden mission. Without ROS: the mission text of hand-mad
 bad bags (written with rosbags' writer) refused naming the file and what is missing. With ROS 2
 (skipped without `make ros2`): a session of examples/ros2 recorded by the bench's recorder on
 Kilted, a target initialised from it, and a short campaign on both distros whose golden runs are
-the bag's requests."""
+the bag's requests (the same session copied to SQLite3 gives the same golden)."""
 import json
 import os
 import subprocess
@@ -11,7 +11,7 @@ import sys
 
 import numpy as np
 import pytest
-from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.rosbag2 import Reader, StoragePlugin, Writer
 
 from harness import ROOT
 from harness.adapters.ros2.environment import installed
@@ -163,6 +163,19 @@ def harness(*args: str, timeout_s: float, env=None) -> subprocess.CompletedProce
     return done
 
 
+def sqlite_copy(bag, out):
+    """The MCAP bag `bag` as an SQLite3 bag, message for message."""
+    with Reader(bag) as reader:
+        writer = Writer(out, version=9, storage_plugin=StoragePlugin.SQLITE3)
+        writer.open()
+        made = {c.id: writer.add_connection(c.topic, c.msgtype, msgdef=c.msgdef.data, rihs01=c.digest)
+                for c in reader.connections}
+        for connection, at, raw in reader.messages():
+            writer.write(made[connection.id], at, raw)
+        writer.close()
+    return out
+
+
 def sent(con, trace_id: int) -> list[tuple[str, dict]]:
     rows = con.execute("""select module || '.' || service, args from events where trace_id = ? and kind = 'request'
                           order by rqst_id""", [trace_id]).fetchall()
@@ -185,6 +198,11 @@ def test_a_recorded_session_is_the_golden_mission_of_a_campaign_that_runs(tmp_pa
     harness("init", str(folder), "--from-ros2", COMMAND, "--from-bag", str(bag), timeout_s=120)
     golden = (folder / "golden.mission").read_text()
     assert "sleep 1.5" in golden or "sleep 1.4" in golden, golden  # the session's pause before fibonacci
+    sqlite = tmp_path / "from-sqlite"
+    harness("init", str(sqlite), "--from-ros2", COMMAND, "--from-bag", str(sqlite_copy(bag, tmp_path / "db3")),
+            timeout_s=120)
+    steps = lambda text: [line for line in text.splitlines() if not line.startswith("#")]  # noqa: E731
+    assert steps((sqlite / "golden.mission").read_text()) == steps(golden), "the same session read from SQLite3"
     db = tmp_path / "campaign.duckdb"
     harness("campaign", "--mission", str(folder), "--strategy", "focused", "--budget", "20s", "--sut",
             ",".join(f"sequencer-{d}" for d in DISTROS), "--jobs", "2", "--db", str(db), timeout_s=420)
