@@ -1,4 +1,4 @@
-"""`untimely init --from-ros2 COMMAND --from-bag BAG` (harness/store/bags/golden.py): a recorded
+"""`untimely init --from-ros2 COMMAND --from-bag BAG` (harness/campaign/from_bag.py): a recorded
 nominal session as the golden mission. Without ROS: the mission text of hand-made requests, and
 bad bags (written with rosbags' writer) refused naming the file and what is missing. With ROS 2
 (skipped without `make ros2`): a session of examples/ros2 recorded by the bench's recorder on
@@ -14,11 +14,11 @@ import pytest
 from rosbags.rosbag2 import Reader, StoragePlugin, Writer
 
 from harness import ROOT
-from harness.adapters.ros2.environment import installed
+from harness.sut.ros2.environment import installed
 from harness.cli import main as cli
 from harness.errors import InputFileError
-from harness.store.bags.golden import golden_of, rosbag2
-from harness.store.bags.ros2_types import register, typestore
+from harness.campaign.from_bag import golden_of, rosbag2
+from harness.sut.bags.ros2_types import register, typestore
 from harness.store.database import connect
 from harness.target.interface import load_interface
 from harness.target.ros2_graph import derive
