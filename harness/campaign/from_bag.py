@@ -20,6 +20,7 @@ from harness.errors import InputFileError, UntimelyError
 from harness.sut.bags import _rosbag2_folder, bags, read_bags
 from harness.sut.ros2 import init
 from harness.target.interface import load_interface
+from harness.target.mission import INTERFACE_FILE, ROS2_MAPPING_FILE
 from harness.target.ros2_graph import Ros2Target
 from harness.target.ros2_texts import Recorded, recorded_golden_text
 
@@ -55,7 +56,7 @@ def rosbag2(path: Path) -> Path:
 def golden_of(bag: Path, draft: Path, target: Ros2Target) -> str:
     """The golden mission's text: the requests of `bag`, read with the target written to `draft`."""
     _check_topics(bag, target)
-    table, _, _ = read_bags(bag, load_interface(draft / "interface.toml"), str(draft / "ros2.toml"))
+    table, _, _ = read_bags(bag, load_interface(draft / INTERFACE_FILE), str(draft / ROS2_MAPPING_FILE))
     rows = table.to_pylist()
     finals = {row["rqst_id"]: float(row["t"]) for row in rows if row["kind"] == "final"}
     requests = [Recorded(float(row["t"]), f"{row['module']}.{row['service']}", _texts(bag, row),

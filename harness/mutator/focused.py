@@ -35,6 +35,7 @@ from itertools import zip_longest
 from harness.errors import UntimelyError
 from harness.sut.executive import DRAIN_S, REACTION_S
 from harness.target.interface import Interface, Property
+from harness.target.mission import PROPERTIES_FILE
 from harness.mutator.operators import Mutant, plausible, random_request, step_text, validated
 from harness.mutator.targeted import Falsifier, disturbers, falsifiers
 from harness.mutator.timeline import Timeline
@@ -115,7 +116,7 @@ class Builder:
     """Writes the test of an aim from the golden script and its run's timeline."""
 
     def __init__(self, golden: Script, timeline: Timeline, interface: Interface, properties: list[Property],
-                 source: str = "properties.toml"):
+                 source: str = PROPERTIES_FILE):
         self.golden, self.interface, self.source = golden, interface, source
         # A service needs its module's inits (the interface names them) and the Q of the PC
         # properties naming it (`declared`: which property says x needs q).
@@ -262,7 +263,7 @@ class Plan:
     """The campaign's tests in order (see the module doc)."""
 
     def __init__(self, golden: Script, timeline: Timeline, interface: Interface, properties: list[Property],
-                 seed: int, source: str = "properties.toml"):
+                 seed: int, source: str = PROPERTIES_FILE):
         """`source`: the properties' file, named when they need each other in a cycle."""
         self.aims = aims(properties, interface)
         self.timed = [a for a in self.aims if a.timed]

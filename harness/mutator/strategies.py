@@ -17,6 +17,7 @@ from typing import Callable
 
 from harness.errors import UntimelyError
 from harness.target.interface import Interface, Property
+from harness.target.mission import PROPERTIES_FILE
 from harness.analysis.judge import Judge
 from harness.mutator import focused, operators, targeted
 from harness.mutator.operators import Mutant
@@ -50,7 +51,7 @@ def plan(config: dict, golden: Script, interface: Interface, properties: list[Pr
     --value-mutations its tests replay golden values: a value-domain property is no aim of theirs."""
     timeline = Timeline(golden, golden_trace, interface.replies)
     return focused.Plan(golden, timeline, interface, _aimed(config, properties), config["seed"],
-                        str(Path(config["mission"]) / "properties.toml"))
+                        str(Path(config["mission"]) / PROPERTIES_FILE))
 
 
 def _aimed(config: dict, properties: list[Property]) -> list[Property]:
