@@ -70,11 +70,18 @@ def interruptions(folder: Path | None = None) -> dict[str, tuple[tuple[str, str]
     """Type name -> the (ended, ender) role pairs its template declares in `{% set interrupts = ... %}`:
     a request of the ender role (y) may end an activity of the ended role (x) with the property's
     z_p (EE: x by y; MX_I: both ways). A type that declares none has (): nothing interrupts."""
-    return {path.stem.upper(): _interrupts(path, path.stat().st_mtime_ns) for path in _paths(folder)}
+    folder = folder or TEMPLATES
+    return _interruptions(folder, folder.stat().st_mtime_ns)
 
 
-@cache  # by the template's path and time of change: oracles and the mutator ask once per property
-def _interrupts(path: Path, _changed: int) -> tuple[tuple[str, str], ...]:
+# Oracles and the mutator ask once per property: read once per folder and time of change (a template
+# added or removed); a template edited in place is read again by the next command.
+@cache
+def _interruptions(folder: Path, _changed: int) -> dict[str, tuple[tuple[str, str], ...]]:
+    return {path.stem.upper(): _interrupts(path) for path in _paths(folder)}
+
+
+def _interrupts(path: Path) -> tuple[tuple[str, str], ...]:
     assigned = [a.node for a in _tree(path).body if isinstance(a, nodes.Assign)
                 and isinstance(a.target, nodes.Name) and a.target.name == "interrupts"]
     try:
