@@ -145,7 +145,9 @@ def test_focused_tests_send_the_manipulators_fast_moves_while_the_arm_is_deploye
     target = load_mission(DEFAULT_MISSION_DIR.parent / "manipulator")
     golden, interface, properties = target.golden(), target.interface, target.properties()
     trace = run_script(golden, "safe", 1, interface, target.world_file)
-    plans = {flag: strategies.plan({"seed": 7, "value_mutations": flag}, golden, interface, properties, trace)
+    mission = str(DEFAULT_MISSION_DIR.parent / "manipulator")  # a plan names its properties file in refusals
+    plans = {flag: strategies.plan({"seed": 7, "value_mutations": flag, "mission": mission}, golden, interface,
+                                   properties, trace)
              for flag in (False, True)}
     assert not [a for a in plans[False].aims if a.value]
     slow = [(n, a) for n, a in enumerate(plans[True].aims) if a.properties == ("SLOW(base.Move)",)]
