@@ -16,7 +16,7 @@ from harness.cli import main
 from harness.errors import PropertyError, StoreError
 from harness.target.interface import Property
 from harness.trace import Trace
-from traces.fixtures import HERE, PROPERTIES, judged_store, judged_traces, load
+from tests.support.traces import HERE, PROPERTIES, judged_store, judged_traces, load
 
 EPSILON = 0.01
 PEX = PROPERTIES["PEX(rflex)"]

@@ -2,7 +2,7 @@
 import pytest
 
 from harness.analysis.analyzer import materialise
-from traces.fixtures import HERE, load, judged_store
+from tests.support.traces import HERE, load, judged_store
 
 EPSILON = 0.01
 

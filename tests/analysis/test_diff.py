@@ -16,7 +16,7 @@ from harness.cli import main
 from harness.analysis.diff import changes
 from harness.store.database import connect
 from harness.trace import Trace
-from traces.fixtures import INTERFACE, PROPERTIES, judged_traces
+from tests.support.traces import INTERFACE, PROPERTIES, judged_traces
 
 EPSILON = 0.01
 AIB = PROPERTIES["AIB(ndd.GotoPosition)"]

@@ -8,7 +8,7 @@ from harness.analysis.explain import Explainer, judged_properties
 from harness.cli import main
 from harness.store.database import connect
 from harness.target.property_types import property_types
-from traces.fixtures import HERE, INTERFACE, all_fixtures, load, judged_store
+from tests.support.traces import HERE, INTERFACE, all_fixtures, load, judged_store
 
 EPSILON = 0.01
 

@@ -9,7 +9,7 @@ from harness import DEFAULT_MISSION_DIR, SQL_DIR
 from harness.analysis import analyzer
 from harness.cli import main
 from harness.store import sql as oracles
-from traces.fixtures import all_fixtures, judged_store
+from tests.support.traces import all_fixtures, judged_store
 
 EPSILON = 0.01
 # A template broken on purpose: (file, text replaced, by), and the property types it breaks.

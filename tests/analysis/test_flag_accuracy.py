@@ -8,13 +8,13 @@ and they differ. Recall = inverted and flagged / inverted; precision = inverted 
 import contextlib
 import io
 
-from pathlib import Path
 
 import pytest
 
 from harness.cli import main
 from harness.report import paper
 from harness.store.database import connect
+from tests.support.paths import ROOT
 
 CAMPAIGNS = {
     "dala-random": [],
@@ -93,6 +93,6 @@ def test_make_paper_writes_the_committed_comparison_from_a_fresh_default_campaig
     out = tmp_path / "paper.md"
     assert paper.write(db, out) == []
     text = out.read_text()
-    assert text == (Path(__file__).resolve().parent.parent / "docs" / "paper.md").read_text()
+    assert text == (ROOT / "docs" / "paper.md").read_text()
     assert "shared" not in text
     assert "| BIP-B | paper | 293 | 1 | 11 | 0 | 12 | 95.9% |" in text

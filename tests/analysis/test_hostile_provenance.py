@@ -6,7 +6,7 @@ import shutil
 from harness import DEFAULT_MISSION_DIR
 from harness.analysis.analyzer import materialise
 from harness.analysis.provenance import stale_files, templates
-from traces.fixtures import HERE, INTERFACE, load, judged_store
+from tests.support.traces import HERE, INTERFACE, load, judged_store
 
 ELSEWHERE = "/opt/ci/venv/lib/python3.11/site-packages/harness/sql/"
 

@@ -10,7 +10,7 @@ import pytest
 
 from harness.cli import main
 from harness.store.database import connect
-from intervals_truth import missed, outside
+from tests.support.intervals_truth import missed, outside
 
 MUTANTS = "12"
 DALA = ["--sut", "reference,genom,bip-a,bip-b"]

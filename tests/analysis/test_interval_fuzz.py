@@ -9,9 +9,9 @@ import pytest
 
 from harness import ROOT
 from harness.target.mission import load_mission
-from fuzz_layer import VARIANTS, random_trace
-from intervals_truth import cells, missed, outside
-from traces.fixtures import judged_traces
+from tests.support.fuzz_layer import VARIANTS, random_trace
+from tests.support.intervals_truth import cells, missed, outside
+from tests.support.traces import judged_traces
 
 TRACES = 2000  # seeds 0..1999; the generator and the judging take about a minute on the shared machine
 EPSILON = 0.01  # above twice the delays (3 ms each way) and the control task's 1 ms

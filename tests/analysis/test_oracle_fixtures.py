@@ -3,7 +3,7 @@ import functools
 
 import pytest
 
-from traces.fixtures import all_fixtures, judged_store
+from tests.support.traces import all_fixtures, judged_store
 
 EPSILON = 0.01
 FIXTURES = all_fixtures()

@@ -8,7 +8,7 @@ from harness.analysis.analyzer import materialise
 from harness.cli import main
 from harness.analysis.provenance import stale_files
 from harness.store.database import connect
-from traces.fixtures import HERE, INTERFACE, load, judged_store
+from tests.support.traces import HERE, INTERFACE, load, judged_store
 
 EPSILON = 0.01
 FIXTURE = load(HERE / "tables.trace")

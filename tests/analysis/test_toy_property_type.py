@@ -14,8 +14,8 @@ from harness.store import sql as templates
 from harness.store.database import connect
 from harness.target import property_types
 from harness.target.interface import load_properties
-from traces import fixtures
-from traces.fixtures import HERE, INTERFACE, judged_store
+from tests.support import traces as fixtures
+from tests.support.traces import HERE, INTERFACE, judged_store
 
 TOY = HERE / "toy_type"
 EPSILON = 0.01

@@ -3,7 +3,6 @@
 Runs use the real executive against a small fake layer (every request ends `ok` after half a
 second), so a campaign of a few mutants takes a fraction of a second once its workers are up.
 """
-import argparse
 import io
 import json
 import os
@@ -12,8 +11,6 @@ import signal
 import subprocess
 import sys
 import time
-from functools import partial
-from pathlib import Path
 
 import pytest
 
@@ -21,44 +18,9 @@ from harness import DEFAULT_MISSION_DIR, ROOT, cli, store
 from harness.campaign import campaign
 from harness.run import workers
 from harness.errors import InputFileError, StoreError, UntimelyError
-from harness.run.executive import run_script
 from harness.progress import Progress
+from tests.support.campaigns import MARKER, arguments, dump, failing_runner, fake_runner
 
-HERE = Path(__file__).resolve().parent
-MARKER = "UNTIMELY_TEST_MARKER"
-
-
-class FakeLayer:
-    def __init__(self, env, variant, interface, world_file):
-        self.env, self.world_events = env, [(0.25, "bump", json.dumps({"variant": variant}))]
-
-    def receive(self, rqst_id, service, args, reply):
-        reply(rqst_id, "request", None)
-        if not service.endswith(("TrackSpeedStart", "ContinuousShot", "Fuse")):  # until stopped
-            self.env.call_at(self.env.now + 0.5, lambda: reply(rqst_id, "final", "ok"))
-
-    def ping(self, answer):
-        self.env.call_at(self.env.now + 0.01, answer)
-
-
-fake_runner = partial(run_script, layer_factory=FakeLayer)
-
-
-def failing_runner(script, sut, seed, interface, world_file, max_delay):
-    """Script 2 raises on genom, script 3 kills its worker on genom; the rest run normally."""
-    if sut == "genom" and script.source == "script 2":
-        raise ZeroDivisionError("codel divided by zero")
-    if sut == "genom" and script.source == "script 3":
-        os._exit(3)
-    return fake_runner(script, sut, seed, interface, world_file, max_delay)
-
-
-def stalling_runner(script, sut, seed, interface, world_file, max_delay):
-    """Script 4 signals that it started, then never finishes (the test kills the campaign)."""
-    if script.source == "script 4":
-        Path(os.environ[MARKER]).touch()
-        time.sleep(600)
-    return fake_runner(script, sut, seed, interface, world_file, max_delay)
 
 
 def user_error_runner(script, sut, seed, interface, world_file, max_delay):
@@ -73,34 +35,6 @@ def mission(tmp_path):
     shutil.copytree(DEFAULT_MISSION_DIR, folder)
     (folder / "world.toml").write_text("# the fake layer reads no world\n")
     return folder
-
-
-def arguments(mission, db, **changes):
-    values = dict(mission=str(mission), mutants=6, sut="genom,bip-a", seed=11, jobs=2, ops_per_mutant=1,
-                  strategy="random", shrink=False,
-                  time_mutations=False, value_mutations=False, operators=None, max_delay=0.003, time_scale=None,
-                  cluster=None, db=str(db))
-    values.update(changes)
-    return argparse.Namespace(**values)
-
-
-def dump(db) -> dict:
-    """Every table of a store, in a canonical order, without wall times and creation dates."""
-    con = store.connect(db, read_only=True)
-    tables = {
-        "campaigns": "select campaign_id, mission, seed, config from campaigns",
-        "scripts": "select * from scripts",
-        "traces": "select * exclude (wall_s) from traces",
-        "events": "select * from events order by trace_id, seq",
-        "internal_events": "select * from internal_events order by trace_id, seq",
-        "world_events": "select * from world_events order by trace_id, t, kind",
-        "reply_codes": "select * from reply_codes order by all",
-        "verdicts": "select * from verdicts order by all",
-    }
-    result = {name: con.execute(query + (" order by 1" if "order" not in query else "")).fetchall()
-              for name, query in tables.items()}
-    con.close()
-    return result
 
 
 def test_campaign_stores_scripts_and_every_run_with_deterministic_ids(mission, tmp_path, capsys):
@@ -153,9 +87,9 @@ def test_results_do_not_depend_on_jobs_and_a_finished_campaign_does_nothing(miss
 def kill_when_script4_starts(args, tmp_path, setup: str = "") -> None:
     """Run a campaign (stalling_runner) in a child process and SIGKILL it once script 4 has started."""
     marker = tmp_path / "script4-started"
-    program = (f"import argparse, test_campaign as t; from harness.campaign import campaign; {setup}"
+    program = (f"import argparse; from tests.support import campaigns as t; from harness.campaign import campaign; {setup}"
                f"campaign.main(argparse.Namespace(**{vars(args)!r}), runner=t.stalling_runner)")
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(HERE), str(ROOT)]), **{MARKER: str(marker)})
+    env = dict(os.environ, PYTHONPATH=str(ROOT), **{MARKER: str(marker)})
     child = subprocess.Popen([sys.executable, "-c", program], env=env, cwd=tmp_path, start_new_session=True,
                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     deadline = time.monotonic() + 60

@@ -19,7 +19,6 @@ property, C, verdict and margin stayed the same on all three campaigns (compared
 the new digests were written in).
 """
 import json
-from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR, cli, store
 from harness.campaign.config import campaign_config
@@ -29,7 +28,7 @@ from harness.run.workers import script_label
 from harness.target.mission import load_mission
 from harness.fingerprint import fingerprint, table_digest
 
-FINGERPRINTS = Path(__file__).resolve().parent / "fingerprints"
+from tests.support.paths import FINGERPRINTS
 TABLES = {
     "II": "select sut, total, hung, crashed, with_fn, with_fp, bad from trace_robustness order by sut",
     "III": "select sut, family, tp, fn from tp_rates order by sut, family",

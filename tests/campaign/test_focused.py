@@ -7,18 +7,18 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT, store
 from harness.cli import main as cli
-from harness.errors import UntimelyError
 from harness.campaign.budget import parse_duration
 from harness.mutator.focused import Plan, bound_s
 from harness.mutator.timeline import Timeline
 from harness.run.executive import run_script
 from harness.target.mission import load_mission
-from tests.test_toy_target import GOLDEN, INTERFACE, PROPERTIES
+from tests.support.toy_target import GOLDEN, INTERFACE, PROPERTIES
 
 sys.path.insert(0, str(ROOT / "bench"))
 from defects import expected, exposed  # noqa: E402  (bench/defects.py: what each defect must show)
+from tests.support.paths import ADAPTERS
 
-PUMP = Path(__file__).resolve().parent / "adapters" / "pump.py"
+PUMP = ADAPTERS / "pump.py"
 
 
 def spent(db) -> tuple[float, str, float | None]:

@@ -21,7 +21,7 @@ import time
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, store
-from tests.test_shrink_external import ADAPTER
+from tests.support.external import ADAPTER
 
 KILLS = int(os.environ.get("UNTIMELY_RESUME_KILLS", "3"))
 CAMPAIGN_S = 300  # the longest one campaign may take on a loaded machine

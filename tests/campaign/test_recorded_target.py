@@ -1,12 +1,12 @@
 """Issue 19, item 2: `run` records its target folder; analyze, explain and shrink read it from the
 store, so a target outside the repository is never judged against Dala's properties."""
-from pathlib import Path
 
 import duckdb
 
 from harness import DEFAULT_MISSION_DIR
 from harness.cli import main as cli
-from test_toy_target import GOLDEN, INTERFACE, LAYER, PROPERTIES
+from tests.support.toy_target import GOLDEN, INTERFACE, LAYER, PROPERTIES
+from tests.support.paths import ADAPTERS
 
 
 def _toy(folder):
@@ -66,7 +66,7 @@ def test_least_covered_counts_what_the_tables_count_and_knows_a_targeted_campaig
 
 def test_an_external_sut_that_crashes_on_every_run_of_the_default_target_is_told_of_mission(tmp_path, capsys):
     """Issue 19, item 2: forgetting --mission with an external SUT used Dala silently."""
-    adapter = Path(__file__).resolve().parent / "adapters" / "other_target.py"
+    adapter = ADAPTERS / "other_target.py"
     db = tmp_path / "q.duckdb"
     assert cli(["campaign", "--sut", f"quad=cmd:{{python}} {adapter}", "--mutants", "1", "--time-scale", "50",
                 "--jobs", "2", "--db", str(db)]) == 0

@@ -8,6 +8,7 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR
 from harness.cli import main as cli
+from tests.support.external import ADAPTER
 
 # genom's init_interrupts defect: an Init interrupts the running TrackSpeedStart (an FP on its AIB).
 INIT_INTERRUPTS = """send rflex.Init as ri
@@ -21,19 +22,6 @@ sleep 1
 send rflex.Init as r2
 wait all
 """
-# An adapter that accepts everything at once: TrackSpeedStart before Init is not refused (an FN on PEX).
-ADAPTER = '''import json, sys
-for line in sys.stdin:
-    msg = json.loads(line)
-    if msg["op"] == "hello":
-        print(json.dumps({"op": "hello", "proto": "untimely/1", "sut": "yes-man", "caps": []}), flush=True)
-    elif msg["op"] == "request":
-        print(json.dumps({"op": "reply", "id": msg["id"], "kind": "final", "code": "ok"}), flush=True)
-    elif msg["op"] == "ping":
-        print(json.dumps({"op": "pong", "id": msg["id"]}), flush=True)
-    elif msg["op"] == "bye":
-        break
-'''
 EAGER = """send sick.Init as si
 wait si
 send rflex.TrackSpeedStart as t

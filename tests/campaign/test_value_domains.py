@@ -2,7 +2,6 @@
 family shows what each variant's argument checks predict, and the external protocol carrying
 arguments unchanged to adapters that check domains and that do not."""
 import json
-from pathlib import Path
 
 import pytest
 
@@ -15,8 +14,9 @@ from harness.run.external.runner import run_external
 from harness.target.domains import violation
 from harness.target.mission import load_mission
 from harness.target.script import parse
+from tests.support.paths import ADAPTERS
 
-ADAPTER = Path(__file__).resolve().parent / "adapters" / "domains.py"
+ADAPTER = ADAPTERS / "domains.py"
 # In domain, then every way out of it; one request each, each after the modules' Init.
 VALUES = """send ndd.Init as ni
 send rflex.Init as ri

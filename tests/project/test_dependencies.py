@@ -4,11 +4,11 @@
 run on a fresh machine, as CI's is, tests exactly those; the versions it ran on head pytest's output."""
 import tomllib
 from importlib.metadata import version
-from pathlib import Path
 
 from packaging.requirements import Requirement
+from tests.support.paths import ROOT
 
-PYPROJECT = tomllib.loads((Path(__file__).parents[1] / "pyproject.toml").read_text())["project"]
+PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
 CALENDAR_VERSIONED = {"pytz"}  # a new year's release is no new major version
 
 

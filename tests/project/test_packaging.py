@@ -16,12 +16,12 @@ import tomllib
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-import pytest
 import xmlschema
 
 from harness import ROOT
+from tests.support.paths import JUNIT
 
-SCHEMA = Path(__file__).parent / "junit" / "junit.xsd"
+SCHEMA = JUNIT / "junit.xsd"
 
 
 def _run(argv, cwd, env=None, timeout=300):

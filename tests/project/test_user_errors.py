@@ -11,7 +11,7 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT
 from harness.cli import main
-from traces.fixtures import HERE, judged_store, load
+from tests.support.traces import HERE, judged_store, load
 
 INTERFACE = str(DEFAULT_MISSION_DIR / "interface.toml")
 

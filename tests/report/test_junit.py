@@ -2,15 +2,15 @@
 read (tests/junit/junit.xsd), a test case per variant and property, failures with their explanation
 and reproducer, and the exit status as a merge gate."""
 import xml.etree.ElementTree as ET
-from pathlib import Path
 
 import pytest
 import xmlschema
 
 from harness import store
 from harness.cli import main
+from tests.support.paths import JUNIT
 
-SCHEMA = xmlschema.XMLSchema(Path(__file__).parent / "junit" / "junit.xsd")
+SCHEMA = xmlschema.XMLSchema(JUNIT / "junit.xsd")
 
 
 @pytest.fixture(scope="module")

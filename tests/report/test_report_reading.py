@@ -16,7 +16,7 @@ from harness.target.interface import load_interface, load_properties
 from harness.report import charts, html, trace_pages
 from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
 from harness.trace import Trace
-from test_report import TRACES, Page, _events, analysed_store, make_store, write_report
+from tests.support.report import TRACES, Page, _events, analysed_store, make_store, write_report
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,7 @@ import pytest
 
 from harness.errors import UntimelyError
 from harness.report import sections
-from test_report import Page, analysed_store, write_report
+from tests.support.report import Page, analysed_store, write_report
 
 BEHAVIOURS = '''
 [[section]]

@@ -9,7 +9,7 @@ from harness.report.queries import trace_rows
 from harness.report.timeline import LEFT, PLOT_W, timeline
 from harness.report.trace_pages import traces
 from harness.store.database import connect
-from test_report import TRACES, analysed_store
+from tests.support.report import TRACES, analysed_store
 
 MODULES = ["rflex", "sick", "aspect", "ndd", "antenna"]
 

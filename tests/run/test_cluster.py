@@ -5,19 +5,18 @@ from dataclasses import replace
 import cloudpickle
 import pytest
 
-import test_campaign
-import test_kept_adapters
 from harness import DEFAULT_MISSION_DIR, store
 from harness.campaign import campaign
 from harness.run import cluster
 from harness.errors import UntimelyError
-from test_campaign import arguments, dump, failing_runner
+from tests.support import campaigns, kept
+from tests.support.campaigns import arguments, dump, failing_runner
 
 distributed = pytest.importorskip("distributed")
-# The test runners and the census of child processes live in test modules that Dask workers
-# cannot import: send them by value.
-cloudpickle.register_pickle_by_value(test_campaign)
-cloudpickle.register_pickle_by_value(test_kept_adapters)
+# Dask workers need not have tests/ on their path: the test runners and the census of child
+# processes travel by value.
+cloudpickle.register_pickle_by_value(campaigns)
+cloudpickle.register_pickle_by_value(kept)
 
 
 def test_a_simulated_campaign_on_two_workers_stores_what_the_local_pool_stores(tmp_path):
@@ -122,7 +121,7 @@ def test_external_suts_need_a_worker_offering_the_sut_resource(scheduler, monkey
 
 
 def test_external_suts_run_on_the_cluster_in_slots_of_their_worker(tmp_path):
-    from test_external_campaign import FAULTY
+    from tests.support.external import FAULTY
     db = tmp_path / "c.duckdb"
     campaign.main(arguments(DEFAULT_MISSION_DIR, db, mutants=3, seed=5, sut=f"f=cmd:{{python}} {FAULTY}",
                             time_scale=20.0, jobs=2, cluster="local:1"))
@@ -136,7 +135,7 @@ def test_external_suts_run_on_the_cluster_in_slots_of_their_worker(tmp_path):
 
 def test_a_workers_adapters_that_offer_reuse_serve_run_after_run_and_end_with_the_campaign(tmp_path):
     """On a scheduler that outlives the campaign, as a team's cluster does."""
-    from test_external_campaign import FAULTY
+    from tests.support.external import FAULTY
     import dask
     with dask.config.set({cluster.ALLOWED_FAILURES: 0}), distributed.LocalCluster(
             n_workers=1, threads_per_worker=2, processes=True, dashboard_address=None,
@@ -144,7 +143,7 @@ def test_a_workers_adapters_that_offer_reuse_serve_run_after_run_and_end_with_th
         db = tmp_path / "c.duckdb"
         campaign.main(arguments(DEFAULT_MISSION_DIR, db, mutants=3, seed=5, time_scale=20.0, jobs=2,
                                 sut=f"f=cmd:{{python}} {FAULTY} --reuse answer", cluster=local.scheduler_address))
-        left = client.run(test_kept_adapters.adapters)  # the worker's own child processes
+        left = client.run(kept.adapters)  # the worker's own child processes
     con = store.connect(db, read_only=True)
     outcomes = con.execute("select outcome, count(*) from traces group by all").fetchall()
     infos = [r[0] for r in con.execute("select sut_info from trace_runs").fetchall()]

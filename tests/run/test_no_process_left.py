@@ -14,7 +14,7 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT
 
-from tests.test_external import SHORT
+from tests.support.external import SHORT
 
 SUTS = '[stub]\ncommand = "{python} {root}/tests/adapters/hostile.py --case stubborn"\ntime_scale = 10.0\n'
 

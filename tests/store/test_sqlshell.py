@@ -5,7 +5,7 @@ from harness.cli import main
 from harness.errors import StoreError
 from harness.store.sqlshell import READ_ONLY, run
 from harness.store.database import connect
-from traces.fixtures import HERE, judged_store, load
+from tests.support.traces import HERE, judged_store, load
 
 
 @pytest.fixture()

@@ -16,10 +16,11 @@ from harness import cli, store
 from harness.analysis.analyzer import ordered
 from harness.errors import StoreError
 from harness.store.export import relations
+from tests.support.paths import STORES
 
 # Written by main at 58d696f, before schema versions, in DuckDB 2.0's own storage format:
 # campaign --mutants 3 --sut reference,genom --seed 2012 --jobs 1.
-SCHEMA0_STORE = Path(__file__).parent / "stores" / "schema0-main-58d696f.duckdb.gz"
+SCHEMA0_STORE = STORES / "schema0-main-58d696f.duckdb.gz"
 POSITIONS = ("variant_positions", "module_positions", "property_positions", "family_positions")
 V1_FORMAT = "v1.0.0+"  # storage version 64: DuckDB 1.0 and 1.1 write it, every later version reads it
 DUCKDB_CLI = Path(sys.executable).parent / "duckdb"  # PyPI's duckdb-cli, a dev dependency

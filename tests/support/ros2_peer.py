@@ -1,15 +1,15 @@
 """Two ends of a small ROS 2 exchange, run by the ROS 2 tests under a distro's venv python in the
 bench's environment (harness/adapters/ros2/environment.py):
 
-    python tests/ros2_peer.py serve NAME    # node NAME: service /ndd/set_params (untimely_msgs/srv/Call)
+    python tests/support/ros2_peer.py serve NAME    # node NAME: service /ndd/set_params (untimely_msgs/srv/Call)
                                             # and action /dala/ndd (untimely_msgs/action/Request), as
-                                            # tests/ros2_recording.toml maps ndd.SetParams and
+                                            # tests/bags/ros2_recording.toml maps ndd.SetParams and
                                             # ndd.GotoPosition; introspection on where the distro
                                             # has it; prints "ready"
-    python tests/ros2_peer.py call [recorded]  # one call and one goal (a feedback, a result); prints
+    python tests/support/ros2_peer.py call [recorded]  # one call and one goal (a feedback, a result); prints
                                             # their replies and timings as JSON; `recorded`: first
                                             # waits for a recorder's subscription to its call events
-    python tests/ros2_peer.py nodes SECONDS [NAME]  # the names of the nodes it sees after SECONDS
+    python tests/support/ros2_peer.py nodes SECONDS [NAME]  # the names of the nodes it sees after SECONDS
                                             # (or once it sees NAME), as JSON
 """
 import json

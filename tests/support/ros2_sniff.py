@@ -1,7 +1,7 @@
 """Counts the packets on a network interface until SIGTERM, then prints them as JSON (the ROS 2
 confinement test runs it in its network namespace; it needs root for the raw AF_PACKET socket).
 
-    python tests/ros2_sniff.py IFACE    # prints "ready" once bound; on SIGTERM {"packets": N, "rtps": M}
+    python tests/support/ros2_sniff.py IFACE    # prints "ready" once bound; on SIGTERM {"packets": N, "rtps": M}
 
 RTPS packets (UDP payloads that start with b"RTPS") are DDS's, so ROS 2's, traffic.
 """

@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT
+from harness.adapters.ros2.environment import installed
 from harness.target.interface import load_interface
 
 ROS_PYTHON = "/usr/bin/python3"
@@ -198,3 +199,43 @@ def wait_gone(pids: set[int], timeout: float = 30.0) -> set[int]:
         time.sleep(0.1)
     return alive(pids)
 
+
+def requires_ros2(distro: str):
+    return pytest.mark.skipif(installed(ROOT, distro) is not None, reason=str(installed(ROOT, distro)))
+
+
+def finished(launcher: Launcher) -> set[int]:
+    """bye, then the launcher's former children that are still alive."""
+    children = descendants(launcher.process.pid)
+    assert launcher.bye() == 0, "".join(launcher.stderr[-20:])
+    return wait_gone(children, timeout=10)
+
+
+def assert_run_after_run(launcher: Launcher) -> None:
+    """With the mapping's reset_service: bye is answered, the next hello is served by the same node,
+    reset (a TrackSpeedStart before rflex.Init is refused again), and nothing of the first run (its
+    request 2, left running at bye) reaches the second."""
+    try:
+        first = launcher.start(time_scale=1.0)
+        assert "reuse" in first["caps"] and first["sut"].endswith("run 1 of this master)"), first
+        node = launcher.node_pid()
+        launcher.send(request(1, "rflex.Init"))
+        launcher.send(request(3, "rflex.SetMode", mode="velocity"))
+        assert (launcher.final(1), launcher.final(3)) == ("ok", "ok")
+        launcher.send(request(2, "rflex.TrackSpeedStart"))
+        launcher.expect(lambda m: m["op"] == "reply" and m["id"] == 2 and m["kind"] == "intermediate")
+        launcher.send({"op": "bye"})
+        launcher.expect(lambda m: m == {"op": "bye"})
+        second_run = len(launcher.lines)
+        launcher.send(hello(1.0))
+        second = launcher.expect(lambda m: m["op"] in ("hello", "error") and m is not first)
+        assert second["sut"].endswith("run 2 of this master)") and launcher.node_pid() == node, second
+        launcher.send(request(2, "rflex.TrackSpeedStart"))
+        assert launcher.final(2) == "wait_init"
+        launcher.send({"op": "ping", "id": 1})
+        launcher.expect(lambda m: m == {"op": "pong", "id": 1}, timeout=30)
+        assert [m for _, m in launcher.lines[second_run:] if m["op"] == "reply"] == [
+            {"op": "reply", "id": 2, "kind": "final", "code": "wait_init"}]
+        assert finished(launcher) == set()
+    finally:
+        launcher.kill()

@@ -29,8 +29,9 @@ from harness.target.interface import Interface, load_interface, load_properties
 from harness.target.mission import load_mission
 from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
 from harness.trace import Trace
+from tests.support.paths import TRACES
 
-HERE = Path(__file__).parent
+HERE = TRACES
 INTERFACE = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
 PROPERTIES = {p.id: p for path in (DEFAULT_MISSION_DIR / "properties.toml", HERE / "properties.toml")
               for p in load_properties(path, INTERFACE)}

@@ -1,7 +1,6 @@
 """The GenoM3 reader (harness/target/genom/) on one hand-made description per construct: what it
 reads right, and what it refuses naming the file, the line and the construct."""
 import tomllib
-from pathlib import Path
 
 import pytest
 
@@ -9,6 +8,7 @@ from harness.cli import main
 from harness.store import connect
 from harness.target.interface import load_interface, load_properties
 from harness.target.mission import load_mission
+from tests.support.paths import GENOM
 
 
 def _init(tmp_path, text, capsys=None, files=None):
@@ -165,7 +165,7 @@ def test_what_cannot_be_read_is_refused_naming_file_line_and_construct(tmp_path,
 
 def test_three_hand_made_components_read_as_their_clauses_say(tmp_path, capsys):
     """tests/genom/{wheelbase,quadmotors,maneuver2}.gen, checked by hand against their lines."""
-    genom = Path(__file__).parent / "genom"
+    genom = GENOM
     found = {}
     for name in ("wheelbase", "quadmotors", "maneuver2"):
         assert main(["init", str(tmp_path / name), "--from-genom", str(genom / f"{name}.gen"),

@@ -7,7 +7,7 @@ import subprocess
 
 import pytest
 
-from test_report import Page, analysed_store, write_report
+from tests.support.report import Page, analysed_store, write_report
 
 CHROMIUM = shutil.which("chromium")
 pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="no chromium binary on PATH; .ci/run installs "

@@ -1,7 +1,7 @@
 """The injected defects, each shown by a short scenario on its variant and absent elsewhere."""
 import pytest
 
-from sut_driver import Driver
+from tests.support.sut_driver import Driver
 
 VARIANTS = ("genom", "bip-a", "bip-b", "bare", "reference")
 

@@ -6,7 +6,7 @@ import pytest
 from harness import DEFAULT_MISSION_DIR
 from harness.run.executive import run_script
 from harness.target.script import load_script
-from sut_driver import WORLD
+from tests.support.sut_driver import WORLD
 
 LONG_RUNNING = {("rflex", "TrackSpeedStart"), ("sick", "ContinuousShot"), ("aspect", "Fuse")}
 

@@ -7,7 +7,7 @@ import pytest
 
 from harness.sim.dala.laser import Laser, wall
 from harness.sim.dala.world import load_world
-from sut_driver import WORLD
+from tests.support.sut_driver import WORLD
 
 
 def pymunk_scan(space, x, y, heading, fov_deg, range_m, step_deg):

@@ -8,7 +8,7 @@ from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.sim.kernel import Environment
 from harness.sim.layer import FunctionalLayer
-from sut_driver import WORLD, Driver
+from tests.support.sut_driver import WORLD, Driver
 
 
 def drive(interface, variant="reference", goal=(9, 4), fuse=True, at=None):

@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from sut_driver import Driver
+from tests.support.sut_driver import Driver
 
 VARIANTS = ("genom", "bip-a", "bip-b", "bare", "reference")
 

@@ -6,7 +6,7 @@ import pytest
 from harness.errors import InputFileError
 from harness.sim.kernel import Environment
 from harness.sim.dala.world import World, load_world
-from sut_driver import WORLD
+from tests.support.sut_driver import WORLD
 
 ARENA = """
 [bounds]

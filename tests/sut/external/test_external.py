@@ -4,7 +4,6 @@ the simulator adapter); timing bounds are generous for a loaded machine."""
 import re
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
@@ -14,19 +13,8 @@ from harness.errors import UntimelyError
 from harness.run.external.runner import run_external
 from harness.target.script import parse
 from harness.run.external.definitions import ExternalSut, resolve
+from tests.support.external import FAULTY, SHORT
 
-FAULTY = Path(__file__).resolve().parent / "adapters" / "faulty.py"
-SHORT = """send rflex.Init as ri
-send sick.Init as si
-wait all
-send rflex.SetMode mode=velocity as m
-send sick.SetParams fov=180 range=8 as p
-wait all
-send rflex.TrackSpeedStart as track
-sleep 20
-send rflex.Stop as stop
-wait all
-"""
 
 
 def faulty(fault: str, after: int = 3, **options) -> ExternalSut:

@@ -6,7 +6,7 @@ import signal
 import pytest
 
 from harness.run.external import kept
-from tests.test_kept_adapters import SIMULATOR, adapters, codes, run
+from tests.support.kept import SIMULATOR, adapters, codes, run
 
 KILLS = 3
 

@@ -14,7 +14,7 @@ from harness.run.external.definitions import ExternalSut
 from harness.run.external.runner import run_external
 from harness.target.script import parse
 
-from tests.test_external import SHORT
+from tests.support.external import SHORT
 
 HOSTILE = "{python} tests/adapters/hostile.py --case "
 

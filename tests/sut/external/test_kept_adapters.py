@@ -2,45 +2,18 @@
 adapter that offers reuse serves run after run on its slot, on a fresh layer each time; a hung or
 crashed run's adapter, one that does not answer bye, or a run outside a campaign is not kept;
 the block's end leaves no adapter running."""
-import os
-from pathlib import Path
 
 from harness.run.external import kept
 from harness.run.external.definitions import ExternalSut
-from harness.run.external.runner import run_external
-from harness.target.script import parse
 
-from tests.test_external import FAULTY
+from tests.support.external import FAULTY
+from tests.support.kept import SIMULATOR, adapters, codes, run
 
-# TrackSpeedStart before the Init: refused on a fresh layer, started on one that kept the last run's Init.
-FRESH = """send rflex.TrackSpeedStart as early
-wait early
-send rflex.Init as ri
-wait ri
-"""
-SIMULATOR = ExternalSut("sim", command="{python} -m harness.adapters.sim --variant reference", time_scale=20.0,
-                        startup_s=30.0, probe_timeout_s=3.0)
 
 
 def faulty(fault: str, reuse: str) -> ExternalSut:
     return ExternalSut("faulty", command=f"{{python}} {FAULTY} --fault {fault} --after 1 --reuse {reuse}",
                        time_scale=10.0, probe_timeout_s=1.0, startup_s=10.0)
-
-
-def run(sut: ExternalSut, interface, body: str = FRESH, slot: int = 0):
-    return run_external(parse(body, "short"), sut, 7, interface, slot=slot)
-
-
-def adapters() -> set[int]:
-    """This process's child processes (the adapters it started)."""
-    children = set()
-    for task in os.listdir(f"/proc/{os.getpid()}/task"):
-        children |= {int(pid) for pid in Path(f"/proc/{os.getpid()}/task/{task}/children").read_text().split()}
-    return children
-
-
-def codes(trace) -> list[str]:
-    return [e[7] for e in trace.events if e[2] == "final"]
 
 
 def test_within_a_campaign_one_adapter_serves_each_slot_on_a_fresh_layer(interface):

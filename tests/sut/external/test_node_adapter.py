@@ -7,7 +7,6 @@ import shlex
 import shutil
 import subprocess
 import threading
-from pathlib import Path
 
 import pytest
 
@@ -15,7 +14,7 @@ from harness import DEFAULT_MISSION_DIR, store
 from harness.cli import main
 from harness.run.external.protocol import PROTO, decode, encode
 
-ROOT = Path(__file__).resolve().parent.parent
+from tests.support.paths import ROOT
 ADAPTER = ROOT / "examples" / "node" / "adapter.js"
 NODE = shutil.which("node")
 TIME_SCALE = 10  # mission seconds per wall second: Init (0.5 s) takes 50 ms

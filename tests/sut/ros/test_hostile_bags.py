@@ -6,9 +6,9 @@ from rosbags.rosbag2 import StoragePlugin
 
 from harness import DEFAULT_MISSION_DIR
 from harness.cli import main
-from tests.test_ros_bag1_reader import ACTIVE, SUCCEEDED, Bag as Bag1
-from tests.test_ros_bag1_reader import imported as imported1
-from tests.test_ros_bags2 import BASE, MAPPING, Bag as Bag2, robot_day
+from tests.support.bags1 import ACTIVE, SUCCEEDED, Bag as Bag1
+from tests.support.bags1 import imported as imported1
+from tests.support.bags2 import BASE, MAPPING, Bag as Bag2, robot_day
 
 INTERFACE = str(DEFAULT_MISSION_DIR / "interface.toml")
 

@@ -6,16 +6,10 @@ import xmlrpc.client
 
 from harness.adapters.ros import processes
 
-from tests.ros_driver import MAPPING, Launcher, descendants, hello, request, requires_ros, wait_gone
+from tests.support.ros_driver import MAPPING, Launcher, descendants, request, requires_ros, wait_gone
+from tests.support.ros_driver import assert_run_after_run, finished
 
 pytestmark = requires_ros
-
-
-def finished(launcher: Launcher) -> set[int]:
-    """bye, then the launcher's former children that are still alive."""
-    children = descendants(launcher.process.pid)
-    assert launcher.bye() == 0, "".join(launcher.stderr[-20:])
-    return wait_gone(children, timeout=10)
 
 
 def test_golden_first_steps_through_ros():
@@ -218,32 +212,3 @@ def test_a_ros_service_of_a_package_debian_lacks_is_generated_from_its_srv_file(
 def test_run_after_run_on_one_master_and_node_each_on_a_fresh_layer():
     assert_run_after_run(Launcher("reference"))
 
-
-def assert_run_after_run(launcher: Launcher) -> None:
-    """With the mapping's reset_service: bye is answered, the next hello is served by the same node,
-    reset (a TrackSpeedStart before rflex.Init is refused again), and nothing of the first run (its
-    request 2, left running at bye) reaches the second."""
-    try:
-        first = launcher.start(time_scale=1.0)
-        assert "reuse" in first["caps"] and first["sut"].endswith("run 1 of this master)"), first
-        node = launcher.node_pid()
-        launcher.send(request(1, "rflex.Init"))
-        launcher.send(request(3, "rflex.SetMode", mode="velocity"))
-        assert (launcher.final(1), launcher.final(3)) == ("ok", "ok")
-        launcher.send(request(2, "rflex.TrackSpeedStart"))
-        launcher.expect(lambda m: m["op"] == "reply" and m["id"] == 2 and m["kind"] == "intermediate")
-        launcher.send({"op": "bye"})
-        launcher.expect(lambda m: m == {"op": "bye"})
-        second_run = len(launcher.lines)
-        launcher.send(hello(1.0))
-        second = launcher.expect(lambda m: m["op"] in ("hello", "error") and m is not first)
-        assert second["sut"].endswith("run 2 of this master)") and launcher.node_pid() == node, second
-        launcher.send(request(2, "rflex.TrackSpeedStart"))
-        assert launcher.final(2) == "wait_init"
-        launcher.send({"op": "ping", "id": 1})
-        launcher.expect(lambda m: m == {"op": "pong", "id": 1}, timeout=30)
-        assert [m for _, m in launcher.lines[second_run:] if m["op"] == "reply"] == [
-            {"op": "reply", "id": 2, "kind": "final", "code": "wait_init"}]
-        assert finished(launcher) == set()
-    finally:
-        launcher.kill()

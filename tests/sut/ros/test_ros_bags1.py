@@ -11,7 +11,7 @@ import pytest
 from harness import DEFAULT_MISSION_DIR, store
 from harness.cli import main as cli
 
-from tests.ros_driver import ensure_ros_venv, requires_ros
+from tests.support.ros_driver import ensure_ros_venv, requires_ros
 
 pytestmark = [requires_ros, pytest.mark.skipif(shutil.which("rosbag") is None,
                                                 reason="Debian's rosbag is not installed (apt-get install python3-rosbag)")]

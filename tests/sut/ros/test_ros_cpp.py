@@ -8,9 +8,9 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT
 
-from tests.ros_driver import Launcher, ensure_ros_venv, requires_ros, requires_typed
-from tests.test_ros_adapter import assert_run_after_run
-from tests.test_external_campaign import assert_judges_like_in_process, campaign
+from tests.support.ros_driver import Launcher, ensure_ros_venv, requires_ros, requires_typed
+from tests.support.ros_driver import assert_run_after_run
+from tests.support.external import assert_judges_like_in_process, campaign
 
 NODE = ROOT / "build" / "ros_cpp" / "dala_forward_node"
 

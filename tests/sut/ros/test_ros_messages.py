@@ -4,7 +4,7 @@ Debian's geometry_msgs), filled from a request's arguments and the route's defau
 import json
 import subprocess
 
-from tests.ros_driver import ensure_ros_venv, requires_ros
+from tests.support.ros_driver import ensure_ros_venv, requires_ros
 
 pytestmark = requires_ros
 

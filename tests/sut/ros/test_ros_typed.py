@@ -2,8 +2,8 @@
 Debian's move_base_msgs/MoveBase goals, the Inits as std_srvs/Trigger ROS services."""
 from harness import DEFAULT_MISSION_DIR
 
-from tests.ros_driver import Launcher, descendants, ensure_ros_venv, request, requires_ros, requires_typed, wait_gone
-from tests.test_external_campaign import assert_judges_like_in_process, campaign
+from tests.support.ros_driver import Launcher, descendants, ensure_ros_venv, request, requires_ros, requires_typed, wait_gone
+from tests.support.external import assert_judges_like_in_process, campaign
 
 pytestmark = [requires_ros, requires_typed]
 TYPED = DEFAULT_MISSION_DIR / "ros-typed.toml"

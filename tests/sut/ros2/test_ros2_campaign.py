@@ -1,7 +1,7 @@
 """The Dala layer behind ROS 2 (rclpy actions and services, a lifecycle node per slot) through the
 bench: a campaign judges like the simulator in process (docs/ros2.md)."""
-from tests.test_external_campaign import assert_judges_like_in_process, campaign
-from tests.test_ros2_live import requires_ros2
+from tests.support.external import assert_judges_like_in_process, campaign
+from tests.support.ros_driver import requires_ros2
 
 
 @requires_ros2("jazzy")

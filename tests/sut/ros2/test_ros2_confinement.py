@@ -20,8 +20,9 @@ import pytest
 
 from harness import ROOT
 from harness.adapters.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment, installed
+from tests.support.paths import SUPPORT
 
-PEER, SNIFF = ROOT / "tests" / "ros2_peer.py", ROOT / "tests" / "ros2_sniff.py"
+PEER, SNIFF = SUPPORT / "ros2_peer.py", SUPPORT / "ros2_sniff.py"
 UNCONFINED = ("FASTDDS_DEFAULT_PROFILES_FILE", "FASTRTPS_DEFAULT_PROFILES_FILE")
 TIMEOUT_S = 60
 

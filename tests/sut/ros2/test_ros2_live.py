@@ -9,22 +9,17 @@ import threading
 import time
 from pathlib import Path
 
-import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT
-from harness.adapters.ros2.environment import installed
 from harness.run.external.definitions import load_suts_file
 from harness.run.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import parse, validate
-from tests.ros_driver import Launcher, descendants, request, running_module, wait_gone
+from tests.support.ros_driver import Launcher, descendants, request, running_module, wait_gone
+from tests.support.ros_driver import requires_ros2
 
 MAPPING = DEFAULT_MISSION_DIR / "ros2.toml"
 NODE = "harness.adapters.ros2.dala_node"
-
-
-def requires_ros2(distro: str):
-    return pytest.mark.skipif(installed(ROOT, distro) is not None, reason=str(installed(ROOT, distro)))
 
 
 def launcher(variant: str = "reference", distro: str = "jazzy", mapping: Path = MAPPING) -> Launcher:

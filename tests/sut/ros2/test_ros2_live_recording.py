@@ -4,7 +4,7 @@ from collections import Counter
 
 from harness import DEFAULT_MISSION_DIR, store
 from harness.cli import main as cli
-from tests.test_ros2_live import requires_ros2
+from tests.support.ros_driver import requires_ros2
 
 EVENTS = "select module, service, kind, reply from events"
 VERDICTS = "select property_id, verdict from verdicts"

@@ -1,6 +1,6 @@
 """A ROS 2 run recorded to an MCAP bag (harness/adapters/ros2/recorder.py) imports with the project's
-ROS 2 bag reader (harness/store/bags/ros2.py) to the exchange that happened: tests/ros2_peer.py's
-call of ndd.SetParams and goal of ndd.GotoPosition, mapped by tests/ros2_recording.toml."""
+ROS 2 bag reader (harness/store/bags/ros2.py) to the exchange that happened: tests/support/ros2_peer.py's
+call of ndd.SetParams and goal of ndd.GotoPosition, mapped by tests/bags/ros2_recording.toml."""
 import json
 import signal
 import subprocess
@@ -14,8 +14,9 @@ from harness import ROOT
 from harness.adapters.ros2.environment import DISTROS, Ros2Environment, installed
 from harness.store.database import connect
 from harness.store.importer import import_file
+from tests.support.paths import BAGS, SUPPORT
 
-PEER, MAPPING = ROOT / "tests" / "ros2_peer.py", ROOT / "tests" / "ros2_recording.toml"
+PEER, MAPPING = SUPPORT / "ros2_peer.py", BAGS / "ros2_recording.toml"
 TIMEOUT_S = 60
 # untimely_msgs/Call is generic: its arguments are the request's JSON, as the goal's are
 CALL = [("request", "ndd.SetParams", {"speed": 0.5}, None), ("final", "ndd.SetParams", None, "ok")]
