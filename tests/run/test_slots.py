@@ -47,8 +47,22 @@ def test_tests_run_on_distinct_slots_and_every_trace_comes_back():
     assert sorted(done) == list(range(1, 11)) and setup.most == 3
 
 
+class Watched(threading.Condition):
+    """The slots' condition, counting the waits begun on it: a test knows that a thread waits for a
+    slot without sleeping a while and hoping."""
+
+    def __init__(self):
+        super().__init__()
+        self.waits = threading.Semaphore(0)
+
+    def wait(self, timeout=None):
+        self.waits.release()
+        return super().wait(timeout)
+
+
 def test_a_test_waiting_for_a_slot_goes_before_a_shrink_run_that_waited_longer():
     slots = Slots(FakeSetup(), None, 1)
+    slots.turn = Watched()
     order = []
 
     def take(who: str, test: bool) -> None:
@@ -56,9 +70,9 @@ def test_a_test_waiting_for_a_slot_goes_before_a_shrink_run_that_waited_longer()
             order.append(who)
     with slots.taken(test=True):
         shrink = Slots.background(take, "shrink", False)
-        time.sleep(0.1)
+        assert slots.turn.waits.acquire(timeout=5), "the shrink run never waited for the slot"
         test = Slots.background(take, "test", True)
-        time.sleep(0.1)
+        assert slots.turn.waits.acquire(timeout=5), "the test never waited for the slot"
     shrink.result(timeout=5), test.result(timeout=5)
     assert order == ["test", "shrink"]
 
@@ -77,6 +91,21 @@ def test_an_adapter_that_cannot_start_stops_the_campaign():
         Slots(FakeSetup(fail=2), None, 2).run_tasks(tasks(4), lambda task, trace: None)
 
 
+class Announced:
+    """The lock of the channel's starts, telling when a thread asks for it while another holds it."""
+
+    def __init__(self):
+        self.lock, self.contended = threading.Lock(), threading.Event()
+
+    def __enter__(self):
+        if not self.lock.acquire(blocking=False):
+            self.contended.set()
+            self.lock.acquire()
+
+    def __exit__(self, *exc):
+        self.lock.release()
+
+
 def test_an_adapter_starting_while_another_run_closes_is_no_orphan_of_it(monkeypatch):
     """A closing channel ends the detached children of the process it does not know: an adapter
     whose start (fork to exec) overlaps that close, in another thread, is not one of them."""
@@ -90,10 +119,12 @@ def test_an_adapter_starting_while_another_run_closes_is_no_orphan_of_it(monkeyp
         go_on.wait(10)
         return process
     monkeypatch.setattr(channel.subprocess, "Popen", slow_popen)
+    starting = Announced()
+    monkeypatch.setattr(channel, "_starting", starting)
     second = Slots.background(Connection, reader, 1)
     assert started.wait(10)
     closing = Slots.background(first.close)
-    time.sleep(0.5)
+    assert starting.contended.wait(20), "the close never came to the lock the start holds"
     go_on.set()
     closing.result(timeout=20)
     connection = second.result(timeout=20)

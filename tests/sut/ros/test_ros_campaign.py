@@ -1,5 +1,6 @@
 """The Dala layer behind real ROS 1 middleware, through the bench: a campaign judges like the simulator
 in process; a node killed mid-run hangs its trace."""
+import json
 import os
 import signal
 import threading
@@ -39,7 +40,24 @@ def test_ros_campaign_judges_like_the_simulator_in_process(tmp_path, capsys):
     assert latency[0] >= runs and 0 < latency[1] < 1.0
 
 
-def test_a_ros_server_killed_mid_run_hangs_the_trace_without_invented_finals():
+def drive_started(log) -> bool:
+    """The protocol log (docs/protocol.md) shows the drive to site 1 under way: ndd.GotoPosition sent,
+    and its intermediate reply back."""
+    drives = set()
+    for line in log.read_text().splitlines() if log.exists() else []:
+        _, _, direction, text = line.split(maxsplit=3)
+        if not text.endswith("}"):  # a line still being written
+            continue
+        message = json.loads(text)
+        if direction == ">" and message.get("op") == "request" and message.get("service") == "GotoPosition":
+            drives.add(message["id"])
+        elif direction == "<" and message.get("op") == "reply" and message.get("id") in drives \
+                and message.get("kind") == "intermediate":
+            return True
+    return False
+
+
+def test_a_ros_server_killed_mid_run_hangs_the_trace_without_invented_finals(tmp_path, monkeypatch):
     """The golden mission on ros-reference through the bench; the Dala node is SIGKILLed while the
     rover drives to site 1: the pings go unanswered (hung), the drive never gets a final, and the
     launcher leaves no process behind."""
@@ -47,6 +65,8 @@ def test_a_ros_server_killed_mid_run_hangs_the_trace_without_invented_finals():
     interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
     script = load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
     ensure_ros_venv()
+    log = tmp_path / "protocol.log"
+    monkeypatch.setenv("UNTIMELY_PROTOCOL_LOG", str(log))
     traces = []
     bench = threading.Thread(target=lambda: traces.append(run_external(script, sut, 0, interface)))
     bench.start()
@@ -55,7 +75,9 @@ def test_a_ros_server_killed_mid_run_hangs_the_trace_without_invented_finals():
         assert time.monotonic() < deadline, "the launcher and the Dala node never started"
         time.sleep(0.2)
     children = descendants(started[LAUNCHER])
-    time.sleep(10.0)  # start-up, the Inits, settings, map and some seconds of the 15 s drive to site 1
+    while not drive_started(log):  # start-up, the Inits, settings and map come first
+        assert time.monotonic() < deadline and bench.is_alive(), "the drive to site 1 never started"
+        time.sleep(0.2)
     os.kill(started[NODE], signal.SIGKILL)
     bench.join(120)
     trace = traces[0]
