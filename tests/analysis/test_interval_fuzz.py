@@ -1,4 +1,4 @@
-"""Proof by fuzzing (issue 35): on thousands of seeded random traces of the manipulator (tests/fuzz_layer.py:
+"""Proof by fuzzing (issue 35): on thousands of seeded random traces of the manipulator (tests/support/fuzz_layer.py:
 every basic type, shared codes, hung traces, `taken` replies), judged by the real oracles in DuckDB on
 both timelines, every verdict of the internal timeline is the observed one or among its alternatives,
 and every cell of Tables II-IV has its true figure in its interval. A deliberately broken alternative

@@ -133,7 +133,7 @@ def test_bad_budget_arguments_are_refused_with_a_message(tmp_path, capsys, argv,
 
 
 def test_a_target_folder_outside_the_repository_with_an_external_adapter(tmp_path, capsys):
-    """The toy pump-and-valve target (tests/test_toy_target.py), its layer a stdlib adapter run over
+    """The toy pump-and-valve target (tests/target/test_toy_target.py), its layer a stdlib adapter run over
     untimely/1 at 5x: the careless pump's missing DRY protection is found and shrunk."""
     toy = tmp_path / "toy"
     toy.mkdir()
