@@ -4,12 +4,12 @@ import signal
 import time
 import xmlrpc.client
 
+import pytest
+
 from harness.adapters.ros import processes
+from tests.support.ros_driver import MAPPING, Launcher, assert_run_after_run, descendants, finished, request, requires_ros, wait_gone
 
-from tests.support.ros_driver import MAPPING, Launcher, descendants, request, requires_ros, wait_gone
-from tests.support.ros_driver import assert_run_after_run, finished
-
-pytestmark = requires_ros
+pytestmark = [requires_ros, pytest.mark.slow]
 
 
 def test_golden_first_steps_through_ros():

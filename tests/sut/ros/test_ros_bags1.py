@@ -14,7 +14,7 @@ from harness.cli import main as cli
 from tests.support.ros_driver import ensure_ros_venv, requires_ros
 
 pytestmark = [requires_ros, pytest.mark.skipif(shutil.which("rosbag") is None,
-                                                reason="Debian's rosbag is not installed (apt-get install python3-rosbag)")]
+                                                reason="Debian's rosbag is not installed (apt-get install python3-rosbag)"), pytest.mark.slow]
 
 
 def test_a_recorded_bag_judges_like_the_live_trace_of_its_run(tmp_path, capsys):

@@ -6,15 +6,17 @@ import signal
 import threading
 import time
 
+import pytest
+
 from harness import DEFAULT_MISSION_DIR
+from harness.run.external.definitions import load_suts_file
 from harness.run.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import load_script
-from harness.run.external.definitions import load_suts_file
-from tests.support.ros_driver import LAUNCHER, NODE, descendants, ensure_ros_venv, requires_ros, running_module, wait_gone
 from tests.support.external import assert_judges_like_in_process, campaign
+from tests.support.ros_driver import LAUNCHER, NODE, descendants, ensure_ros_venv, requires_ros, running_module, wait_gone
 
-pytestmark = requires_ros
+pytestmark = [requires_ros, pytest.mark.slow]
 
 
 def test_ros_campaign_judges_like_the_simulator_in_process(tmp_path, capsys):

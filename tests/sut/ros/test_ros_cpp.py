@@ -26,7 +26,7 @@ def cpp_missing() -> str | None:
     return None
 
 
-pytestmark = [requires_ros, requires_typed]
+pytestmark = [requires_ros, requires_typed, pytest.mark.slow]
 
 
 def test_a_campaign_through_the_cpp_node_judges_like_the_simulator_in_process(tmp_path, capsys):

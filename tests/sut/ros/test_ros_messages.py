@@ -4,9 +4,11 @@ Debian's geometry_msgs), filled from a request's arguments and the route's defau
 import json
 import subprocess
 
+import pytest
+
 from tests.support.ros_driver import ensure_ros_venv, requires_ros
 
-pytestmark = requires_ros
+pytestmark = [requires_ros, pytest.mark.slow]
 
 PROBE = """
 import json, sys

@@ -1,11 +1,12 @@
 """Typed routes through the ROS launcher (missions/dala/ros-typed.toml, docs/ros.md): navigation as
 Debian's move_base_msgs/MoveBase goals, the Inits as std_srvs/Trigger ROS services."""
+import pytest
+
 from harness import DEFAULT_MISSION_DIR
-
-from tests.support.ros_driver import Launcher, descendants, ensure_ros_venv, request, requires_ros, requires_typed, wait_gone
 from tests.support.external import assert_judges_like_in_process, campaign
+from tests.support.ros_driver import Launcher, descendants, ensure_ros_venv, request, requires_ros, requires_typed, wait_gone
 
-pytestmark = [requires_ros, requires_typed]
+pytestmark = [requires_ros, requires_typed, pytest.mark.slow]
 TYPED = DEFAULT_MISSION_DIR / "ros-typed.toml"
 
 

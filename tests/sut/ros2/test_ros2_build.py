@@ -27,6 +27,7 @@ def test_the_build_machines_include_folders_become_this_ones_once(tmp_path):
     assert fix_cmake_paths(tmp_path) == [] and other.read_text() == "# nothing of the build machine\n"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("distro", DISTROS)
 def test_every_interface_file_is_built_and_the_wheels_name_no_foreign_path(distro):
     if installed(ROOT, distro):

@@ -1,7 +1,11 @@
 """The Dala layer behind ROS 2 (rclpy actions and services, a lifecycle node per slot) through the
 bench: a campaign judges like the simulator in process (docs/ros2.md)."""
+import pytest
+
 from tests.support.external import assert_judges_like_in_process, campaign
 from tests.support.ros_driver import requires_ros2
+
+pytestmark = pytest.mark.slow
 
 
 @requires_ros2("jazzy")

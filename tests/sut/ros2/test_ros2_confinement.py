@@ -26,7 +26,7 @@ PEER, SNIFF = SUPPORT / "ros2_peer.py", SUPPORT / "ros2_sniff.py"
 UNCONFINED = ("FASTDDS_DEFAULT_PROFILES_FILE", "FASTRTPS_DEFAULT_PROFILES_FILE")
 TIMEOUT_S = 60
 
-pytestmark = pytest.mark.skipif(bool(installed(ROOT, DEFAULT_DISTRO)), reason=str(installed(ROOT, DEFAULT_DISTRO)))
+pytestmark = [pytest.mark.skipif(bool(installed(ROOT, DEFAULT_DISTRO)), reason=str(installed(ROOT, DEFAULT_DISTRO))), pytest.mark.slow]
 
 
 def _ip(*argv: str) -> None:

@@ -54,6 +54,7 @@ def test_a_distro_not_installed_or_unknown_is_refused_naming_the_remedy(tmp_path
         Ros2Environment(tmp_path, "kilted", 0)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("distro", DISTROS)
 def test_the_environment_is_the_distros_and_its_log_folder_goes_away(distro):
     missing = installed(ROOT, distro)

@@ -9,14 +9,16 @@ import threading
 import time
 from pathlib import Path
 
+import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT
 from harness.run.external.definitions import load_suts_file
 from harness.run.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import parse, validate
-from tests.support.ros_driver import Launcher, descendants, request, running_module, wait_gone
-from tests.support.ros_driver import requires_ros2
+from tests.support.ros_driver import Launcher, descendants, request, requires_ros2, running_module, wait_gone
+
+pytestmark = pytest.mark.slow
 
 MAPPING = DEFAULT_MISSION_DIR / "ros2.toml"
 NODE = "harness.adapters.ros2.dala_node"

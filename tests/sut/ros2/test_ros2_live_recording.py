@@ -2,9 +2,13 @@
 live: the same requests and replies, the same verdicts (docs/ros2.md, "Recording")."""
 from collections import Counter
 
+import pytest
+
 from harness import DEFAULT_MISSION_DIR, store
 from harness.cli import main as cli
 from tests.support.ros_driver import requires_ros2
+
+pytestmark = pytest.mark.slow
 
 EVENTS = "select module, service, kind, reply from events"
 VERDICTS = "select property_id, verdict from verdicts"

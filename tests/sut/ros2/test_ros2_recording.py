@@ -16,6 +16,8 @@ from harness.store.database import connect
 from harness.store.importer import import_file
 from tests.support.paths import BAGS, SUPPORT
 
+pytestmark = pytest.mark.slow
+
 PEER, MAPPING = SUPPORT / "ros2_peer.py", BAGS / "ros2_recording.toml"
 TIMEOUT_S = 60
 # untimely_msgs/Call is generic: its arguments are the request's JSON, as the goal's are
