@@ -1,6 +1,8 @@
 """`explain TRACE_ID PROPERTY [RQST_ID]`: the events that decided a verdict."""
 import shutil
 
+import pytest
+
 from harness import DEFAULT_MISSION_DIR
 from harness.analysis import explain
 from harness.analysis.analyzer import materialise
@@ -26,6 +28,7 @@ def _store(tmp_path, name: str):
     return db, {case.label: n for n, case in enumerate(fixture.cases, 1)}
 
 
+@pytest.mark.slow
 def test_a_pc_verdict_shows_the_ok_replies_that_set_c(tmp_path, capsys):
     db, ids = _store(tmp_path, "pc.trace")
     trace = ids["pc_tie_request_first"]
@@ -135,6 +138,7 @@ def test_a_crash_exits_with_its_own_status_not_the_finding_status(tmp_path, caps
     assert "crashed (a bug, not a finding)" in err and "AttributeError" in err
 
 
+@pytest.mark.slow
 def test_every_verdict_of_every_fixture_is_explained(tmp_path):
     """The hand-made traces cover every verdict cell of every type: each verdict row gets an
     explanation naming its property and verdict, none a traceback."""

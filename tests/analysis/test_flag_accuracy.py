@@ -46,6 +46,7 @@ def accuracy(con) -> tuple[int, int, int]:
                                   count(*) filter (where inverted and suspicious) from ({TRUTH})""").fetchone()
 
 
+@pytest.mark.slow
 def test_the_flag_catches_every_inversion(campaign):
     name, con = campaign
     inverted, flagged, caught = accuracy(con)

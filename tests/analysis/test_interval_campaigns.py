@@ -36,6 +36,7 @@ def campaign(request, tmp_path_factory):
     con.close()
 
 
+@pytest.mark.slow
 def test_every_true_figure_lies_in_its_interval(campaign):
     name, con = campaign
     assert con.execute("select count(*) from verdicts_internal").fetchone()[0] > 0

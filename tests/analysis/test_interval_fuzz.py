@@ -26,6 +26,7 @@ def fuzzed():
     return con, time.perf_counter() - started
 
 
+@pytest.mark.slow
 def test_the_fuzzed_traces_cover_every_type_variant_and_hard_case(fuzzed):
     con, _ = fuzzed
     assert con.execute("select count(*) from oracle_failures").fetchone()[0] == 0

@@ -3,6 +3,8 @@ import hashlib
 import shutil
 from pathlib import Path
 
+import pytest
+
 from harness import DEFAULT_MISSION_DIR, SQL_DIR
 from harness.analysis.analyzer import materialise
 from harness.cli import main
@@ -59,6 +61,7 @@ def test_stale_files_are_those_changed_since_the_last_analysis(tmp_path):
     assert stale_files(con) == []
 
 
+@pytest.mark.slow
 def test_analyze_judges_with_the_campaigns_mission_and_keeps_the_last_epsilon(tmp_path, capsys):
     mission = _mission(tmp_path)
     db = tmp_path / "store.duckdb"

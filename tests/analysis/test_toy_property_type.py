@@ -54,6 +54,7 @@ def test_the_toy_type_declares_its_parameters_and_its_traces_get_their_verdicts(
         Falsifier("during", send=("ndd.GotoPosition",), running=("ndd.GotoPosition",))]
 
 
+@pytest.mark.slow
 def test_a_targeted_campaign_runs_with_the_toy_type(sql_with_toy_type, tmp_path):
     mission = tmp_path / "mission"
     shutil.copytree(DEFAULT_MISSION_DIR, mission)

@@ -22,7 +22,6 @@ from harness.progress import Progress
 from tests.support.campaigns import MARKER, arguments, dump, failing_runner, fake_runner
 
 
-
 def user_error_runner(script, sut, seed, interface, world_file, max_delay):
     if sut == "nosuch":
         raise InputFileError(world_file, "[rover]", "unknown variant 'nosuch'; use genom or bip-a")
@@ -37,6 +36,7 @@ def mission(tmp_path):
     return folder
 
 
+@pytest.mark.slow
 def test_campaign_stores_scripts_and_every_run_with_deterministic_ids(mission, tmp_path, capsys):
     db = tmp_path / "c.duckdb"
     assert campaign.main(arguments(mission, db, mutants=8), runner=fake_runner) == 0
@@ -69,6 +69,7 @@ def test_campaign_stores_scripts_and_every_run_with_deterministic_ids(mission, t
     assert judged == len(traces) and "Table II - per trace results" in out
 
 
+@pytest.mark.slow
 def test_results_do_not_depend_on_jobs_and_a_finished_campaign_does_nothing(mission, tmp_path, capsys):
     one, two = tmp_path / "one.duckdb", tmp_path / "two.duckdb"
     campaign.main(arguments(mission, one, jobs=1), runner=fake_runner)
@@ -100,6 +101,7 @@ def kill_when_script4_starts(args, tmp_path, setup: str = "") -> None:
     assert marker.exists(), stderr
 
 
+@pytest.mark.slow
 def test_resume_after_sigkill_equals_an_uninterrupted_campaign(mission, tmp_path, capsys):
     killed, whole = tmp_path / "killed.duckdb", tmp_path / "whole.duckdb"
     kill_when_script4_starts(arguments(mission, killed), tmp_path)
@@ -113,6 +115,7 @@ def test_resume_after_sigkill_equals_an_uninterrupted_campaign(mission, tmp_path
     assert dump(killed) == dump(whole)
 
 
+@pytest.mark.slow
 def test_a_killed_campaign_loses_at_most_the_batch_it_had_not_committed(mission, tmp_path, capsys):
     """One worker runs the scripts in order; with batches of 3 runs, those before script 4 are
     stored but for the last, incomplete batch, which the resumed campaign runs again."""
@@ -133,6 +136,7 @@ def test_a_killed_campaign_loses_at_most_the_batch_it_had_not_committed(mission,
     assert dump(killed) == dump(whole)
 
 
+@pytest.mark.slow
 def test_changed_arguments_are_refused_naming_the_argument(mission, tmp_path):
     db = tmp_path / "c.duckdb"
     campaign.main(arguments(mission, db, mutants=2), runner=fake_runner)
@@ -162,6 +166,7 @@ def test_bad_arguments_are_refused_before_anything_runs(mission, tmp_path):
     assert not db.exists()
 
 
+@pytest.mark.slow
 def test_a_failing_run_or_dead_worker_is_a_crashed_trace_and_the_rest_completes(mission, tmp_path):
     db = tmp_path / "c.duckdb"
     campaign.main(arguments(mission, db, mutants=4, seed=3), runner=failing_runner)
@@ -176,6 +181,7 @@ def test_a_failing_run_or_dead_worker_is_a_crashed_trace_and_the_rest_completes(
     assert all(outcome == "completed" for sid, sut, outcome, _ in rows if (sid, sut) not in crashed)
 
 
+@pytest.mark.slow
 def test_a_variant_that_cannot_be_built_stores_nothing(mission, tmp_path):
     db = tmp_path / "c.duckdb"
     with pytest.raises(UntimelyError, match=r"world.toml:\[rover\]: unknown variant 'nosuch'; use genom"):
@@ -216,6 +222,7 @@ class SlowToStartRunner:
         return fake_runner(script, sut, seed, interface, world_file, max_delay)
 
 
+@pytest.mark.slow
 def test_the_watchdog_counts_from_when_the_worker_is_ready_not_from_its_slow_start(mission):
     tasks = [workers.Task(1, 1, "genom", 0, (mission / "golden.mission").read_text())]
     setup = workers.Setup(SlowToStartRunner(), mission / "interface.toml", mission / "world.toml", 0.003,
@@ -243,6 +250,7 @@ def test_progress_of_a_resumed_campaign_counts_only_this_session():
     assert stream.getvalue() == ""  # still within the tenth reached before the resume
 
 
+@pytest.mark.slow
 def test_a_finished_campaign_without_verdicts_gets_them_without_running_anything(mission, tmp_path, capsys):
     db = tmp_path / "c.duckdb"
     campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)
@@ -257,6 +265,7 @@ def test_a_finished_campaign_without_verdicts_gets_them_without_running_anything
     assert dump(db) == before
 
 
+@pytest.mark.slow
 def test_a_finished_campaign_judges_traces_added_after_its_verdicts(mission, tmp_path, capsys):
     db = tmp_path / "c.duckdb"
     campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)
@@ -273,6 +282,7 @@ def test_a_finished_campaign_judges_traces_added_after_its_verdicts(mission, tmp
     assert con.execute("select count(*) from verdicts where trace_id = ?", [extra]).fetchone()[0] > 0
 
 
+@pytest.mark.slow
 def test_a_finished_and_judged_campaign_is_left_as_it_is(mission, tmp_path, capsys):
     db = tmp_path / "c.duckdb"
     campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)
@@ -282,6 +292,7 @@ def test_a_finished_and_judged_campaign_is_left_as_it_is(mission, tmp_path, caps
     assert "nothing to run" in out and "verdicts  materialised" not in out
 
 
+@pytest.mark.slow
 def test_a_resumed_campaign_judges_with_the_epsilon_of_the_last_analysis(mission, tmp_path, capsys):
     db = tmp_path / "c.duckdb"
     campaign.main(arguments(mission, db, mutants=2, sut="genom"), runner=fake_runner)

@@ -20,6 +20,8 @@ the new digests were written in).
 """
 import json
 
+import pytest
+
 from harness import DEFAULT_MISSION_DIR, cli, store
 from harness.campaign.config import campaign_config
 from harness.files import read_text
@@ -73,6 +75,7 @@ def expected(name: str) -> dict:
     return json.loads((FINGERPRINTS / f"{name}.json").read_text())
 
 
+@pytest.mark.slow
 def test_a_30_mutant_campaign_stores_what_main_stored_before_the_speed_work(tmp_path):
     stored = expected("campaign-30")
     db = tmp_path / "c.duckdb"
@@ -80,6 +83,7 @@ def test_a_30_mutant_campaign_stores_what_main_stored_before_the_speed_work(tmp_
     check(db, stored)
 
 
+@pytest.mark.slow
 def test_dala_on_every_variant_stores_what_main_stored_before_the_layer_became_data(tmp_path):
     """Issue 12 moved the layer's knowledge into missions/dala/layer.toml: Dala's runs and verdicts,
     on all five variants, are those main computed at 0acfa4f (tests/fingerprints/dala-all-variants.json)."""

@@ -8,10 +8,13 @@ import signal
 import subprocess
 import sys
 
+import pytest
+
 from harness import DEFAULT_MISSION_DIR, ROOT, store
 from harness.cli import main as cli
 from tests.support.external import FAULTY, assert_judges_like_in_process, campaign
 
+pytestmark = pytest.mark.slow
 
 
 def test_the_simulator_through_the_protocol_judges_like_the_simulator_in_process(tmp_path, capsys):

@@ -1,6 +1,5 @@
 """Issue 19, item 2: `run` records its target folder; analyze, explain and shrink read it from the
 store, so a target outside the repository is never judged against Dala's properties."""
-
 import duckdb
 
 from harness import DEFAULT_MISSION_DIR

@@ -61,6 +61,7 @@ def test_an_import_file_that_is_not_utf8_names_its_line(tmp_path, capsys, suffix
     assert f"{log}:2: not UTF-8 (byte 0xe9)" in err
 
 
+@pytest.mark.slow
 def test_a_store_or_report_folder_that_cannot_be_created_is_refused(tmp_path, capsys):
     blocker = tmp_path / "a-file"
     blocker.write_text("not a folder")
@@ -96,6 +97,7 @@ def test_a_store_another_process_writes_is_named_with_what_to_do(tmp_path, capsy
         holder.wait()
 
 
+@pytest.mark.slow
 def test_a_full_disk_during_a_campaign_is_a_message_and_the_campaign_resumes(tmp_path):
     """RLIMIT_FSIZE makes every write past 100 kB fail as a full disk would (EFBIG instead of ENOSPC)."""
     db = tmp_path / "full.duckdb"

@@ -30,6 +30,7 @@ def _count(db, sql):
         con.close()
 
 
+@pytest.mark.slow
 def test_the_junit_file_validates_and_has_a_case_per_variant_and_property(campaign, tmp_path, capsys):
     out = tmp_path / "ci" / "junit.xml"
     assert main(["analyze", "--db", str(campaign), "--junit", str(out)]) == 0
@@ -57,6 +58,7 @@ def test_the_junit_file_validates_and_has_a_case_per_variant_and_property(campai
     assert int(root.get("failures")) == sum(int(s.get("failures")) for s in root)
 
 
+@pytest.mark.slow
 def test_a_shrunk_reproducer_is_quoted_in_its_failure(campaign, tmp_path):
     trace, prop = _count(campaign, "select representative, property_id from bad_behaviours "
                                    "where sut = 'bare' and verdict = 'FN' and property_id like 'PRE(%' "
@@ -70,6 +72,7 @@ def test_a_shrunk_reproducer_is_quoted_in_its_failure(campaign, tmp_path):
     assert "send " in case.find("failure").text.split("Reproducer")[1]
 
 
+@pytest.mark.slow
 def test_fail_on_sets_the_exit_status(campaign, capsys):
     assert main(["analyze", "--db", str(campaign), "--fail-on", "hung"]) == 1
     assert "--fail-on hung:" in capsys.readouterr().out
@@ -83,6 +86,7 @@ def test_an_unknown_fail_on_kind_is_refused_naming_it(campaign, capsys):
     assert "--fail-on 'fn,slow': 'slow' is not a kind of bad behaviour" in err and "fn, fp, hung, crashed" in err
 
 
+@pytest.mark.slow
 def test_a_failure_that_is_only_possible_says_so(campaign, tmp_path):
     """A test case whose every failing verdict has alternatives (another order of the events closer
     than epsilon would pass it) says it is only possible; one with certain failures does not."""

@@ -17,8 +17,6 @@ from harness.store.database import connect
 from tests.support.report import Page, analysed_store, make_store, write_report
 
 
-
-
 def shown(value, rate: bool = False) -> str:
     """How the report writes a store value, restated independently of harness.report.tables."""
     if rate:
@@ -47,6 +45,7 @@ def _page(path: Path) -> Page:
     return Page(path.read_text())
 
 
+@pytest.mark.slow
 def test_table2_equals_the_trace_robustness_view(site):
     db, out = site
     names, found = _query(db, "select * from trace_robustness")
@@ -212,6 +211,7 @@ def test_output_is_self_contained(site):
         assert "<script" not in text and "<link" not in text and "@import" not in text, path
 
 
+@pytest.mark.slow
 def test_a_trace_asked_for_gets_a_page_on_demand_and_stale_pages_go(site, tmp_path):
     db, _ = site
     out = write_report(db, tmp_path / "out")
@@ -254,6 +254,7 @@ def test_trace_pages_explain_their_fn_fp_and_suspicious_verdicts(site):
     assert "explain" not in (out / "traces" / "trace-1.html").read_text().split("Event log")[0].split("Why")[1]
 
 
+@pytest.mark.slow
 def test_the_index_shows_the_files_of_the_verdicts_and_warns_when_they_changed(tmp_path):
     mission = tmp_path / "mission"
     shutil.copytree(DEFAULT_MISSION_DIR, mission)
@@ -267,6 +268,7 @@ def test_the_index_shows_the_files_of_the_verdicts_and_warns_when_they_changed(t
     assert f"properties <code>{mission / 'properties.toml'}</code>" in stale
 
 
+@pytest.mark.slow
 def test_the_index_shows_what_the_last_analysis_changed(tmp_path):
     db = analysed_store(tmp_path / "campaign.duckdb")
     interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")

@@ -32,6 +32,7 @@ def _page(path: Path) -> Page:
     return Page(path.read_text())
 
 
+@pytest.mark.slow
 def test_the_suspicious_list_shows_fn_and_fp_first(out):
     rows = _page(out / "index.html").tables["suspicious"]
     verdicts = [row[rows[0].index(("verdict", None))][0] for row in rows[1:]]
@@ -84,6 +85,7 @@ def test_every_link_of_the_report_leads_to_a_file(out):
     assert pages_seen > 10
 
 
+@pytest.mark.slow
 def test_a_report_killed_while_writing_leaves_the_previous_one_whole(tmp_path, monkeypatch):
     db = analysed_store(tmp_path / "store.duckdb")
     out = write_report(db, tmp_path / "out")
@@ -148,6 +150,7 @@ def _add_trace(con, trace_id, campaign_id, requests, sut="genom"):
     insert_trace(con, trace_id, campaign_id, None, Trace(sut, seed=0, sim_s=12.1, events=_events(requests)))
 
 
+@pytest.mark.slow
 def test_tables_count_judged_traces_and_keep_ad_hoc_runs_apart(tmp_path):
     db = tmp_path / "store.duckdb"
     make_store(db)
@@ -174,6 +177,7 @@ def test_tables_count_judged_traces_and_keep_ad_hoc_runs_apart(tmp_path):
     assert ["2", "genom", "1", "1", "0", "0", "1", "ad-hoc run beside a campaign or import"] in outcomes
 
 
+@pytest.mark.slow
 def test_a_store_of_ad_hoc_runs_alone_counts_them(tmp_path):
     con = connect(tmp_path / "runs.duckdb")
     interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
@@ -185,6 +189,7 @@ def test_a_store_of_ad_hoc_runs_alone_counts_them(tmp_path):
     con.close()
 
 
+@pytest.mark.slow
 def test_pages_written_by_worker_processes_equal_those_written_in_one(tmp_path, monkeypatch):
     from harness.report import build as report
     db = analysed_store(tmp_path / "store.duckdb")
@@ -195,6 +200,7 @@ def test_pages_written_by_worker_processes_equal_those_written_in_one(tmp_path, 
     assert len(_files(serial)) > 20 and _files(parallel) == _files(serial)
 
 
+@pytest.mark.slow
 def test_the_report_goes_beside_its_store_wherever_it_is_run_from(tmp_path, monkeypatch, capsys):
     from harness.cli import main
     db = analysed_store(tmp_path / "store" / "campaign.duckdb")
@@ -204,6 +210,7 @@ def test_the_report_goes_beside_its_store_wherever_it_is_run_from(tmp_path, monk
     assert f"wrote {tmp_path / 'store' / 'index.html'}" in capsys.readouterr().out
 
 
+@pytest.mark.slow
 def test_a_store_beyond_the_memory_limit_is_reported_all_the_same(tmp_path, monkeypatch, capsys):
     from harness.report import build as report
     db = analysed_store(tmp_path / "store.duckdb")

@@ -46,6 +46,7 @@ def _with_entry(tmp_path, monkeypatch, entry: str) -> None:
     monkeypatch.setattr(sections, "REGISTRY", registry)
 
 
+@pytest.mark.slow
 def test_links_sections_and_csv_files_are_the_registry_s(store, tmp_path):
     index = _index(write_report(store, tmp_path / "out"))
     ids = [s.id for s in sections.registry()]

@@ -39,6 +39,7 @@ def _request(root, rqst_id: int) -> ET.Element:
     return next(g for g in _find(root, "request") if g.get("data-rqst") == str(rqst_id))
 
 
+@pytest.mark.slow
 def test_a_lane_per_module_in_interface_order_and_a_bar_per_request(details):
     root = _draw(details[5])
     lanes = _find(root, "lane")

@@ -19,6 +19,7 @@ cloudpickle.register_pickle_by_value(campaigns)
 cloudpickle.register_pickle_by_value(kept)
 
 
+@pytest.mark.slow
 def test_a_simulated_campaign_on_two_workers_stores_what_the_local_pool_stores(tmp_path):
     pool, dask = tmp_path / "pool.duckdb", tmp_path / "dask.duckdb"
     options = dict(mission=str(DEFAULT_MISSION_DIR), mutants=8, sut="genom,bip-a", seed=2012)
@@ -27,6 +28,7 @@ def test_a_simulated_campaign_on_two_workers_stores_what_the_local_pool_stores(t
     assert dump(dask) == dump(pool)
 
 
+@pytest.mark.slow
 def test_a_worker_dying_mid_run_records_that_run_crashed_and_the_campaign_completes(tmp_path):
     mission = tmp_path / "mission"
     db = tmp_path / "c.duckdb"
@@ -45,6 +47,7 @@ def test_a_worker_dying_mid_run_records_that_run_crashed_and_the_campaign_comple
     assert crashed[(3, "genom")].startswith("the Dask worker running it failed: KilledWorker")
 
 
+@pytest.mark.slow
 def test_an_unreachable_scheduler_is_refused_and_nothing_is_written(tmp_path):
     db = tmp_path / "c.duckdb"
     with pytest.raises(UntimelyError, match=r"cannot reach the Dask scheduler at tcp://127.0.0.1:9 \(.*\); "
@@ -120,6 +123,7 @@ def test_external_suts_need_a_worker_offering_the_sut_resource(scheduler, monkey
         checked(scheduler, setup)
 
 
+@pytest.mark.slow
 def test_external_suts_run_on_the_cluster_in_slots_of_their_worker(tmp_path):
     from tests.support.external import FAULTY
     db = tmp_path / "c.duckdb"
@@ -133,6 +137,7 @@ def test_external_suts_run_on_the_cluster_in_slots_of_their_worker(tmp_path):
     assert infos <= {"faulty test adapter on slot 0", "faulty test adapter on slot 1"} and len(infos) == 2
 
 
+@pytest.mark.slow
 def test_a_workers_adapters_that_offer_reuse_serve_run_after_run_and_end_with_the_campaign(tmp_path):
     """On a scheduler that outlives the campaign, as a team's cluster does."""
     from tests.support.external import FAULTY

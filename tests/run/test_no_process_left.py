@@ -16,6 +16,8 @@ from harness import DEFAULT_MISSION_DIR, ROOT
 
 from tests.support.external import SHORT
 
+pytestmark = pytest.mark.slow
+
 SUTS = '[stub]\ncommand = "{python} {root}/tests/adapters/hostile.py --case stubborn"\ntime_scale = 10.0\n'
 
 

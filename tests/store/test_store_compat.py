@@ -82,6 +82,7 @@ def digest(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
+@pytest.mark.slow
 def test_the_duckdb_1_5_client_reads_every_table_and_view_of_a_campaign_store(campaign_store):
     assert storage_format(campaign_store) == V1_FORMAT
     assert {"verdicts", "trace_robustness", "tp_rates", "fp_rates", "inversions", "events"} <= set(

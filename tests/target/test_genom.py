@@ -163,6 +163,7 @@ def test_what_cannot_be_read_is_refused_naming_file_line_and_construct(tmp_path,
     assert not folder.exists() and "next:" not in out.out
 
 
+@pytest.mark.slow
 def test_three_hand_made_components_read_as_their_clauses_say(tmp_path, capsys):
     """tests/genom/{wheelbase,quadmotors,maneuver2}.gen, checked by hand against their lines."""
     genom = GENOM

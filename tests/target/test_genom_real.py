@@ -1,7 +1,6 @@
 """`untimely init --from-genom` on component descriptions as their authors wrote them (tests/genom/real/,
 sources in tests/genom/SOURCES.md): what each states, checked by hand against the file, and a
 10-mutant campaign on the stand-in adapter with at most 30% invalid mutants and no certain FN or FP."""
-
 import pytest
 
 from harness import store
@@ -9,6 +8,8 @@ from harness.cli import main
 from harness.target.interface import load_interface, load_properties
 
 from tests.support.paths import GENOM
+
+pytestmark = pytest.mark.slow
 INCLUDE = GENOM / "include"
 
 # component -> (services in the interface, an AIB property and its dominators, as the .gen file says);

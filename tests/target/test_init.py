@@ -12,7 +12,7 @@ from harness.cli import main
 from harness.target.mission import load_mission
 
 
-
+@pytest.mark.slow
 def test_the_example_target_runs_its_golden_mission_and_a_campaign(tmp_path, capsys):
     folder = tmp_path / "robot"
     assert main(["init", str(folder)]) == 0

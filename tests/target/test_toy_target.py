@@ -1,13 +1,12 @@
 """A target is a folder: a toy one written here (two modules, three properties, a golden script,
 no world) runs, is judged and reported with nothing changed outside its folder."""
 import duckdb
+import pytest
 
 from harness.cli import main as cli
 from tests.support.toy_target import GOLDEN, INTERFACE, LAYER, PROPERTIES
 
-
-
-
+pytestmark = pytest.mark.slow
 
 
 def test_a_toy_target_folder_runs_end_to_end(tmp_path):

@@ -10,8 +10,8 @@ import pytest
 from tests.support.report import Page, analysed_store, write_report
 
 CHROMIUM = shutil.which("chromium")
-pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="no chromium binary on PATH; .ci/run installs "
-                                                         "Debian's chromium (apt-get install -y chromium)")
+pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="no chromium binary on PATH; .ci/run installs "
+                                                         "Debian's chromium (apt-get install -y chromium)"), pytest.mark.slow]
 
 
 def _render(page, tmp_path, name: str) -> tuple[Page, bytes]:

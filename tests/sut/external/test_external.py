@@ -16,7 +16,6 @@ from harness.run.external.definitions import ExternalSut, resolve
 from tests.support.external import FAULTY, SHORT
 
 
-
 def faulty(fault: str, after: int = 3, **options) -> ExternalSut:
     settings = dict(time_scale=10.0, probe_timeout_s=1.0, startup_s=10.0) | options
     return ExternalSut("faulty", command=f"{{python}} {FAULTY} --fault {fault} --after {after}", **settings)
@@ -26,6 +25,7 @@ def run(sut: ExternalSut, interface, body: str = SHORT):
     return run_external(parse(body, "short"), sut, 7, interface, slot=2)
 
 
+@pytest.mark.slow
 def test_a_well_behaved_adapter_gives_a_completed_trace_with_its_latency(interface):
     trace = run(faulty("none"), interface)
     assert trace.outcome == "completed", trace.error
@@ -39,6 +39,7 @@ def test_a_well_behaved_adapter_gives_a_completed_trace_with_its_latency(interfa
     assert 0 < p["rtt_p50_s"] <= p["rtt_p95_s"] <= p["rtt_max_s"] < 1.0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("fault, outcome, says", [
     ("crash", "crashed", r"the SUT closed its output before bye \(exit status 3\)"
                          r"[\s\S]*last lines of the SUT's stderr:\n.*slot 2\nadapter: simulated crash, exiting 3"),
@@ -61,6 +62,7 @@ def test_a_misbehaving_adapter_ends_its_trace_with_the_right_outcome(interface, 
     assert sum(e[2] == "final" for e in trace.events) >= 2
 
 
+@pytest.mark.slow
 def test_a_silent_adapter_is_hung_and_its_pending_requests_keep_no_final(interface):
     trace = run(faulty("silent"), interface)
     assert trace.outcome == "hung"
@@ -82,6 +84,7 @@ def test_an_adapter_that_cannot_be_started_is_the_users_error(interface):
         run(sut, interface)
 
 
+@pytest.mark.slow
 def test_the_simulator_adapter_over_tcp(interface):
     server = subprocess.Popen([sys.executable, "-m", "harness.adapters.sim", "--variant", "reference",
                                "--listen", "127.0.0.1:0"], stderr=subprocess.PIPE, text=True, cwd=ROOT)
@@ -139,6 +142,7 @@ def test_suts_file_entries_are_checked_naming_file_and_key(tmp_path):
     assert external["ros"] == ExternalSut("ros", command="launch", slots=8, time_scale=2.0, cwd=str(tmp_path.resolve()))
 
 
+@pytest.mark.slow
 def test_run_on_the_command_line_stores_where_and_how_fast_it_ran(tmp_path, capsys):
     db = tmp_path / "r.duckdb"
     mission = tmp_path / "short.mission"

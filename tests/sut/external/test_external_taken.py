@@ -1,6 +1,8 @@
 """The `taken` reply (untimely/1's optional interface extension, issue 23): the simulator adapter
 with --taken replies it when its control task takes each request, the bench stores it in
 taken_events, and the oracles place the request there. A real adapter process, a short script."""
+import pytest
+
 from harness import DEFAULT_MISSION_DIR, store
 from harness.cli import main as cli
 from harness.run.external.definitions import ExternalSut
@@ -33,6 +35,7 @@ def test_each_request_gets_one_taken_reply_between_its_sending_and_its_final(int
     assert not {seq for seq, *_ in trace.taken_events} & {e[0] for e in trace.events}
 
 
+@pytest.mark.slow
 def test_the_oracles_place_requests_at_their_taken_replies_and_see_the_layers_order(tmp_path):
     db, mission = str(tmp_path / "t.duckdb"), tmp_path / "short.mission"
     mission.write_text(SHORT)

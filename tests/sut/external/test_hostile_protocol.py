@@ -28,6 +28,7 @@ def run(sut: ExternalSut, interface, body: str = SHORT):
     return run_external(parse(body, "short"), sut, 7, interface)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case, outcome, says", [
     ("error-hello", "crashed", r"^the SUT sent an error instead of hello: interface catalogue lacks code 'stalled'"),
     ("nested-hello", "crashed", r"^JSON nested too deeply to read; the SUT's line: '\[\[\[.*\.\.\. \(200000 characters\)"),
@@ -43,6 +44,7 @@ def test_a_hostile_stdio_adapter_ends_its_trace_with_the_reason(interface, case,
     assert re.search(says, trace.error), trace.error
 
 
+@pytest.mark.slow
 def test_an_endless_line_does_not_grow_the_bench(interface):
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     trace = run(hostile("endless-line"), interface)
@@ -58,12 +60,14 @@ def test_stderr_is_kept_bounded_with_its_last_words(interface):
     assert len(tail) <= STDERR_KEEP_BYTES + 100
 
 
+@pytest.mark.slow
 def test_a_flood_of_world_events_does_not_starve_the_pongs(interface):
     trace = run(hostile("flood"), interface)
     assert trace.outcome == "completed", trace.error
     assert sum(kind == "noise" for _, kind, _ in trace.world_events) == 1_000_000
 
 
+@pytest.mark.slow
 def test_an_adapter_that_stops_reading_ends_hung_saying_so(interface):
     body = "send rflex.Init\n" * 3000  # more than a pipe holds, written at once
     trace = run(hostile("deaf"), interface, body)
@@ -114,6 +118,7 @@ def hello_then_nothing(connection):
     threading.Event().wait(30)  # never reads, never answers
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("behave, outcome, says", [
     (reset, "crashed", r"^the SUT ended before answering hello \(the (connection failed \(Connection reset by peer\)|"
                        r"SUT reset the connection as it accepted it)\)"),
@@ -132,6 +137,7 @@ def test_a_hostile_tcp_adapter_ends_its_trace_with_the_reason(interface, behave,
     assert trace.wall_s < 8  # not the start-up bound: the reason is known at once
 
 
+@pytest.mark.slow
 def test_a_campaign_whose_runs_all_crash_says_why_grouped_and_so_does_the_report(tmp_path, capsys):
     from harness.cli import main as cli
     db = tmp_path / "c.duckdb"

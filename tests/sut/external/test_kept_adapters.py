@@ -2,13 +2,12 @@
 adapter that offers reuse serves run after run on its slot, on a fresh layer each time; a hung or
 crashed run's adapter, one that does not answer bye, or a run outside a campaign is not kept;
 the block's end leaves no adapter running."""
+import pytest
 
 from harness.run.external import kept
 from harness.run.external.definitions import ExternalSut
-
 from tests.support.external import FAULTY
 from tests.support.kept import SIMULATOR, adapters, codes, run
-
 
 
 def faulty(fault: str, reuse: str) -> ExternalSut:
@@ -35,6 +34,7 @@ def test_outside_a_campaign_an_adapter_serves_one_run(interface):
     assert adapters() - before == set()
 
 
+@pytest.mark.slow
 def test_a_crashed_or_hung_run_ends_its_adapter_and_the_next_run_gets_a_fresh_one(interface):
     with kept.kept_adapters():
         for fault, outcome in (("error", "crashed"), ("silent", "hung")):
@@ -46,6 +46,7 @@ def test_a_crashed_or_hung_run_ends_its_adapter_and_the_next_run_gets_a_fresh_on
     assert {t.outcome for t in well} == {"completed"}
 
 
+@pytest.mark.slow
 def test_an_adapter_that_offers_reuse_but_does_not_answer_bye_is_not_kept(interface):
     with kept.kept_adapters():
         traces = [run(faulty("none", "mute"), interface) for _ in range(2)]

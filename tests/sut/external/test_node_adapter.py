@@ -188,6 +188,7 @@ def test_a_catalogue_without_its_codes_is_refused_with_an_error(interface):
         a.close()
 
 
+@pytest.mark.slow
 def test_golden_mission_through_the_bench_completes_with_every_final_in_the_catalogue(interface, tmp_path):
     db = tmp_path / "node.duckdb"
     command = f"{shlex.quote(NODE)} {shlex.quote(str(ADAPTER))}"

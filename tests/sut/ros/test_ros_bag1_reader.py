@@ -3,7 +3,6 @@ topics of the generic action (untimely_msgs/Request, the seven messages genactio
 harness/adapters/ros/untimely_msgs/Request.action), import to the traces the test expects
 (harness/store/bags/ros1.py). The bag recorded by Debian's rosbag during a live run is in
 test_ros_bags1.py."""
-
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
@@ -11,7 +10,6 @@ from harness.errors import InputFileError
 from harness.store.database import connect
 from harness.store.importer import import_file
 from tests.support.bags1 import ABORTED, ACTIVE, PREEMPTED, REJECTED, SUCCEEDED, Bag, imported
-
 
 
 def test_a_ros1_bag_imports_rejected_aborted_and_preempted_goals(tmp_path, interface):

@@ -1,7 +1,6 @@
 """ROS 2 bags (rosbag2, MCAP and SQLite3) import to the traces a robot recorded: written here with
 rosbags' writer from the real action_msgs and service_msgs definitions and a made-up package's
 action and service (tests/bags/rover.toml maps them), read raw by harness/store/bags/ros2.py."""
-
 import pytest
 from rosbags.rosbag2 import StoragePlugin
 
@@ -9,7 +8,6 @@ from harness import DEFAULT_MISSION_DIR
 from harness.cli import main as cli
 from harness.errors import InputFileError
 from tests.support.bags2 import BASE, MAPPING, Bag, imported, robot_day
-
 
 
 @pytest.mark.parametrize("plugin", [StoragePlugin.MCAP, StoragePlugin.SQLITE3])
