@@ -37,6 +37,7 @@ def assert_every_defect_exposed(db, mission: Path, suts: list[str]) -> None:
     assert not missing, f"not exposed with a reproducer of at most 10 steps: {missing}"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mission, suts", [(DEFAULT_MISSION_DIR, "genom,bip-a,bip-b"),
                                            (ROOT / "missions" / "manipulator", "safe,careless,quirky,stuck")])
 def test_a_focused_campaign_stops_by_itself_within_its_budget_and_exposes_every_defect(tmp_path, capsys,
@@ -51,6 +52,7 @@ def test_a_focused_campaign_stops_by_itself_within_its_budget_and_exposes_every_
     assert_every_defect_exposed(db, mission, suts.split(","))
 
 
+@pytest.mark.slow
 def test_the_budget_bounds_every_run_and_says_it_stopped_the_campaign(tmp_path, capsys):
     db = tmp_path / "b.duckdb"
     assert cli(["campaign", "--strategy", "focused", "--budget", "6m", "--shrink", "--sut", "genom",
@@ -80,6 +82,7 @@ def test_the_budget_bounds_every_run_and_says_it_stopped_the_campaign(tmp_path, 
     assert spent(db) == (total, "budget", 360)
 
 
+@pytest.mark.slow
 def test_a_resumed_focused_campaign_runs_only_what_is_missing_and_ends_the_same(tmp_path):
     args = ["campaign", "--strategy", "focused", "--mutants", "24", "--sut", "genom,bip-a", "--seed", "3"]
     whole, cut = tmp_path / "whole.duckdb", tmp_path / "cut.duckdb"
@@ -132,6 +135,7 @@ def test_bad_budget_arguments_are_refused_with_a_message(tmp_path, capsys, argv,
     assert not (tmp_path / "x.duckdb").exists()
 
 
+@pytest.mark.slow
 def test_a_target_folder_outside_the_repository_with_an_external_adapter(tmp_path, capsys):
     """The toy pump-and-valve target (tests/target/test_toy_target.py), its layer a stdlib adapter run over
     untimely/1 at 5x: the careless pump's missing DRY protection is found and shrunk."""
@@ -160,6 +164,7 @@ def test_a_target_folder_outside_the_repository_with_an_external_adapter(tmp_pat
     assert (tmp_path / "report" / "findings.csv").read_text().count("\n") == len(found) + 1
 
 
+@pytest.mark.slow
 def test_a_campaign_stopped_during_a_shrink_stores_its_runs_and_shrinks_again_when_resumed(tmp_path, monkeypatch):
     """Ctrl-C (or SIGTERM, the same KeyboardInterrupt) in the midst of a shrink: the runs it made are
     stored, marked interrupted, and counted when the campaign resumes, which shrinks that finding again."""

@@ -39,6 +39,7 @@ def target(folder, script: str, suts: str | None = None):
     return folder / "m.mission"
 
 
+@pytest.mark.slow
 def test_a_trace_of_sim_genom_shrinks_once_its_sut_is_named_again(tmp_path, capsys):
     mission, db = target(tmp_path, INIT_INTERRUPTS), str(tmp_path / "s.duckdb")
     assert cli(["run", str(mission), "--sut", "sim-genom", "--time-scale", "20", "--db", db]) == 0

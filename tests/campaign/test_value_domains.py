@@ -45,6 +45,7 @@ def value_campaign(tmp_path_factory):
     con.close()
 
 
+@pytest.mark.slow
 def test_the_val_family_is_caught_by_reference_and_missed_by_bare(value_campaign):
     rates = dict(value_campaign.execute("select sut, tp * 100.0 / (tp + fn) from tp_rates where family = 'VAL'")
                  .fetchall())
@@ -97,6 +98,7 @@ def test_the_protocol_carries_arguments_unchanged_and_val_judges_the_adapter(int
         assert verdict == expected, (rqst_id, verdict)
 
 
+@pytest.mark.slow
 def test_targeted_mutants_exercise_the_manipulators_state_dependent_domain(tmp_path):
     """SLOW(base.Move): no move faster than 0.3 m/s while the arm is deployed. Targeted mutants
     send fast moves while a Deploy runs; `safe` refuses them (SLOW in its layer.toml), `careless`
@@ -115,6 +117,7 @@ def test_targeted_mutants_exercise_the_manipulators_state_dependent_domain(tmp_p
     assert "FN" in verdicts["careless"] and "FN" not in verdicts["safe"] and "TP" in verdicts["safe"]
 
 
+@pytest.mark.slow
 def test_a_focused_campaign_aims_at_the_value_domains(tmp_path):
     """--strategy focused --value-mutations: a VAL aim's test is its request's preconditions from the
     golden, then the request with one exceptional value. `reference` rejects every value outside

@@ -136,6 +136,7 @@ def test_generation_reads_only_data_a_made_up_mission_works(tmp_path):
                 assert steps.index("send arm.Move angle=45 as m") < at < steps.index("wait m")
 
 
+@pytest.mark.slow
 def test_targeted_campaign_reaches_every_property_30_times_on_reference(tmp_path, properties, capsys):
     db = tmp_path / "t.duckdb"
     assert main(["campaign", "--strategy", "targeted", "--sut", "reference", "--db", str(db), "--jobs", "2"]) == 0

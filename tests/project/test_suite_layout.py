@@ -6,6 +6,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from tests.support.paths import ROOT, TESTS
 
 
@@ -118,6 +120,7 @@ def test_every_test_folder_names_packages_that_exist():
     assert not stale, f"AREAS names packages that harness/ no longer has: {stale}"
 
 
+@pytest.mark.slow
 def test_the_fast_suite_covers_every_package_of_harness():
     collected = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-m", "not slow",
                                 "-p", "no:cacheprovider", str(TESTS)], cwd=ROOT, capture_output=True, text=True)

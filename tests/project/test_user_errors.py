@@ -136,6 +136,7 @@ def test_cli_errors_have_no_traceback_end_to_end(tmp_path):
     assert done.returncode == 2 and done.stderr == f"error: {script}:1: not UTF-8 (byte 0xff); save the file as UTF-8\n"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("setup_error", ["--sut nonexistent", "bad world.toml", "bad import file"])
 def test_a_setup_error_leaves_no_new_store_behind(tmp_path, capsys, setup_error):
     mission, db = _mission_copy(tmp_path), tmp_path / "new" / "store.duckdb"
@@ -159,6 +160,7 @@ def test_a_setup_error_keeps_an_existing_store(tmp_path, capsys):
     assert db.read_bytes() == before
 
 
+@pytest.mark.slow
 def test_analyze_says_which_interface_the_properties_need(tmp_path, capsys):
     db = tmp_path / "judged.duckdb"
     judged_store(load(HERE / "tables.trace"), 0.01, db).close()
@@ -212,6 +214,7 @@ sys.exit(cli.main(["analyze", *sys.argv[1:]]))
 """
 
 
+@pytest.mark.slow
 def test_ctrl_c_during_an_analysis_query_stops_it_clearly(tmp_path):
     """Issue 19: DuckDB ends a query that Ctrl-C interrupts with `RuntimeError: Query interrupted`."""
     db = tmp_path / "judged.duckdb"
