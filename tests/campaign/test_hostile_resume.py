@@ -23,6 +23,8 @@ import pytest
 from harness import DEFAULT_MISSION_DIR, store
 from tests.support.external import ADAPTER
 
+pytestmark = pytest.mark.slow
+
 KILLS = int(os.environ.get("UNTIMELY_RESUME_KILLS", "3"))
 CAMPAIGN_S = 300  # the longest one campaign may take on a loaded machine
 ARGS = ["--strategy", "focused", "--sut", "yes-man", "--mutants", "12", "--shrink", "--jobs", "2", "--seed", "5"]

@@ -43,6 +43,7 @@ def test_the_properties_use_all_seven_basic_types():
     assert {p.type for p in load_mission(MISSION).properties()} == {"PC", "ES", "EE", "EX", "MX_R", "MX_I", "VAL"}
 
 
+@pytest.mark.slow
 def test_table_ii_only_the_deadlocking_variant_hangs(tables):
     hung = dict(rows(tables, "select sut, hung from trace_robustness"))
     assert set(hung) == {"safe", "careless", "quirky", "stuck"}

@@ -28,6 +28,7 @@ def _read(db):
         con.close()
 
 
+@pytest.mark.slow
 def test_the_shards_are_disjoint_parts_and_merged_equal_the_whole_campaign(stores):
     counts = [_read(stores / f"s{i}.duckdb")[2] for i in (1, 2, 3)]
     whole = _read(stores / "whole.duckdb")
@@ -49,6 +50,7 @@ def test_a_store_given_twice_or_a_part_missing_is_refused(stores, capsys):
     assert not out.exists()
 
 
+@pytest.mark.slow
 def test_stores_of_different_campaigns_are_refused(stores, tmp_path, capsys):
     other = tmp_path / "other.duckdb"
     argv = [a if a != "7" else "8" for a in CAMPAIGN]
@@ -68,6 +70,7 @@ def test_a_bad_shard_option_is_refused(tmp_path, capsys):
     assert not (tmp_path / "x.duckdb").exists()
 
 
+@pytest.mark.slow
 def test_shards_that_shrank_merge_without_their_shrinks(stores, tmp_path, capsys):
     """campaign --shard I/N --shrink stores shrinks beside the shard: merge takes the shard's own traces
     (what the unsharded campaign stores) and says what it left out; the merged store can be shrunk."""

@@ -64,6 +64,7 @@ DEFECTS = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sut", DEFECTS)
 def test_each_variants_defect_shrinks_to_a_replayable_reproducer(campaign, tmp_path, capsys, sut):
     verdict, like = DEFECTS[sut]
@@ -109,6 +110,7 @@ def test_each_variants_defect_shrinks_to_a_replayable_reproducer(campaign, tmp_p
                       [prop, verdict])[0][0] >= 1
 
 
+@pytest.mark.slow
 def test_the_trace_page_links_the_minimal_reproducer(campaign, tmp_path):
     trace_id = _query(campaign, "select representative from bad_behaviours "
                                 "where sut = 'bip-a' and verdict = 'hung'")[0][0]
@@ -121,6 +123,7 @@ def test_the_trace_page_links_the_minimal_reproducer(campaign, tmp_path):
     assert written.endswith(_query(campaign, "select body from scripts where script_id = ?", [script_id])[0][0])
 
 
+@pytest.mark.slow
 def test_a_trace_without_the_behaviour_is_refused_naming_it(campaign, capsys):
     good = _query(campaign, "select min(trace_id) from traces where sut = 'bip-b' and outcome = 'completed' and "
                             "trace_id not in (select trace_id from verdicts where verdict in ('FN', 'FP'))")[0][0]
@@ -136,6 +139,7 @@ def test_a_trace_without_the_behaviour_is_refused_naming_it(campaign, capsys):
     assert "--verdict FP needs --property" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_campaign_shrink_does_every_distinct_behaviour_once(tmp_path, capsys):
     db = tmp_path / "c.duckdb"
     args = ["campaign", "--strategy", "targeted", "--mutants", "6", "--sut", "bip-a", "--db", str(db), "--jobs", "2",
@@ -161,6 +165,7 @@ def _runner_broken_on_genom(script, sut, *args, **kwargs):
     return run_script(script, sut, *args, **kwargs)
 
 
+@pytest.mark.slow
 def test_a_shrink_that_fails_is_recorded_and_shown_and_the_others_go_on(tmp_path):
     db = tmp_path / "c.duckdb"
     assert main(["campaign", "--strategy", "targeted", "--mutants", "6", "--sut", "genom,bip-a", "--db", str(db),

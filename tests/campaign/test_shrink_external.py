@@ -91,6 +91,7 @@ def test_a_command_with_an_unclosed_quote_is_named(tmp_path, capsys, command):
                      capsys.readouterr().err)
 
 
+@pytest.mark.slow
 def test_campaign_shrink_on_an_external_sut(tmp_path, capsys):
     (tmp_path / "adapter.py").write_text(ADAPTER)
     suts = '[yes-man]\ncommand = "{python} adapter.py"\ntime_scale = 10.0\n'
