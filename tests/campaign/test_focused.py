@@ -10,7 +10,7 @@ from harness.cli import main as cli
 from harness.campaign.budget import parse_duration
 from harness.mutator.focused import Plan, bound_s
 from harness.mutator.timeline import Timeline
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.target.mission import load_mission
 from tests.support.toy_target import GOLDEN, INTERFACE, PROPERTIES
 

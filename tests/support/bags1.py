@@ -5,8 +5,8 @@ import json
 from rosbags.rosbag1 import Writer
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
+from harness.campaign.importing import import_path
 from harness.store.database import connect
-from harness.store.importer import import_file
 
 ACTION = {  # what genaction.py writes for Request.action
     "RequestActionGoal": "Header header\nactionlib_msgs/GoalID goal_id\nRequestGoal goal\n",
@@ -78,7 +78,7 @@ class Bag:
 
 def imported(path, interface, **options):
     con = connect(":memory:")
-    import_file(con, path, interface, **options)
+    import_path(con, path, interface, **options)
     rows = con.execute("select label, seq, round(t, 3), kind, rqst_id, service, args::varchar, reply "
                        "from events join traces using (trace_id) order by trace_id, seq").fetchall()
     return [(*row[:6], json.loads(row[6]) if row[6] else None, row[7]) for row in rows]

@@ -6,9 +6,9 @@ from pathlib import Path
 import numpy as np
 from rosbags.rosbag2 import StoragePlugin, Writer
 
-from harness.store.bags.ros2_types import register, typestore
+from harness.campaign.importing import import_path
 from harness.store.database import connect
-from harness.store.importer import import_file
+from harness.sut.bags.ros2_types import register, typestore
 from tests.support.paths import BAGS
 
 MAPPING = BAGS / "rover.toml"
@@ -143,7 +143,7 @@ def robot_day(path: Path, plugin: StoragePlugin, introspection: bool = True) -> 
 
 def imported(path: Path, interface, table: str = "events"):
     con = connect(":memory:")
-    import_file(con, path, interface, str(MAPPING))
+    import_path(con, path, interface, str(MAPPING))
     rows = con.execute("select seq, round(t, 4), kind, rqst_id, module || '.' || service, args::varchar, reply "
                        f"from {table} order by seq").fetchall()
     return [(*row[:5], json.loads(row[5]) if row[5] else None, row[6]) for row in rows]

@@ -8,7 +8,7 @@ from functools import partial
 from pathlib import Path
 
 from harness import store
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 
 MARKER = "UNTIMELY_TEST_MARKER"
 

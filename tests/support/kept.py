@@ -3,8 +3,8 @@ process's children (the adapters it started)."""
 import os
 from pathlib import Path
 
-from harness.run.external.definitions import ExternalSut
-from harness.run.external.runner import run_external
+from harness.sut.definitions import ExternalSut
+from harness.sut.external.runner import run_external
 from harness.target.script import parse
 
 # TrackSpeedStart before the Init: refused on a fresh layer, started on one that kept the last run's Init.
@@ -15,7 +15,7 @@ wait ri
 """
 
 
-SIMULATOR = ExternalSut("sim", command="{python} -m harness.adapters.sim --variant reference", time_scale=20.0,
+SIMULATOR = ExternalSut("sim", command="{python} -m harness.sut.simulated --variant reference", time_scale=20.0,
                         startup_s=30.0, probe_timeout_s=3.0)
 
 

@@ -5,8 +5,8 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR, store
 from harness.cli import main as cli
-from harness.run.external.definitions import ExternalSut
-from harness.run.external.runner import run_external
+from harness.sut.definitions import ExternalSut
+from harness.sut.external.runner import run_external
 from harness.target.script import parse
 
 SHORT = """send rflex.Init as ri
@@ -20,7 +20,7 @@ send rflex.Stop as stop
 send sick.Stop as sstop
 wait all
 """
-COMMAND = f"{{python}} -m harness.adapters.sim --variant reference --mission {DEFAULT_MISSION_DIR} --taken"
+COMMAND = f"{{python}} -m harness.sut.simulated --variant reference --mission {DEFAULT_MISSION_DIR} --taken"
 
 
 def test_each_request_gets_one_taken_reply_between_its_sending_and_its_final(interface):

@@ -4,8 +4,8 @@ crashed run's adapter, one that does not answer bye, or a run outside a campaign
 the block's end leaves no adapter running."""
 import pytest
 
-from harness.run.external import kept
-from harness.run.external.definitions import ExternalSut
+from harness.sut.external import kept
+from harness.sut.definitions import ExternalSut
 from tests.support.external import FAULTY
 from tests.support.kept import SIMULATOR, adapters, codes, run
 

@@ -1,14 +1,14 @@
 """ROS 1 bags without ROS: bags written here with rosbags' rosbag1 writer, holding the actionlib
 topics of the generic action (untimely_msgs/Request, the seven messages genaction derives from
-harness/adapters/ros/untimely_msgs/Request.action), import to the traces the test expects
-(harness/store/bags/ros1.py). The bag recorded by Debian's rosbag during a live run is in
+harness/sut/ros/untimely_msgs/Request.action), import to the traces the test expects
+(harness/sut/bags/ros1.py). The bag recorded by Debian's rosbag during a live run is in
 test_ros_bags1.py."""
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
 from harness.errors import InputFileError
 from harness.store.database import connect
-from harness.store.importer import import_file
+from harness.campaign.importing import import_path
 from tests.support.bags1 import ABORTED, ACTIVE, PREEMPTED, REJECTED, SUCCEEDED, Bag, imported
 
 
@@ -93,7 +93,7 @@ def test_the_servers_header_stamps_are_the_suts_clock_in_internal_events(tmp_pat
     bag.status(12.3, 12.25, ("g3", REJECTED, "wait_init"))  # its result is not in the bag
     bag.close()
     con = connect(":memory:")
-    import_file(con, tmp_path / "clock.bag", interface)
+    import_path(con, tmp_path / "clock.bag", interface)
     assert con.execute("select rqst_id, kind, round(t, 3), reply, args::varchar from internal_events "
                        "order by seq").fetchall() == [
         (1, "request", 0.05, None, "{}"), (1, "intermediate", 0.1, None, None), (1, "final", 0.4, "ok", None),

@@ -9,8 +9,8 @@ import time
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
-from harness.run.external.definitions import load_suts_file
-from harness.run.external.runner import run_external
+from harness.sut.definitions import load_suts_file
+from harness.sut.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import load_script
 from tests.support.external import assert_judges_like_in_process, campaign

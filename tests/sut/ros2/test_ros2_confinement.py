@@ -19,7 +19,7 @@ import psutil
 import pytest
 
 from harness import ROOT
-from harness.adapters.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment, installed
+from harness.sut.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment, installed
 from tests.support.paths import SUPPORT
 
 PEER, SNIFF = SUPPORT / "ros2_peer.py", SUPPORT / "ros2_sniff.py"

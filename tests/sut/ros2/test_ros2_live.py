@@ -12,8 +12,8 @@ from pathlib import Path
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT
-from harness.run.external.definitions import load_suts_file
-from harness.run.external.runner import run_external
+from harness.sut.definitions import load_suts_file
+from harness.sut.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import parse, validate
 from tests.support.ros_driver import Launcher, descendants, request, requires_ros2, running_module, wait_gone
@@ -21,11 +21,11 @@ from tests.support.ros_driver import Launcher, descendants, request, requires_ro
 pytestmark = pytest.mark.slow
 
 MAPPING = DEFAULT_MISSION_DIR / "ros2.toml"
-NODE = "harness.adapters.ros2.dala_node"
+NODE = "harness.sut.ros2.dala_node"
 
 
 def launcher(variant: str = "reference", distro: str = "jazzy", mapping: Path = MAPPING) -> Launcher:
-    return Launcher(command=[sys.executable, "-m", "harness.adapters.ros2", "--distro", distro, "--mapping",
+    return Launcher(command=[sys.executable, "-m", "harness.sut.ros2", "--distro", distro, "--mapping",
                              str(mapping), "--", "python", "-m", NODE, "--variant", variant, "--mapping", str(mapping)])
 
 

@@ -1,6 +1,6 @@
 """ROS 2 bags (rosbag2, MCAP and SQLite3) import to the traces a robot recorded: written here with
 rosbags' writer from the real action_msgs and service_msgs definitions and a made-up package's
-action and service (tests/bags/rover.toml maps them), read raw by harness/store/bags/ros2.py."""
+action and service (tests/bags/rover.toml maps them), read raw by harness/sut/bags/ros2.py."""
 import pytest
 from rosbags.rosbag2 import StoragePlugin
 
