@@ -56,8 +56,8 @@ def test_no_module_path_from_before_harness_sut_is_left():
     run, and this test name them."""
     listed = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, text=True, check=True)
     old = [name.replace(".", "/") for name in MOVED_MODULES] + list(MOVED_MODULES) + [
-        "harness/sut/external", "harness.sut.external", "harness.sut.executive", "harness.sut.processes",
-        "harness/sut/bags", "harness.sut.bags"]
+        "harness/run/external", "harness.run.external", "harness.run.executive", "harness.run.processes",
+        "harness/store/bags", "harness.store.bags"]
     left = []
     for relative in filter(None, listed.stdout.split("\0")):
         path = ROOT / relative
@@ -71,7 +71,7 @@ def test_no_module_path_from_before_harness_sut_is_left():
 
 
 def _names_module(text: str, name: str) -> bool:
-    """`name` in `text` as a whole module or folder name (harness.sut.simulated, not harness.simulated)."""
+    """`name` in `text` as a whole module or folder name (harness.sim, not harness.simulated)."""
     start = text.find(name)
     while start != -1:
         after = text[start + len(name):start + len(name) + 1]
@@ -82,12 +82,12 @@ def _names_module(text: str, name: str) -> bool:
 
 
 @pytest.mark.parametrize("old, new", [
-    ("{python} -m harness.sut.simulated --variant genom", "{python} -m harness.sut.simulated --variant genom"),
-    ("python -m harness.sut.ros2 --mapping m -- python -m harness.sut.ros2.dala_node",
+    ("{python} -m harness.adapters.sim --variant genom", "{python} -m harness.sut.simulated --variant genom"),
+    ("python -m harness.adapters.ros2 --mapping m -- python -m harness.adapters.ros2.dala_node",
      "python -m harness.sut.ros2 --mapping m -- python -m harness.sut.ros2.dala_node"),
-    ("harness.sut.ros.dala_node", "harness.sut.ros.dala_node"),
-    ("harness.sut.dala.behaviour", "harness.sut.dala.behaviour"),
-    ("harness.sut.simulated.kernel", "harness.sut.simulated.kernel"),
+    ("harness.adapters.ros.dala_node", "harness.sut.ros.dala_node"),
+    ("harness.sim.dala.behaviour", "harness.sut.dala.behaviour"),
+    ("harness.sim.kernel", "harness.sut.simulated.kernel"),
     *((unmoved, unmoved) for unmoved in ("harness.simulated", "harness.adapters.ross", "my.harness.sim", "harness.sim_x")),
 ])
 def test_a_moved_module_is_named_by_its_current_name(old, new):
@@ -95,8 +95,8 @@ def test_a_moved_module_is_named_by_its_current_name(old, new):
 
 
 def test_a_command_recorded_before_the_move_still_runs(interface):
-    """A store's campaigns.config (and an older suts.toml) may hold `-m harness.sut.simulated`."""
-    sut = ExternalSut("sim", command=f"{{python}} -m harness.sut.simulated --variant reference --mission "
+    """A store's campaigns.config (and an older suts.toml) may hold `-m harness.adapters.sim`."""
+    sut = ExternalSut("sim", command=f"{{python}} -m harness.adapters.sim --variant reference --mission "
                                      f"{DEFAULT_MISSION_DIR}", time_scale=20.0)
     assert "harness.sut.simulated" in sut.argv()
     trace = run_external(parse("send rflex.Init as ri\nwait ri\n", "short"), sut, 7, interface)
@@ -108,6 +108,6 @@ def test_a_layer_toml_written_before_the_move_still_builds(tmp_path):
     for name in ("layer.toml", "world.toml"):
         shutil.copy(DEFAULT_MISSION_DIR / name, tmp_path / name)
     path = tmp_path / "layer.toml"
-    path.write_text(path.read_text().replace('"harness.sut.dala.behaviour"', '"harness.sut.dala.behaviour"'))
-    assert 'behaviour = "harness.sut.dala.behaviour"' in path.read_text()
+    path.write_text(path.read_text().replace('"harness.sut.dala.behaviour"', '"harness.sim.dala.behaviour"'))
+    assert 'behaviour = "harness.sim.dala.behaviour"' in path.read_text()
     assert callable(load_layer(tmp_path).behaviour_module().build)
