@@ -8,13 +8,14 @@ and they differ. Recall = inverted and flagged / inverted; precision = inverted 
 import contextlib
 import io
 
-
 import pytest
 
 from harness.cli import main
 from harness.report import paper
 from harness.store.database import connect
 from tests.support.paths import ROOT
+
+pytestmark = pytest.mark.slow
 
 CAMPAIGNS = {
     "dala-random": [],
@@ -46,7 +47,6 @@ def accuracy(con) -> tuple[int, int, int]:
                                   count(*) filter (where inverted and suspicious) from ({TRUTH})""").fetchone()
 
 
-@pytest.mark.slow
 def test_the_flag_catches_every_inversion(campaign):
     name, con = campaign
     inverted, flagged, caught = accuracy(con)

@@ -12,6 +12,8 @@ from harness.cli import main
 from harness.store.database import connect
 from tests.support.intervals_truth import missed, outside
 
+pytestmark = pytest.mark.slow
+
 MUTANTS = "12"
 DALA = ["--sut", "reference,genom,bip-a,bip-b"]
 MANIPULATOR = ["--mission", "missions/manipulator", "--sut", "safe,careless,quirky,stuck"]
@@ -36,7 +38,6 @@ def campaign(request, tmp_path_factory):
     con.close()
 
 
-@pytest.mark.slow
 def test_every_true_figure_lies_in_its_interval(campaign):
     name, con = campaign
     assert con.execute("select count(*) from verdicts_internal").fetchone()[0] > 0

@@ -13,6 +13,8 @@ from tests.support.fuzz_layer import VARIANTS, random_trace
 from tests.support.intervals_truth import cells, missed, outside
 from tests.support.traces import judged_traces
 
+pytestmark = pytest.mark.slow
+
 TRACES = 2000  # seeds 0..1999; the generator and the judging take about a minute on the shared machine
 EPSILON = 0.01  # above twice the delays (3 ms each way) and the control task's 1 ms
 
@@ -26,7 +28,6 @@ def fuzzed():
     return con, time.perf_counter() - started
 
 
-@pytest.mark.slow
 def test_the_fuzzed_traces_cover_every_type_variant_and_hard_case(fuzzed):
     con, _ = fuzzed
     assert con.execute("select count(*) from oracle_failures").fetchone()[0] == 0

@@ -19,6 +19,8 @@ import pytest
 from harness import MISSIONS_DIR
 from harness.cli import main as cli
 
+pytestmark = pytest.mark.slow
+
 MISSION = MISSIONS_DIR / "manipulator"
 PROTECTED_BY_CARELESS = {"PEX", "AIB", "EXC"}
 FAMILIES = {"PEX", "AIB", "SPEED", "BLUR", "GRASP", "EXC"}
@@ -43,7 +45,6 @@ def test_the_properties_use_all_seven_basic_types():
     assert {p.type for p in load_mission(MISSION).properties()} == {"PC", "ES", "EE", "EX", "MX_R", "MX_I", "VAL"}
 
 
-@pytest.mark.slow
 def test_table_ii_only_the_deadlocking_variant_hangs(tables):
     hung = dict(rows(tables, "select sut, hung from trace_robustness"))
     assert set(hung) == {"safe", "careless", "quirky", "stuck"}

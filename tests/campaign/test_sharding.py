@@ -37,6 +37,7 @@ def test_the_shards_are_disjoint_parts_and_merged_equal_the_whole_campaign(store
     assert _read(stores / "merged.duckdb") == whole
 
 
+@pytest.mark.slow
 def test_a_store_given_twice_or_a_part_missing_is_refused(stores, capsys):
     out = stores / "bad.duckdb"
     assert main(["merge", str(out), *(str(stores / f"s{i}.duckdb") for i in (1, 2, 3, 3))]) == 2

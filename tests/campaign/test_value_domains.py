@@ -53,6 +53,7 @@ def test_the_val_family_is_caught_by_reference_and_missed_by_bare(value_campaign
     assert 0.0 < rates["genom"] < 100.0
 
 
+@pytest.mark.slow
 def test_genom_catches_exactly_the_numbers_out_of_range(value_campaign, interface):
     """genom checks static ranges only (layer.toml RANGE): a finite number or an infinity beyond
     a bound is rejected (TP); nan, a word that is no number, a missing argument, a text outside

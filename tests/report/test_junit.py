@@ -80,6 +80,7 @@ def test_fail_on_sets_the_exit_status(campaign, capsys):
     assert main(["analyze", "--db", str(campaign), "--fail-on", "FN, fp"]) == 1
 
 
+@pytest.mark.slow
 def test_an_unknown_fail_on_kind_is_refused_naming_it(campaign, capsys):
     assert main(["analyze", "--db", str(campaign), "--fail-on", "fn,slow"]) == 2
     err = capsys.readouterr().err
