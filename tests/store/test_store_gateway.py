@@ -58,8 +58,8 @@ def test_the_check_finds_a_write_where_there_is_one(tmp_path, monkeypatch):
     module.write_text('"""Writes: insert into verdicts (a docstring is prose)."""\n'
                       'def f(con, t):\n    con.execute(f"delete from {t} where true")\n'
                       '    con.execute("""create or replace temp view v as select 1""")\n')
-    monkeypatch.setattr("test_store_gateway.ROOT", tmp_path)
-    monkeypatch.setattr("test_store_gateway.STORE", tmp_path / "harness" / "store")
+    monkeypatch.setattr(f"{__name__}.ROOT", tmp_path)
+    monkeypatch.setattr(f"{__name__}.STORE", tmp_path / "harness" / "store")
     assert writes_outside_the_store(tmp_path / "harness") == [
         "harness/analysis/sneaky.py:3: 'delete from'",
         "harness/analysis/sneaky.py:4: 'create or replace temp view'"]
