@@ -182,6 +182,7 @@ def sent(con, trace_id: int) -> list[tuple[str, dict]]:
     return [(service, {k: int(v) for k, v in json.loads(args or "{}").items()}) for service, args in rows]
 
 
+@pytest.mark.slow
 @ros2
 def test_a_recorded_session_is_the_golden_mission_of_a_campaign_that_runs(tmp_path):
 

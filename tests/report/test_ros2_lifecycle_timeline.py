@@ -1,7 +1,6 @@
 """A trace's timeline names a managed ROS 2 node's lifecycle state at each request (view
 lifecycle_states, sql/views/lifecycle_states.sql), derived from the transitions requested and
 their replies: the hand-made traces of tests/traces/lifecycle.trace, judged in DuckDB, drawn."""
-from pathlib import Path
 from xml.etree import ElementTree as ET
 
 import pytest
@@ -9,9 +8,8 @@ import pytest
 from harness.report.queries import trace_rows
 from harness.report.timeline import timeline
 from harness.report.trace_pages import traces
-from traces.fixtures import judged_store, load
+from tests.support.traces import HERE, judged_store, load
 
-HERE = Path(__file__).parent / "traces"
 # trace label -> the state at each request, in request order (a pending transition after "?")
 STATES = {
     "in_false_rp": ["unconfigured", "active", "inactive"],  # activate, deactivate, reset
