@@ -16,6 +16,7 @@ from pathlib import Path
 from harness.errors import InputFileError
 from harness.target.draft import Draft, aib, pex, pre
 from harness.target.genom.reader import GenomScope, provided, read_scopes
+from harness.target.genom.validate import validated
 
 STANDARD_REPLIES = {"too_many_activities": ("R", "genom3: no free instance of the activity (standard exception)")}
 UNUSABLE = ("abort_activity", "connect_port", "connect_service")  # name middleware ids a mission cannot know
@@ -99,6 +100,7 @@ def _component(c: GenomScope, draft: Draft) -> None:
     _preconditions(c, services, draft)
     _dominators(c, services, draft)
     _exceptions(c, services, draft)
+    validated(c, services, draft)
     draft.notes += c.notes
     draft.notes.append(f"{c.name}: genom3's standard services {', '.join(UNUSABLE)} are left out (they name an "
                        "activity or a port by an identifier of the middleware, which a mission cannot know)")
@@ -115,12 +117,13 @@ def from_genom(path: Path, includes: list[Path]) -> Draft:
         _component(c, draft)
         if len(draft.properties) == before:
             raise InputFileError(c.where.file, c.where.line, f"component {c.name} states no property untimely can "
-                                 "judge (no activity, so nothing to interrupt, and no after or before clause); "
+                                 "judge (no activity, so nothing to interrupt, no after or before clause, and no "
+                                 "validate codel that rejects with an exception of its own); "
                                  "write the target by hand from `untimely init DIR` (without --from-genom)")
     draft.notes += [f"#pragma {words} ({where}) concerns genom3's build, not the interface: ignored"
                     for where, words in source.pragmas if words.split()[:1] != ["provides"]]
-    draft.notes += ["service inputs (the args of interface.toml) and their domains (what validate codels check) "
-                    "are not derived: add args to interface.toml and values to golden.mission",
+    draft.notes += ["service inputs other than those a rejecting validate codel checks (the args of interface.toml) "
+                    "are not derived, nor any argument's bounds: add them to interface.toml and golden.mission",
                     "which activities run until stopped is not derived: the golden mission waits for each "
                     "activity at most 30 s",
                     "cross-component exclusions (EXC, MX_I) are stated nowhere in a .gen file: add them to "
