@@ -92,7 +92,7 @@ def interface_text(draft: Draft) -> str:
 
 def properties_text(draft: Draft) -> str:
     lines = ["# The safety properties the oracles judge (docs/reference/properties.md): one [[property]] each,",
-             "# of a basic type PC, ES, EE, EX, MX_R or MX_I over services of interface.toml.",
+             "# of a basic type PC, ES, EE, EX, MX_R, MX_I or VAL over services of interface.toml.",
              "# Edit, then `untimely analyze` judges every stored trace again (nothing is re-run)."]
     for p in draft.properties:
         lines += ["", f"# {p['why']}"] + [f"#   from {cite}" for cite in p.get("cites", ())] + ["[[property]]"]

@@ -33,11 +33,10 @@ def _rejection(s: GenomService, draft: Draft, where: str) -> str | None:
     """The exception the validate codel of s rejects with, or None (and a note saying why)."""
     codes = s.listed("throws")
     why = None
+    if s.codels and codes:
+        return None  # its exceptions may end the service too: the note of derive._exceptions says so
     if not codes:
-        why = "the service throws nothing, so the codel cannot reject: it only checks or adjusts"
-    elif s.codels:
-        why = (f"the service's other codels throw too ({', '.join(codes)}): which of them the validate codel "
-               "throws is not written")
+        why = "the service throws no exception of its own, so the codel cannot reject: it only checks or adjusts"
     elif len(codes) > 1:
         why = f"it may reject with any of {', '.join(codes)}: a VAL property names one; write it by hand"
     elif draft.replies.get(codes[0], ("T",))[0] != "R":
