@@ -7,6 +7,7 @@ import pytest
 
 from harness import store
 from harness.cli import main
+from harness.target.genom.reader import read_scopes
 from harness.target.interface import load_interface, load_properties
 
 GENOM = Path(__file__).parent / "genom"
@@ -30,7 +31,13 @@ EXPECTED = {
     # arm controller: servo by itself, set_state, set_position, set_current_position, set_velocity, stop
     "wamctrl": (29, "servo", {"servo", "set_state", "set_position", "set_current_position", "set_velocity",
                               "stop", "kill"}),
+    # color tracking camera: 11 attributes, color_track, clear_findins and kill; color_track by itself (141)
+    "ColorTracker": (14, "color_track", {"color_track", "kill"}),
 }
+# The preconditions (PC properties): only ColorTracker writes one, `after` at line 124 (four attributes,
+# none of which is *the* init service: a PRE, no PEX); the seven others have no after or before clause.
+PRECONDITIONS = {"ColorTracker": {"PRE(ColorTracker.color_track)": {"set_color", "set_distance_threshold",
+                                                                  "set_camera_pose", "set_map_size"}}}
 
 # rotorcraft: e_range only by set_battery_limits (line 173), an attribute whose one codel is its validate
 # (line 171); wamctrl's e_inval comes from set_saturation_weights, whose validate has a codel beside it: T
@@ -60,6 +67,8 @@ def test_a_real_component_gives_its_clauses_and_a_campaign_that_runs(tmp_path, c
     aib = properties[f"AIB({name}.{activity})"]
     assert {y.split(".", 1)[1] for y in aib.y} == dominators
     assert {c for c, cls in interface.replies.items() if cls == "R"} - STANDARD_R == REJECTIONS.get(name, set())
+    pcs = {p.id: {q.split(".", 1)[1] for q in p.q} for p in properties.values() if p.type == "PC"}
+    assert pcs == PRECONDITIONS.get(name, {})
     vals = {p.x[0]: p.r_p for p in properties.values() if p.type == "VAL"}
     assert vals == {x: reply for x, (reply, _) in VALIDATED.get(name, {}).items()}
     golden = (folder / "golden.mission").read_text()
@@ -79,3 +88,21 @@ def test_a_real_component_gives_its_clauses_and_a_campaign_that_runs(tmp_path, c
     assert invalid[1] == 10 and invalid[0] <= 3, invalid
     assert bad == 0, "the stand-in does what the description says: no FN, no FP"
     assert set(outcomes) == {"completed"}, outcomes
+
+
+def test_the_standard_interface_restates_genom3s_own_template(tmp_path):
+    """harness/target/genom/standard.gen restates templates/common/genom.gen of the GenoM3 sources
+    (tests/genom/real/genom3/genom.gen, unchanged, included here with -I as a component would):
+    the same standard services with the same clauses, and only exceptions the template declares."""
+    gen = tmp_path / "c.gen"
+    gen.write_text('#include "genom.gen"\ncomponent c { activity A(); };\n')
+    _, interfaces, _ = read_scopes(gen, [GENOM / "real" / "genom3"])
+    ours, theirs = (next(s for s in interfaces if s.name == "genom" and s.where.file.endswith(end))
+                    for end in ("standard.gen", "genom3/genom.gen"))
+    assert {n: (s.kind, s.clauses) for n, s in ours.services.items()} == \
+        {n: (s.kind, s.clauses) for n, s in theirs.services.items()}
+    assert set(ours.exceptions) <= set(theirs.exceptions) and "interrupted" in ours.exceptions
+    assert main(["init", str(tmp_path / "t"), "--from-genom", str(gen), "-I", str(GENOM / "real" / "genom3")]) == 0
+    interface = load_interface(tmp_path / "t" / "interface.toml")
+    properties = load_properties(tmp_path / "t" / "properties.toml", interface)
+    assert [p.y for p in properties if p.id == "AIB(c.A)"] == [("c.kill",)], "kill of the template: interrupt all"

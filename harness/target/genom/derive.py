@@ -2,7 +2,8 @@
 following genom3's semantics of the clauses:
 - `S after Q` (S cannot run until Q has ended ok once) and `B before S` (the same, written on B):
   the PC property PRE(S), q = those services, enforced by genom3's standard exception
-  `disallowed`; a service every other activity needs this way is the init service: PEX(module);
+  `disallowed`; the one service every other activity needs this way (if only one) is the init
+  service: PEX(module);
 - `S interrupts X` (`all`: every service): S is a dominator of the running activity X: AIB(X), EE,
   enforced by `interrupted`; genom3's standard `kill` interrupts all;
 - exceptions: class R (a rejection) when only validate codels can throw them (every service that
@@ -54,7 +55,7 @@ def _preconditions(c: GenomScope, services: dict, draft: Draft) -> None:
     needed = {q for first in needs.values() for q in first}
     common = sorted(q for q in needed if any(a != q for a in activities)
                     and all(q in needs.get(a, {}) for a in activities if a != q))
-    if activities and common:
+    if activities and len(common) == 1:  # several: none of them is *the* init service, each stays a PRE
         init = common[0]
         draft.modules[c.name][init] = "init"
         cites = [cite for a in activities if a != init for cite in needs[a].pop(init)]
