@@ -15,26 +15,25 @@ Each case that derives nothing says why in init's notes.
 """
 from __future__ import annotations
 
+from harness.target.domains import EMPTY_TEXT
 from harness.target.draft import Draft, DraftArg, val
 from harness.target.genom.reader import GenomScope, GenomService
-
-EMPTY_WORD = '""'  # how a mission writes the empty text (harness/target/domains.py)
 
 
 def _word(param) -> str:
     """The word the golden mission sends: the default value when a script can write it as one word."""
     word = param.default
     if word is None or word == "" or any(c.isspace() or c == "#" for c in word):
-        return "0" if param.type == "float" else EMPTY_WORD
+        return "0" if param.type == "float" else EMPTY_TEXT
     return word
 
 
 def _rejection(s: GenomService, draft: Draft, where: str) -> str | None:
     """The exception the validate codel of s rejects with, or None (and a note saying why)."""
     codes = s.listed("throws")
-    why = None
     if s.codels and codes:
         return None  # its exceptions may end the service too: the note of derive._exceptions says so
+    why = None
     if not codes:
         why = "the service throws no exception of its own, so the codel cannot reject: it only checks or adjusts"
     elif len(codes) > 1:
