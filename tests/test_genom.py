@@ -244,3 +244,20 @@ def test_validate_codels_state_the_arguments_they_check_and_their_rejection(tmp_
     con.close()
     assert verdicts == [("VAL(ptu.point)", "TN", 1), ("VAL(ptu.point)", "TP", 1), ("VAL(ptu.set_speed)", "TN", 1),
                         ("VAL(ptu.set_speed)", "TP", 1)], "the stand-in rejects nan and a word for a number"
+
+
+def test_a_component_whose_only_clause_is_a_rejecting_validate_gets_its_val_and_a_golden_run(tmp_path, capsys):
+    status, folder, _ = _init(tmp_path, """component c {
+  exception e_range;
+  function set(in double gain = 2.5 : "proportional gain") {
+    validate check_gain(local in gain);
+    throw e_range;
+  };
+};""")
+    assert status == 0, "no activity and no after or before clause, but a validate codel that rejects"
+    interface, properties = _properties(folder)
+    assert list(properties) == ["VAL(c.set)"] and properties["VAL(c.set)"].r_p == "e_range"
+    assert interface.services["c.set"].args["gain"].type == "float"
+    assert "send c.set gain=2.5\n" in (folder / "golden.mission").read_text()
+    assert main(["run", str(folder / "golden.mission"), "--sut", "adapter", "--db", str(tmp_path / "g.duckdb")]) == 0
+    assert "replies    T 1, Z 0, R 0" in capsys.readouterr().out, "the golden value lies in the domain"
