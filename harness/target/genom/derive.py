@@ -7,7 +7,8 @@ following genom3's semantics of the clauses:
 - `S interrupts X` (`all`: every service): S is a dominator of the running activity X: AIB(X), EE,
   enforced by `interrupted`; genom3's standard `kill` interrupts all;
 - exceptions: class R (a rejection) when only validate codels can throw them (every service that
-  throws one has a validate codel and no other codel), class T (ended with it) otherwise.
+  throws one has a validate codel and no other codel), class T (ended with it) otherwise;
+- validate codels: the arguments they check and the VAL properties they state (validate.py).
 Every property names, in a comment of properties.toml, the clauses and lines it comes from.
 """
 from __future__ import annotations
