@@ -50,6 +50,7 @@ from harness.adapters.ros.bridge import Bridge
 from harness.adapters.ros.mapping import Mapping, interface_kinds, interface_services
 from harness.adapters.ros.replies import Replies
 from harness.adapters.ros.routes import Route
+from harness.adapters.ros2.teardown import release
 from harness.adapters.ros2.types import fill, interface_name, route_class
 from harness.errors import UntimelyError
 
@@ -219,7 +220,7 @@ class Adapter(Bridge):
 
     def close(self) -> None:
         self.stopped.set()
-        self.executor.shutdown(timeout_sec=0.5)
+        release([self.node], self.executor)
 
     # -- bench -> ROS 2 --------------------------------------------------------------------------
     def request(self, message: dict) -> None:

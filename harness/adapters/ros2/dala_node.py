@@ -47,6 +47,7 @@ from std_msgs.msg import String
 from harness.adapters.ros.mapping import load_mapping
 from harness.adapters.ros.node_args import dala_arguments
 from harness.adapters.ros.routes import Route, read_field
+from harness.adapters.ros2.teardown import release
 from harness.adapters.ros2.types import route_class
 from harness.errors import UntimelyError
 from harness.sim.host import LayerHost
@@ -243,8 +244,9 @@ def main(argv: list[str] | None = None) -> int:
         pass
     if node.host:
         node.host.stop()
+    release([node], executor)  # its participant's shared memory goes with it
     sys.stderr.flush()
-    # Not rclpy's orderly shutdown: nothing is left to save, and the adapter is stopping too.
+    # Not the interpreter's finalisation: rclpy's C++ destructors can abort it, and nothing is left to save.
     os._exit(1 if node.failure else 0)
 
 

@@ -26,9 +26,11 @@ from __future__ import annotations
 
 import fcntl
 import os
+import re
 import shutil
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 from harness.errors import UntimelyError
@@ -42,6 +44,12 @@ PROFILE = Path(__file__).resolve().parent / "fastdds.xml"
 # Fast DDS 2 (Jazzy) reads the first; Fast DDS 3 (Kilted) the second, and warns on the first.
 PROFILE_VARIABLE = {"jazzy": "FASTRTPS_DEFAULT_PROFILES_FILE", "kilted": "FASTDDS_DEFAULT_PROFILES_FILE"}
 PYTHON_DIR = f"python{sys.version_info.major}.{sys.version_info.minor}"
+SHM = Path("/dev/shm")
+# A participant's segment (16 hex digits) or a port of Fast DDS 2 (fastrtps_) or 3 (fastdds_).
+SEGMENT = re.compile(r"(fastrtps|fastdds)_(port\d+|[0-9a-f]{16})")
+# Fast DDS creates a segment's lock file and locks it in the next system call: a younger unlocked
+# one may be in that gap, an older one has lost its owner.
+SETTLE_S = 1.0
 
 
 class Ros2Error(UntimelyError):
@@ -88,6 +96,7 @@ class Ros2Environment:
         return self
 
     def close(self) -> None:
+        sweep_dead_segments()  # what its processes, killed or ended by os._exit, left in /dev/shm
         if self.log_dir is not None:
             shutil.rmtree(self.log_dir, ignore_errors=True)
             self.log_dir = None
@@ -115,7 +124,7 @@ class Ros2Environment:
             "_ROS_WHEELS_BOOTSTRAP_COMPLETE": "1",
             "ROS_LOG_DIR": str(self.log_dir),
             "ROS_DOMAIN_ID": str(self.domain_id),
-            "ROS_AUTOMATIC_DISCOVERY_RANGE": "SUBNET",
+            "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST",
             "ROS_DISTRO": self.distro,
             "RMW_IMPLEMENTATION": "rmw_fastrtps_cpp",
             PROFILE_VARIABLE[self.distro]: str(PROFILE),
@@ -147,3 +156,63 @@ def hold_domain_id(slot: int):
         return lock, domain_id
     raise Ros2Error(f"all {len(ids)} ROS 2 domain ids ({ids[0]}-{ids[-1]}) are held by other runs "
                     f"on this machine (locks in {LOCK_DIR}); wait for them to end or run fewer slots")
+
+
+def sweep_dead_segments(shm: Path = SHM) -> list[str]:
+    """Removes the Fast DDS shared-memory files (a segment or port, its lock files, its semaphore)
+    whose owner is gone, as Fast DDS's `fastdds shm clean` does, and returns their segments' names.
+    A living owner holds an flock on the segment's `_el` file (a port's listeners on `_el` or
+    `_sl`); a port left with no lock file at all is dead once nothing has written it for SETTLE_S
+    (a sender of a living process writes it, and a port being created gets its lock within that
+    time): such ports of processes that just ended are waited for, SETTLE_S at most."""
+    removed, young = _sweep(shm)
+    if young:
+        time.sleep(SETTLE_S)
+        removed += _sweep(shm)[0]
+    return removed
+
+
+def _sweep(shm: Path) -> tuple[list[str], bool]:
+    """The dead segments removed, and whether a lock-less one was too young to tell."""
+    removed, young = [], False
+    for segment in sorted(shm.iterdir()):
+        if not SEGMENT.fullmatch(segment.name):
+            continue
+        locks = [lock for lock in (shm / f"{segment.name}_el", shm / f"{segment.name}_sl") if lock.exists()]
+        fds = [_unowned(lock) for lock in locks]
+        try:
+            if not locks and time.time() - _mtime(segment) < SETTLE_S:
+                young = True
+            elif None not in fds:
+                for path in (segment, *locks, shm / f"sem.{segment.name}_mutex"):
+                    path.unlink(missing_ok=True)
+                removed.append(segment.name)
+        finally:
+            for fd in fds:
+                if fd is not None:
+                    os.close(fd)
+    return removed, young
+
+
+def _mtime(path: Path) -> float:
+    try:
+        return path.stat().st_mtime
+    except FileNotFoundError:  # removed meanwhile by its owner
+        return 0.0
+
+
+def _unowned(lock: Path) -> int | None:
+    """An open descriptor holding the lock file's flock when no process holds it (and the file is
+    older than SETTLE_S: its creator locks it right after creating it), else None."""
+    try:
+        if time.time() - lock.stat().st_mtime < SETTLE_S:
+            return None
+        fd = os.open(lock, os.O_RDONLY)
+    except FileNotFoundError:
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        return None
+    return fd
