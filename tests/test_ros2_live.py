@@ -1,7 +1,9 @@
 """The ROS 2 adapter and the Dala lifecycle node over stdio, on ROS 2 from PyPI wheels (`make ros2`):
 goals, feedback, results, calls, ground truth, run after run, a stuck executor, Kilted (docs/ros2.md)."""
 import contextlib
+import fcntl
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -12,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT
-from harness.adapters.ros2.environment import installed
+from harness.adapters.ros2.environment import LOCK_DIR, installed
 from harness.run.external.definitions import load_suts_file
 from harness.run.external.runner import run_external
 from harness.target.interface import load_interface
@@ -74,6 +76,7 @@ def test_golden_first_steps_then_a_second_run_on_the_reset_node():
         run.send({"op": "ping", "id": 1})
         run.expect(lambda m: m == {"op": "pong", "id": 1}, timeout=30)
         node = run.node_pid()
+        confined_to_localhost_in_its_domain(run, answer["sut"], node)
         run.send({"op": "bye"})
         run.expect(lambda m: m["op"] == "bye")
         run.lines.clear()
@@ -85,6 +88,19 @@ def test_golden_first_steps_then_a_second_run_on_the_reset_node():
         assert wait_gone(children, timeout=15) == set()
     finally:
         run.kill()
+
+
+def confined_to_localhost_in_its_domain(run: Launcher, sut: str, node: int) -> None:
+    """The node and the adapter run with discovery on this machine only, in the domain the
+    launcher holds for the slot (the hello names it)."""
+    domain = re.search(r"\(domain (\d+);", sut).group(1)
+    adapter = next(p for p in descendants(run.process.pid) if running_module(p) == "harness.adapters.ros2.serve")
+    for pid in (node, adapter):
+        env = dict(v.split("=", 1) for v in Path(f"/proc/{pid}/environ").read_bytes().decode().split("\0") if "=" in v)
+        assert (env["ROS_AUTOMATIC_DISCOVERY_RANGE"], env["ROS_DOMAIN_ID"]) == ("LOCALHOST", domain), (pid, sut)
+    with pytest.raises(BlockingIOError):  # the launcher's flock holds the domain id
+        with open(LOCK_DIR / f"{domain}.lock") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
 
 
 # The golden mission's set-up, then one long drive (about 37 s of mission time): a stop of the
