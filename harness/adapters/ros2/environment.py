@@ -10,16 +10,16 @@ also the ROS 2 prefix (its `lib/` and `share/`), and builds `untimely_msgs` into
 `Ros2Environment(root, distro, slot)`, once entered (or `open()`ed; `close()` ends it):
 - `env`: os.environ plus the distro venv's `bin` first on PATH, PYTHONPATH, LD_LIBRARY_PATH and
   AMENT_PREFIX_PATH for the built package, `ROS_DISTRO`, `ROS_LOG_DIR` in a private temporary
-  folder, `RMW_IMPLEMENTATION=rmw_fastrtps_cpp`, the Fast DDS profile fastdds.xml that keeps every
-  packet on loopback (UDP on 127.0.0.1, no shared memory) and announces faster, and a
-  `ROS_DOMAIN_ID` that no other holder on this machine has. The discovery range is SUBNET: on
-  Jazzy, LOCALHOST makes rmw_fastrtps replace the profile's transports with its own, shared
-  memory included, whose /dev/shm segments a killed process leaves behind; the profile confines;
+  folder, `RMW_IMPLEMENTATION=rmw_fastrtps_cpp`, `ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST` (no
+  packet leaves this machine; rmw_fastrtps adds the shared-memory transport, whose /dev/shm files
+  a killed process leaves behind: `close()` sweeps them), the Fast DDS profile fastdds.xml (data
+  sharing off, faster announcements), and a `ROS_DOMAIN_ID` no other holder on this machine has;
 - `python`: the distro venv's interpreter; `domain_id`; `log_dir`; `distro`.
 The domain id is held by an flock on a file of a machine-wide folder for as long as the object is
 open (the kernel releases it if the process dies): 8 slots of a campaign and several pytest
 processes, even of other checkouts, never share one. `slot` says where the search starts, so a
-campaign's slots usually get the same ids run after run. `close()` removes the log folder.
+campaign's slots usually get the same ids run after run. `close()` removes the log folder and
+the shared memory of dead Fast DDS participants (`sweep_dead_segments`).
 `installed(root, distro)` says whether `make ros2` has built the distro, else why not.
 """
 from __future__ import annotations
