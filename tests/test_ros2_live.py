@@ -260,3 +260,53 @@ def test_first_steps_on_kilted_with_taken_replies():
         assert wait_gone(children, timeout=15) == set()
     finally:
         run.kill()
+
+
+CANCELS = """
+[cancels]
+"rflex.Stop" = "rflex.TrackSpeedStart"
+"aspect.Stop" = "aspect.Reset"
+"sick.Stop" = "sick.ContinuousShot"
+
+[cancel_codes]
+ERROR_NONE = "ok"
+ERROR_REJECTED = "too_many_activities"
+ERROR_UNKNOWN_GOAL_ID = "bad_params"
+ERROR_GOAL_TERMINATED = "disallowed"
+"""
+
+
+@pytest.mark.parametrize("distro", ["jazzy", "kilted"])
+def test_a_cancel_ends_a_running_goal_and_one_after_success_is_refused(tmp_path, distro):
+    """With [cancels] in the mapping, a module's Stop is a cancel request of the latest goal of the
+    service it names: a running TrackSpeedStart is canceled (the cancel answers ERROR_NONE, the goal
+    ends CANCELED with the layer's `interrupted`); a cancel of a Reset that succeeded is refused
+    ERROR_GOAL_TERMINATED, one of a ContinuousShot never sent ERROR_UNKNOWN_GOAL_ID, each with the
+    mapping's reply code. On Kilted each cancel is `taken` first (the server's introspection)."""
+    if installed(ROOT, distro):
+        pytest.skip(installed(ROOT, distro))
+    mapping = tmp_path / "ros2.toml"
+    mapping.write_text(MAPPING.read_text().replace("[status_codes]", CANCELS + "\n[status_codes]"))
+    run = launcher(distro=distro, mapping=mapping)
+    try:
+        assert run.start(time_scale=1.0)["op"] == "hello", "".join(run.stderr[-20:])
+        for rqst_id, service in INITS.items():
+            run.send(request(rqst_id, service))
+        assert {run.final(rqst_id) for rqst_id in INITS} == {"ok"}
+        run.send(request(20, "rflex.SetMode", mode="velocity"))
+        assert run.final(20) == "ok"
+        run.send(request(1, "rflex.TrackSpeedStart"))
+        run.expect(lambda m: m["op"] == "reply" and m["id"] == 1 and m["kind"] == "intermediate")
+        run.send(request(2, "rflex.Stop"))
+        assert (run.final(2), run.final(1)) == ("ok", "interrupted")
+        run.send(request(3, "aspect.Reset"))
+        assert run.final(3) == "ok"
+        run.send(request(4, "aspect.Stop"))
+        run.send(request(5, "sick.Stop"))
+        refused = (run.final(4), run.final(5))
+        assert refused == ("disallowed", "bad_params"), refused
+        if "taken" in run.lines[0][1]["caps"]:
+            assert all(run.replies(n)[0]["kind"] == "taken" for n in (2, 4, 5)), [run.replies(n) for n in (2, 4, 5)]
+        assert run.bye() == 0, "".join(run.stderr[-20:])
+    finally:
+        run.kill()

@@ -106,7 +106,7 @@ class DalaNode(LifecycleNode):
                 server = ActionServer(
                     self, kind, route.name, execute_callback=self._execute_for(qualified, route, kind),
                     goal_callback=lambda _goal: GoalResponse.ACCEPT if self.active else GoalResponse.REJECT,
-                    cancel_callback=lambda _goal: CancelResponse.REJECT,  # Dala's goals end by its Stop services
+                    cancel_callback=self._cancel_for(qualified),
                     callback_group=group)
                 if hasattr(server, "configure_introspection"):  # rclpy 9 (Kilted) on; the contents name the goal
                     server.configure_introspection(self.get_clock(), QOS, ServiceIntrospectionState.CONTENTS)
@@ -159,9 +159,25 @@ class DalaNode(LifecycleNode):
             result = kind.Result()
             if route.code or route.generic:
                 setattr(result, route.code or "code", code)
-            goal_handle.succeed() if code == "ok" else goal_handle.abort()
+            if code == "ok":
+                goal_handle.succeed()
+            else:
+                goal_handle.canceled() if goal_handle.is_cancel_requested else goal_handle.abort()
             return result
         return execute
+
+    def _cancel_for(self, qualified: str):
+        """Dala's goals end by its modules' Stop services. A mapping whose [cancels] names this
+        service makes a cancel of one of its goals (rclpy asks only for goals still running) that
+        service of the layer, e.g. rflex.Stop for rflex.TrackSpeedStart; otherwise it is refused."""
+        canceller = next((c for c, target in self.mapping.cancels.items() if target == qualified), None)
+
+        def cancel(_goal) -> CancelResponse:
+            if canceller is None or not self.active:
+                return CancelResponse.REJECT
+            self._request(canceller, {}, Ending(self.executor, ""))  # no ground truth: no request of the bench's
+            return CancelResponse.ACCEPT
+        return cancel
 
     def _serve_for(self, qualified: str, route: Route):
         async def serve(request, response):
