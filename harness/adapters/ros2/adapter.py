@@ -36,8 +36,6 @@ from typing import Callable
 
 import rclpy
 from action_msgs.msg import GoalStatus
-from lifecycle_msgs.msg import Transition
-from lifecycle_msgs.srv import ChangeState
 from rcl_interfaces.srv import GetParameters
 from rclpy.action import ActionClient, ActionServer
 from rclpy.callback_groups import ReentrantCallbackGroup
@@ -53,6 +51,7 @@ from harness.adapters.ros.mapping import Mapping, interface_kinds, interface_ser
 from harness.adapters.ros.replies import Replies
 from harness.adapters.ros.routes import Route
 from harness.adapters.ros2.cancels import cancel_taken, cancel_targets, send_cancel
+from harness.adapters.ros2.lifecycle import Lifecycle
 from harness.adapters.ros2.teardown import release
 from harness.adapters.ros2.types import fill, interface_name, route_class
 from harness.errors import UntimelyError
@@ -63,8 +62,6 @@ QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
 PROBE_PERIOD_S = 0.2
 # Service introspection came with Jazzy (rclpy 7), action introspection with Kilted (rclpy 9).
 ACTION_INTROSPECTION = hasattr(ActionServer, "configure_introspection")
-BRING_UP = (Transition.TRANSITION_CONFIGURE, Transition.TRANSITION_ACTIVATE)
-RESET = (Transition.TRANSITION_DEACTIVATE, Transition.TRANSITION_CLEANUP) + BRING_UP
 
 
 class Adapter(Bridge):
@@ -105,8 +102,7 @@ class Adapter(Bridge):
         node = mapping.node
         self.probe = self.node.create_client(GetParameters, f"{node}/get_parameters", callback_group=group) \
             if node else None
-        self.transitions = self.node.create_client(ChangeState, f"{node}/change_state", callback_group=group) \
-            if mapping.lifecycle else None
+        self.lifecycle = Lifecycle(self.node, node, group) if mapping.lifecycle else None
         self.answered, self.stale_said = time.monotonic(), False  # the probe's last answer
         self.goals: dict[int, object] = {}  # request id -> ClientGoalHandle of this run
         self.latest: dict[str, UUID] = {}  # "module.Service" -> the id of its latest goal of this run
@@ -161,7 +157,8 @@ class Adapter(Bridge):
         deadline = time.monotonic() + timeout_s
         waits = [(name, lambda c=client: c.server_is_ready() if isinstance(c, ActionClient) else c.service_is_ready())
                  for name, client in self.clients.items()]
-        waits += [(client.srv_name, client.service_is_ready) for client in (self.probe, self.transitions) if client]
+        waits += [(client.srv_name, client.service_is_ready)
+                  for client in ([self.probe] if self.probe else []) + (self.lifecycle.clients() if self.lifecycle else [])]
         for name, connected in waits:
             while not connected():
                 problem = alive()
@@ -197,14 +194,7 @@ class Adapter(Bridge):
             self.stopped.wait(PROBE_PERIOD_S)
 
     def transition(self, transitions: tuple[int, ...], timeout_s: float) -> None:
-        """Drive the lifecycle node through `transitions`, each awaited."""
-        for transition in transitions:
-            future = self.transitions.call_async(ChangeState.Request(transition=Transition(id=transition)))
-            done = threading.Event()
-            future.add_done_callback(lambda _f: done.set())
-            if not done.wait(timeout_s) or not future.result().success:
-                raise UntimelyError(f"the node {self.mapping.node} refused or did not answer lifecycle transition "
-                                    f"{transition} within {timeout_s:g} s")
+        self.lifecycle.transition(transitions, timeout_s)
 
     def record(self, path, timeout_s: float):
         """A Recorder of this run's traffic into the bag `path`, spun by this adapter's executor, once

@@ -258,7 +258,7 @@ def main(argv: list[str] | None = None) -> int:
         executor.spin()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
-    if node.host:
+    if node.host and node.active:  # a configured layer that was never activated has no thread to stop
         node.host.stop()
     release([node], executor)  # its participant's shared memory goes with it
     sys.stderr.flush()
