@@ -13,21 +13,16 @@ is the distro's. The distro is --distro, else $UNTIMELY_ROS2_DISTRO, else jazzy.
 from __future__ import annotations
 
 import argparse
-import contextlib
 import os
 import signal
 import subprocess
 import sys
-import time
 
 from harness import ROOT
 from harness.adapters.ros.processes import _dying_with_parent
 from harness.adapters.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment
 from harness.errors import UntimelyError
 from harness.run.external.protocol import encode
-from harness.run.processes import TERM_GRACE_S
-
-STOP_WAIT_S = TERM_GRACE_S * 0.75  # the adapter's own teardown gives its node 1 s of it
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -50,21 +45,18 @@ def main(argv: list[str] | None = None) -> int:
              "--startup-timeout", str(args.startup_timeout), "--", *args.node],
             env={**ros.env, "UNTIMELY_ROS2_DISTRO": args.distro}, preexec_fn=_dying_with_parent(signal.SIGTERM))
         signal.signal(signal.SIGTERM, lambda *_: stop(adapter, ros))
-        while adapter.poll() is None:  # not a blocking wait(), whose lock would stall stop()'s wait
-            time.sleep(0.1)
-        return adapter.returncode
+        return adapter.wait()
     finally:
         ros.close()
 
 
 def stop(adapter: subprocess.Popen, ros: Ros2Environment) -> None:
-    """SIGTERM: the adapter tears down (its node with it) within STOP_WAIT_S, then the log folder
-    and domain id are given back and the dead processes' shared memory swept: the bench kills the
-    whole process group once this process has exited, or its grace has passed (a node still dying
-    may write a log line into a removed folder: nothing is left behind)."""
+    """SIGTERM: the adapter tears down, and the log folder and domain id are given back at once,
+    as the bench's SIGKILL follows within seconds (a dying node may still write a log line, into a
+    removed folder: nothing is left behind). Not waiting for the adapter keeps a hung slot's
+    restart quick; the shared memory of its processes, if they are killed, is swept by the next
+    environment closed on this machine (environment.sweep_dead_segments)."""
     adapter.terminate()
-    with contextlib.suppress(subprocess.TimeoutExpired):
-        adapter.wait(STOP_WAIT_S)
     ros.close()
 
 
