@@ -1,5 +1,5 @@
 """Two ends of a small ROS 2 exchange, run by the ROS 2 tests under a distro's venv python in the
-bench's environment (harness/adapters/ros2/environment.py):
+bench's environment (harness/sut/ros2/environment.py):
 
     python tests/ros2_peer.py serve NAME    # node NAME: service /ndd/set_params (untimely_msgs/srv/Call)
                                             # and action /dala/ndd (untimely_msgs/action/Request), as
@@ -27,7 +27,7 @@ from rclpy.service_introspection import ServiceIntrospectionState
 from untimely_msgs.action import Request
 from untimely_msgs.srv import Call
 
-from harness.adapters.ros2.teardown import release
+from harness.sut.ros2.teardown import release
 
 TIMEOUT_S = 20.0
 SERVICE, ACTION = "/ndd/set_params", "/dala/ndd"

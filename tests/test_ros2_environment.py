@@ -1,4 +1,4 @@
-"""A ROS 2 process's environment (harness/adapters/ros2/environment.py): what it sets, a domain id
+"""A ROS 2 process's environment (harness/sut/ros2/environment.py): what it sets, a domain id
 no other holder on this machine has (other processes included), its log folder removed, the
 shared memory of dead Fast DDS participants swept."""
 import fcntl
@@ -10,13 +10,13 @@ import time
 import pytest
 
 from harness import ROOT
-from harness.adapters.ros2.environment import (DOMAIN_IDS, DISTROS, PROFILE, PROFILE_VARIABLE, Ros2Environment,
+from harness.sut.ros2.environment import (DOMAIN_IDS, DISTROS, PROFILE, PROFILE_VARIABLE, Ros2Environment,
                                                Ros2Error, SETTLE_S, hold_domain_id, installed,
                                                sweep_dead_segments)
 
 HOLDER = """
 import sys
-from harness.adapters.ros2.environment import hold_domain_id
+from harness.sut.ros2.environment import hold_domain_id
 lock, domain_id = hold_domain_id(int(sys.argv[1]))
 print(domain_id, flush=True)
 sys.stdin.read()

@@ -14,15 +14,15 @@ from pathlib import Path
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT
-from harness.adapters.ros2.environment import LOCK_DIR, installed
-from harness.run.external.definitions import load_suts_file
-from harness.run.external.runner import run_external
+from harness.sut.ros2.environment import LOCK_DIR, installed
+from harness.sut.definitions import load_suts_file
+from harness.sut.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import parse, validate
 from tests.ros_driver import Launcher, descendants, request, running_module, wait_gone
 
 MAPPING = DEFAULT_MISSION_DIR / "ros2.toml"
-NODE = "harness.adapters.ros2.dala_node"
+NODE = "harness.sut.ros2.dala_node"
 
 
 def requires_ros2(distro: str):
@@ -30,7 +30,7 @@ def requires_ros2(distro: str):
 
 
 def launcher(variant: str = "reference", distro: str = "jazzy", mapping: Path = MAPPING) -> Launcher:
-    return Launcher(command=[sys.executable, "-m", "harness.adapters.ros2", "--distro", distro, "--mapping",
+    return Launcher(command=[sys.executable, "-m", "harness.sut.ros2", "--distro", distro, "--mapping",
                              str(mapping), "--", "python", "-m", NODE, "--variant", variant, "--mapping", str(mapping)])
 
 
@@ -94,7 +94,7 @@ def confined_to_localhost_in_its_domain(run: Launcher, sut: str, node: int) -> N
     """The node and the adapter run with discovery on this machine only, in the domain the
     launcher holds for the slot (the hello names it)."""
     domain = re.search(r"\(domain (\d+);", sut).group(1)
-    adapter = next(p for p in descendants(run.process.pid) if running_module(p) == "harness.adapters.ros2.serve")
+    adapter = next(p for p in descendants(run.process.pid) if running_module(p) == "harness.sut.ros2.serve")
     for pid in (node, adapter):
         env = dict(v.split("=", 1) for v in Path(f"/proc/{pid}/environ").read_bytes().decode().split("\0") if "=" in v)
         assert (env["ROS_AUTOMATIC_DISCOVERY_RANGE"], env["ROS_DOMAIN_ID"]) == ("LOCALHOST", domain), (pid, sut)
