@@ -81,7 +81,8 @@ def test_the_environment_is_the_distros_and_its_log_folder_goes_away(distro):
 
 def test_the_sweep_removes_the_shared_memory_of_dead_owners_only(tmp_path):
     """A segment whose lock file nobody holds (its owner was killed) goes, with its lock files and
-    semaphore; one whose lock is held (a living owner), one just created, and other files stay."""
+    semaphore; one whose lock is held (a living owner), one just created (without waiting for it to
+    settle), and other files stay."""
     def segment(name: str, age_s: float) -> None:
         for path in (tmp_path / name, tmp_path / f"{name}_el", tmp_path / f"sem.{name}_mutex"):
             path.write_bytes(b"")
@@ -93,18 +94,20 @@ def test_the_sweep_removes_the_shared_memory_of_dead_owners_only(tmp_path):
     (tmp_path / "lttng-ust-wait-6").write_bytes(b"")
     with open(tmp_path / "fastdds_fedcba9876543210_el") as held:
         fcntl.flock(held, fcntl.LOCK_EX)
-        assert sweep_dead_segments(tmp_path) == ["fastdds_0123456789abcdef", "fastrtps_port7411"]
+        assert sweep_dead_segments(tmp_path, settle=False) == ["fastdds_0123456789abcdef", "fastrtps_port7411"]
     assert sorted(p.name for p in tmp_path.iterdir()) == [
         "fastdds_fedcba9876543210", "fastdds_fedcba9876543210_el", "fastrtps_aaaaaaaaaaaaaaaa",
         "fastrtps_aaaaaaaaaaaaaaaa_el", "lttng-ust-wait-6", "sem.fastdds_fedcba9876543210_mutex",
         "sem.fastrtps_aaaaaaaaaaaaaaaa_mutex"]
 
 
-def test_the_sweep_waits_for_a_port_left_without_lock_to_settle(tmp_path):
+def test_the_sweep_waits_for_young_files_to_settle(tmp_path):
     """A port with no lock file left (its listener gone) is dead once nobody has written it for a
-    moment: one written just now is waited for, then removed with its semaphore."""
-    for name in ("fastdds_port7000", "sem.fastdds_port7000_mutex"):
+    moment, a segment whose lock nobody took once its creator had time to: files written just now
+    are waited for, then removed."""
+    for name in ("fastdds_port7000", "sem.fastdds_port7000_mutex", "fastrtps_0123456789abcdef",
+                 "fastrtps_0123456789abcdef_el"):
         (tmp_path / name).write_bytes(b"")
     started = time.monotonic()
-    assert sweep_dead_segments(tmp_path) == ["fastdds_port7000"]
+    assert sweep_dead_segments(tmp_path) == ["fastdds_port7000", "fastrtps_0123456789abcdef"]
     assert time.monotonic() - started >= SETTLE_S and not any(tmp_path.iterdir())

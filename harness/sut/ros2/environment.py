@@ -95,8 +95,10 @@ class Ros2Environment:
         self.env = self._environment()
         return self
 
-    def close(self) -> None:
-        sweep_dead_segments()  # what its processes, killed or ended by os._exit, left in /dev/shm
+    def close(self, settle: bool = True) -> None:
+        """Gives the log folder and domain id back, and sweeps what dead processes left in /dev/shm
+        (without `settle`, not waiting for files too young to tell: sweep_dead_segments)."""
+        sweep_dead_segments(settle=settle)  # what its processes, killed or ended by os._exit, left
         if self.log_dir is not None:
             shutil.rmtree(self.log_dir, ignore_errors=True)
             self.log_dir = None
@@ -158,32 +160,33 @@ def hold_domain_id(slot: int):
                     f"on this machine (locks in {LOCK_DIR}); wait for them to end or run fewer slots")
 
 
-def sweep_dead_segments(shm: Path = SHM) -> list[str]:
+def sweep_dead_segments(shm: Path = SHM, settle: bool = True) -> list[str]:
     """Removes the Fast DDS shared-memory files (a segment or port, its lock files, its semaphore)
     whose owner is gone, as Fast DDS's `fastdds shm clean` does, and returns their segments' names.
     A living owner holds an flock on the segment's `_el` file (a port's listeners on `_el` or
-    `_sl`); a port left with no lock file at all is dead once nothing has written it for SETTLE_S
-    (a sender of a living process writes it, and a port being created gets its lock within that
-    time): such ports of processes that just ended are waited for, SETTLE_S at most."""
+    `_sl`); a port left with no lock file at all is dead once nothing has written it for a while.
+    A file younger than SETTLE_S may be one whose creator has yet to lock it: with `settle`, such
+    files (of processes that just ended, as a rule) are waited for once, SETTLE_S."""
     removed, young = _sweep(shm)
-    if young:
+    if young and settle:
         time.sleep(SETTLE_S)
         removed += _sweep(shm)[0]
     return removed
 
 
 def _sweep(shm: Path) -> tuple[list[str], bool]:
-    """The dead segments removed, and whether a lock-less one was too young to tell."""
+    """The dead segments removed, and whether one was too young to tell."""
     removed, young = [], False
     for segment in sorted(shm.iterdir()):
         if not SEGMENT.fullmatch(segment.name):
             continue
         locks = [lock for lock in (shm / f"{segment.name}_el", shm / f"{segment.name}_sl") if lock.exists()]
+        if any(_age(path) < SETTLE_S for path in locks or [segment]):
+            young = True
+            continue
         fds = [_unowned(lock) for lock in locks]
         try:
-            if not locks and time.time() - _mtime(segment) < SETTLE_S:
-                young = True
-            elif None not in fds:
+            if None not in fds:
                 for path in (segment, *locks, shm / f"sem.{segment.name}_mutex"):
                     path.unlink(missing_ok=True)
                 removed.append(segment.name)
@@ -194,19 +197,17 @@ def _sweep(shm: Path) -> tuple[list[str], bool]:
     return removed, young
 
 
-def _mtime(path: Path) -> float:
+def _age(path: Path) -> float:
+    """Seconds since the file was last written (a file removed meanwhile by its owner: very old)."""
     try:
-        return path.stat().st_mtime
-    except FileNotFoundError:  # removed meanwhile by its owner
-        return 0.0
+        return time.time() - path.stat().st_mtime
+    except FileNotFoundError:
+        return float("inf")
 
 
 def _unowned(lock: Path) -> int | None:
-    """An open descriptor holding the lock file's flock when no process holds it (and the file is
-    older than SETTLE_S: its creator locks it right after creating it), else None."""
+    """An open descriptor holding the lock file's flock when no process holds it, else None."""
     try:
-        if time.time() - lock.stat().st_mtime < SETTLE_S:
-            return None
         fd = os.open(lock, os.O_RDONLY)
     except FileNotFoundError:
         return None
