@@ -207,7 +207,7 @@ def test_three_hand_made_components_read_as_their_clauses_say(tmp_path, capsys):
 def test_validate_codels_state_the_arguments_they_check_and_their_rejection(tmp_path, capsys):
     """tests/genom/validating.gen, checked by hand against its lines: what each validate codel states."""
     folder = tmp_path / "ptu"
-    assert main(["init", str(folder), "--from-genom", str(Path(__file__).parent / "genom" / "validating.gen")]) == 0
+    assert main(["init", str(folder), "--from-genom", str(GENOM / "validating.gen")]) == 0
     out = capsys.readouterr().out
     interface, p = _properties(folder)
     assert {a: (v.type, v.min, v.max) for a, v in interface.services["ptu.set_speed"].args.items()} == {
