@@ -62,8 +62,8 @@ class Oracle:
                              f"{message}{where}")
 
 
-def _shared_names(events: str) -> tuple[str, str]:
-    return events, f"{events}_causes"
+def _shared_names(events: str) -> tuple[str, str, str]:
+    return events, f"{events}_causes", f"{events}_epsilons"
 
 
 def _shared(events: str) -> Shared:

@@ -4,7 +4,8 @@
     decided the condition of some requests instead (explain.requests: (trace_id, rqst_id) pairs);
     with `into`, the statement inserting the verdict rows into that table; with `shared`, the
     table of _requests.sql that holds `events`'s requests, read instead of aggregating them again
-    (a type that reads arguments, VAL, still aggregates the few requests it needs). Rendered by
+    (a type that reads arguments, VAL, still aggregates the few requests it needs) and the table of
+    each trace's epsilon (`shared_epsilons`). Rendered by
     harness/analysis/oracles.py. -#}
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/_epsilon.sql' as eps %}
@@ -19,7 +20,11 @@ with requests as (select * from {{ shared }} where {{ where }}),
 {% else %}
 with {{ base.requests(events, where, explain.traces if explain else none, oracle.needs_args is defined, taken) }},
 {% endif %}
+{% if shared %}
+epsilons as (from {{ shared_epsilons }}),
+{% else %}
 {{ eps.per_trace(runs, taken) }},
+{% endif %}
 {{ oracle.ctes('p', **parameters) }}
 {% if explain %}
 select * from p_pairs where (trace_id, rqst_id) in ({{ explain.requests | join(', ') }})
