@@ -61,8 +61,13 @@ def _scope(prop: Property, enders: list[tuple[str, str, str]]) -> tuple[list[str
     template declares `{% set scope = 'services' %}`, of its own services alone (then given too)."""
     services = _services(_parameters(prop))
     modules = sorted({s.split(".")[0] for s in services} | {y.split(".")[0] for *_, y in enders})
-    own = getattr(ENV.get_template(_template(prop)).module, "scope", "modules") == "services"
+    own = _declares(prop, "scope", "modules") == "services"
     return modules, services if own else None
+
+
+def _declares(prop: Property, name: str, default):
+    """What the template of the property's type sets `name` to (`{% set name = ... %}`)."""
+    return getattr(ENV.get_template(_template(prop)).module, name, default)
 
 
 def interrupters(properties: list[Property]) -> list[tuple[str, str, str]]:
@@ -158,6 +163,7 @@ def render_shared(properties: list[Property], events: str, epsilon: float, inter
     return ENV.get_template("oracles/_requests.sql").render(
         events=events, into=into.requests, shared_causes=into.causes, shared_epsilons=into.epsilons, taken=True, runs=True,
         epsilon=round(float(epsilon), 6), enders=enders, modules=modules, services=services,
+        args=any(_declares(p, "needs_args", False) for p in properties),
         until_stopped=interface.until_stopped if interface else [],
         control=interface.of_kind("control") if interface else [])
 
@@ -168,7 +174,7 @@ def render_unknown(prop: Property, events: str, into: str) -> str:
     (`{% set judges = [...] %}`, as the mutual types do)."""
     _table_name(events, "events source")
     _table_name(into, "verdicts table")
-    roles = getattr(ENV.get_template(_template(prop)).module, "judges", ["x"])
+    roles = _declares(prop, "judges", ["x"])
     judged = sorted({s for role in roles for s in getattr(prop, role) or ()})
     return ENV.get_template("oracles/_unknown.sql").render(into=into, id=prop.id, family=prop.family,
                                                           events=events, judged=judged)

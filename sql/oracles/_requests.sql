@@ -1,7 +1,8 @@
 {#- What every oracle of an analysis shares, made once per events table (the analysis's `shared`
     tables; rendered by harness/analysis/oracles.py): `into`, every request of `events` that some
     oracle reads (of `modules`, whole for the oracles that search causes, or of `services`) with
-    its first final reply and class, from which each oracle reads the requests of its scope
+    its first final reply and class (and its arguments, `args`, when some oracle's template
+    declares `needs_args`), from which each oracle reads the requests of its scope
     instead of grouping the events again (25 properties x 2 event tables times over);
     `shared_epsilons`, each trace's epsilon (_epsilon.sql: a pass over every request event, once
     per events table rather than once per oracle); and `shared_causes`, the candidate causes of every
@@ -16,7 +17,7 @@ with {{ eps.per_trace(runs, taken) }}
 select * from epsilons;
 
 create or replace temp table {{ into }} as
-with {{ base.requests(events, where, taken=taken) }}
+with {{ base.requests(events, where, args=args, taken=taken) }}
 select * from requests
 order by module, service;
 
