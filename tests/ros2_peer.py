@@ -27,8 +27,17 @@ from rclpy.service_introspection import ServiceIntrospectionState
 from untimely_msgs.action import Request
 from untimely_msgs.srv import Call
 
+from harness.sut.ros2.teardown import release
+
 TIMEOUT_S = 20.0
 SERVICE, ACTION = "/ndd/set_params", "/dala/ndd"
+OPENED = {"nodes": [], "executor": None}  # released before the process exits (teardown.release)
+
+
+def _node(name: str):
+    node = rclpy.create_node(name)
+    OPENED["nodes"].append(node)
+    return node
 
 
 def _introspect(entity, node) -> None:
@@ -38,7 +47,7 @@ def _introspect(entity, node) -> None:
 
 
 def serve(name: str) -> None:
-    node = rclpy.create_node(name)
+    node = _node(name)
 
     def call(request, response):
         response.code = "ok"
@@ -55,8 +64,8 @@ def serve(name: str) -> None:
 
 
 def call(recorded: bool = False) -> None:
-    node = rclpy.create_node("untimely_caller")
-    executor = MultiThreadedExecutor()
+    node = _node("untimely_caller")
+    executor = OPENED["executor"] = MultiThreadedExecutor()
     executor.add_node(node)
     threading.Thread(target=executor.spin, daemon=True).start()
     client, actions = node.create_client(Call, SERVICE), ActionClient(node, Request, ACTION)
@@ -78,7 +87,7 @@ def call(recorded: bool = False) -> None:
 
 
 def nodes(seconds: float, awaited: str = "") -> None:
-    node = rclpy.create_node("untimely_watcher")
+    node = _node("untimely_watcher")
     deadline = time.monotonic() + seconds
     names = []
     while time.monotonic() < deadline and awaited not in names:
@@ -95,7 +104,7 @@ def main(argv: list[str]) -> None:
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
-        rclpy.try_shutdown()
+        release(OPENED["nodes"], OPENED["executor"])
 
 
 if __name__ == "__main__":

@@ -201,3 +201,63 @@ def test_three_hand_made_components_read_as_their_clauses_say(tmp_path, capsys):
     con.close()
     assert golden[0] == 0 and golden[1] > 0, "the golden run waits for each ok another request needs"
     assert certain == 0, "the stand-in follows PEX, PRE and AIB"
+
+
+def test_validate_codels_state_the_arguments_they_check_and_their_rejection(tmp_path, capsys):
+    """tests/genom/validating.gen, checked by hand against its lines: what each validate codel states."""
+    folder = tmp_path / "ptu"
+    assert main(["init", str(folder), "--from-genom", str(Path(__file__).parent / "genom" / "validating.gen")]) == 0
+    out = capsys.readouterr().out
+    interface, p = _properties(folder)
+    assert {a: (v.type, v.min, v.max) for a, v in interface.services["ptu.set_speed"].args.items()} == {
+        "speed": ("float", None, None), "mode": ("str", None, None)}, "the bounds are the codel's C code"
+    assert [(a.name, a.type) for a in interface.services["ptu.point"].args.values()] == [("pan", "float"),
+                                                                                          ("tag", "str")], \
+        "pan unqualified names the parameter; tilt is an array; mode (line 15) is the ids member"
+    assert not any(interface.services[f"ptu.{s}"].args for s in ("either", "silent", "scan", "init"))
+    assert (p["VAL(ptu.set_speed)"].r_p, p["VAL(ptu.point)"].r_p) == ("e_range", "e_busy")
+    assert interface.replies["e_range"] == interface.replies["e_busy"] == "R" and interface.replies["e_io"] == "T"
+    assert not {"VAL(ptu.either)", "VAL(ptu.silent)", "VAL(ptu.scan)"} & set(p)
+    assert p["PRE(ptu.set_speed)"].q == ("ptu.init",) and p["PRE(ptu.set_speed)"].r_p == "disallowed"
+    text = (folder / "properties.toml").read_text()
+    assert "#   from validating.gen:10: ptu.set_speed validate ptu_check(speed, mode)\n" \
+           "#   from validating.gen:11: ptu.set_speed throw e_range\n[[property]]\nid = \"VAL(ptu.set_speed)\"" in text
+    assert "validating.gen:15: ptu.point validate ptu_point reads the component's state (mode): it may reject a " \
+           "request that came too early with e_busy, but no after or before clause says" in out
+    assert "ptu.set_speed validate ptu_check reads" not in out, "its precondition is written: after init (line 12)"
+    assert "validating.gen:15: ptu.point validate ptu_point checks `in double tilt`" in out
+    assert "validating.gen:18: ptu.either validate ptu_either: it may reject with any of e_a, e_b" in out
+    assert "validating.gen:19: ptu.silent validate ptu_silent: the service throws no exception of its own" in out
+    assert "e_io may come from the validate codel of scan (a rejection) or from their other codels" in out
+    golden = (folder / "golden.mission").read_text()
+    assert "send ptu.set_speed speed=0.5 mode=fast\n" in golden and 'send ptu.point pan=0 tag=""\n' in golden
+    assert "[[validates]]\nx = [\"ptu.point\"]\nreply = \"e_busy\"" in (folder / "standin.toml").read_text()
+    (folder / "values.mission").write_text("send ptu.init\nwait all timeout=30\nsend ptu.set_speed speed=nan "
+                                           "mode=fast\nsend ptu.set_speed speed=2 mode=slow\nsend ptu.point pan=far "
+                                           "tag=a\nsend ptu.point pan=1 tag=b\nwait all timeout=30\n")
+    db = tmp_path / "v.duckdb"
+    assert main(["run", str(folder / "values.mission"), "--sut", "adapter", "--db", str(db)]) == 0
+    assert main(["analyze", "--db", str(db)]) == 0
+    con = connect(db, read_only=True)
+    verdicts = con.execute("select property_id, verdict, count(*) from verdicts where property_id like 'VAL%' "
+                           "group by all order by all").fetchall()
+    con.close()
+    assert verdicts == [("VAL(ptu.point)", "TN", 1), ("VAL(ptu.point)", "TP", 1), ("VAL(ptu.set_speed)", "TN", 1),
+                        ("VAL(ptu.set_speed)", "TP", 1)], "the stand-in rejects nan and a word for a number"
+
+
+def test_a_component_whose_only_clause_is_a_rejecting_validate_gets_its_val_and_a_golden_run(tmp_path, capsys):
+    status, folder, _ = _init(tmp_path, """component c {
+  exception e_range;
+  function set(in double gain = 2.5 : "proportional gain") {
+    validate check_gain(local in gain);
+    throw e_range;
+  };
+};""")
+    assert status == 0, "no activity and no after or before clause, but a validate codel that rejects"
+    interface, properties = _properties(folder)
+    assert list(properties) == ["VAL(c.set)"] and properties["VAL(c.set)"].r_p == "e_range"
+    assert interface.services["c.set"].args["gain"].type == "float"
+    assert "send c.set gain=2.5\n" in (folder / "golden.mission").read_text()
+    assert main(["run", str(folder / "golden.mission"), "--sut", "adapter", "--db", str(tmp_path / "g.duckdb")]) == 0
+    assert "replies    T 1, Z 0, R 0" in capsys.readouterr().out, "the golden value lies in the domain"

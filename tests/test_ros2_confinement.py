@@ -5,8 +5,11 @@ a private network namespace holding a veth pair (both ends inside it: nothing of
 machine's own interfaces), while a raw socket counts the RTPS packets on the veth: none may show.
 The same exchange with the environment's confinement taken out (Fast DDS's defaults: discovery
 multicast on every interface) does show some, so the sniffer sees what it should. Then: two slots
-never see each other's nodes, and a killed run leaves no process, shared memory or log folder.
+never see each other's nodes, and a run that ends, or is killed, leaves no process, no Fast DDS
+shared memory (rmw_fastrtps gives LOCALHOST participants the shared-memory transport) and no log
+folder.
 """
+import fcntl
 import json
 import os
 import re
@@ -22,7 +25,8 @@ from harness import ROOT
 from harness.sut.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment, installed
 
 PEER, SNIFF = ROOT / "tests" / "ros2_peer.py", ROOT / "tests" / "ros2_sniff.py"
-UNCONFINED = ("FASTDDS_DEFAULT_PROFILES_FILE", "FASTRTPS_DEFAULT_PROFILES_FILE")
+PROFILES = ("FASTDDS_DEFAULT_PROFILES_FILE", "FASTRTPS_DEFAULT_PROFILES_FILE")
+FAST_DDS_FILE = re.compile(r"(sem\.)?(fastrtps|fastdds)_(\w+?)(_el|_sl|_mutex)?")
 TIMEOUT_S = 60
 
 pytestmark = pytest.mark.skipif(bool(installed(ROOT, DEFAULT_DISTRO)), reason=str(installed(ROOT, DEFAULT_DISTRO)))
@@ -89,10 +93,22 @@ def test_a_run_sends_no_ros_packet_on_a_non_loopback_interface_and_an_unconfined
         replies, confined = sniffed(namespace, ros.env)
         assert (replies["code"], replies["goal"], replies["phases"]) == ("ok", "ok", ["running"])
         assert confined["rtps"] == 0, f"ROS 2 traffic on a non-loopback interface: {confined}"
-        unconfined_env = {k: v for k, v in ros.env.items() if k not in UNCONFINED}
+        # Fast DDS's defaults: no profile, and the range that leaves discovery to the middleware
+        unconfined_env = {**{k: v for k, v in ros.env.items() if k not in PROFILES},
+                          "ROS_AUTOMATIC_DISCOVERY_RANGE": "SUBNET"}
         replies, unconfined = sniffed(namespace, unconfined_env)
         assert replies["code"] == "ok"
         assert unconfined["rtps"] > 0, f"the sniffer saw no RTPS packet of an unconfined run: {unconfined}"
+
+
+@pytest.mark.parametrize("distro", DISTROS)
+def test_a_run_that_ends_leaves_no_shared_memory(distro):
+    if installed(ROOT, distro):
+        pytest.skip(installed(ROOT, distro))
+    before = _fast_dds_files()
+    with Ros2Environment(ROOT, distro, slot=0) as ros:
+        assert exchange(ros.env)["code"] == "ok"
+    assert not _left_in_shared_memory(before), f"left in /dev/shm: {_left_in_shared_memory(before)}"
 
 
 def test_two_slots_never_see_each_others_nodes():
@@ -113,10 +129,30 @@ def test_two_slots_never_see_each_others_nodes():
     assert "untimely_mine" not in seen["other slot"], seen
 
 
-def _shared_memory(domain_id: int) -> set[str]:
-    """Fast DDS's shared-memory files of a domain: its ports are 7400 + 250 * domain id + 10 and up."""
-    ports = (re.search(r"_port(\d+)", p.name) for p in Path("/dev/shm").iterdir())
-    return {port.string for port in ports if port and (int(port.group(1)) - 7400) // 250 == domain_id}
+def _fast_dds_files() -> set[str]:
+    return {p.name for p in Path("/dev/shm").iterdir() if FAST_DDS_FILE.fullmatch(p.name)}
+
+
+def _held(name: str) -> bool:
+    """Whether a living process owns the segment a Fast DDS file belongs to (it holds the flock of
+    the segment's lock file): another test process's, not something this run left."""
+    segment = FAST_DDS_FILE.fullmatch(name)
+    base = Path("/dev/shm") / f"{segment.group(2)}_{segment.group(3)}"
+    for lock in (base.with_name(base.name + "_el"), base.with_name(base.name + "_sl")):
+        try:
+            with open(lock) as f:
+                fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            return True
+        except FileNotFoundError:
+            continue
+    return False
+
+
+def _left_in_shared_memory(before: set[str]) -> list[str]:
+    """Fast DDS files (segments, ports, their locks and semaphores) new since `before` and owned by
+    no living process."""
+    return sorted(name for name in _fast_dds_files() - before if not _held(name))
 
 
 def _living_children() -> set[int]:
@@ -125,8 +161,8 @@ def _living_children() -> set[int]:
 
 def test_a_killed_run_leaves_no_process_shared_memory_or_log_folder():
     earlier = _living_children()  # what earlier tests of the session still run is not this run's
+    before = _fast_dds_files()
     with Ros2Environment(ROOT, DEFAULT_DISTRO, slot=0) as ros:
-        before, domain_id = _shared_memory(ros.domain_id), ros.domain_id
         server = subprocess.Popen([str(ros.python), str(PEER), "serve", "untimely_killed"], env=ros.env,
                                   stdout=subprocess.PIPE, text=True)
         assert server.stdout.readline().strip() == "ready"
@@ -139,5 +175,4 @@ def test_a_killed_run_leaves_no_process_shared_memory_or_log_folder():
         assert any(log_dir.iterdir()), "the nodes logged nothing in their log folder"
     assert not log_dir.exists()
     assert not _living_children() - earlier
-    left = _shared_memory(domain_id) - before
-    assert not left, f"left in /dev/shm: {sorted(left)}"
+    assert not _left_in_shared_memory(before), f"left in /dev/shm: {_left_in_shared_memory(before)}"

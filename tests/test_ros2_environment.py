@@ -1,13 +1,18 @@
 """A ROS 2 process's environment (harness/sut/ros2/environment.py): what it sets, a domain id
-no other holder on this machine has (other processes included), its log folder removed."""
+no other holder on this machine has (other processes included), its log folder removed, the
+shared memory of dead Fast DDS participants swept."""
+import fcntl
+import os
 import subprocess
 import sys
+import time
 
 import pytest
 
 from harness import ROOT
 from harness.sut.ros2.environment import (DOMAIN_IDS, DISTROS, PROFILE, PROFILE_VARIABLE, Ros2Environment,
-                                               Ros2Error, hold_domain_id, installed)
+                                               Ros2Error, SETTLE_S, hold_domain_id, installed,
+                                               sweep_dead_segments)
 
 HOLDER = """
 import sys
@@ -64,8 +69,7 @@ def test_the_environment_is_the_distros_and_its_log_folder_goes_away(distro):
         assert log_dir.is_dir() and env["ROS_LOG_DIR"] == str(log_dir)
         assert env["PATH"].split(":")[0] == str(ROOT / f".venv-ros2-{distro}" / "bin")
         assert env["ROS_DOMAIN_ID"] == str(ros.domain_id)
-        # LOCALHOST would swap the profile's transports for rmw_fastrtps's own, shared memory included
-        assert env["ROS_AUTOMATIC_DISCOVERY_RANGE"] == "SUBNET" and env[PROFILE_VARIABLE[distro]] == str(PROFILE)
+        assert env["ROS_AUTOMATIC_DISCOVERY_RANGE"] == "LOCALHOST" and env[PROFILE_VARIABLE[distro]] == str(PROFILE)
         assert env["RMW_IMPLEMENTATION"] == "rmw_fastrtps_cpp"
         shown = subprocess.run([str(ros.python), "-c", "import rclpy, untimely_msgs.action as a, untimely_msgs.srv as s;"
                                 "print(a.Request.__name__, s.Call.__name__, rclpy.__file__)"],
@@ -73,3 +77,37 @@ def test_the_environment_is_the_distros_and_its_log_folder_goes_away(distro):
         assert shown.returncode == 0, shown.stderr
         assert shown.stdout.split()[:2] == ["Request", "Call"] and f".venv-ros2-{distro}" in shown.stdout
     assert not log_dir.exists() and ros.domain_id is None
+
+
+def test_the_sweep_removes_the_shared_memory_of_dead_owners_only(tmp_path):
+    """A segment whose lock file nobody holds (its owner was killed) goes, with its lock files and
+    semaphore; one whose lock is held (a living owner), one just created (without waiting for it to
+    settle), and other files stay."""
+    def segment(name: str, age_s: float) -> None:
+        for path in (tmp_path / name, tmp_path / f"{name}_el", tmp_path / f"sem.{name}_mutex"):
+            path.write_bytes(b"")
+            os.utime(path, (time.time() - age_s,) * 2)
+    segment("fastdds_0123456789abcdef", 60)   # dead
+    segment("fastrtps_port7411", 60)          # dead port
+    segment("fastdds_fedcba9876543210", 60)   # alive: its lock is held below
+    segment("fastrtps_aaaaaaaaaaaaaaaa", 0)   # being created: not locked yet
+    (tmp_path / "lttng-ust-wait-6").write_bytes(b"")
+    with open(tmp_path / "fastdds_fedcba9876543210_el") as held:
+        fcntl.flock(held, fcntl.LOCK_EX)
+        assert sweep_dead_segments(tmp_path, settle=False) == ["fastdds_0123456789abcdef", "fastrtps_port7411"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "fastdds_fedcba9876543210", "fastdds_fedcba9876543210_el", "fastrtps_aaaaaaaaaaaaaaaa",
+        "fastrtps_aaaaaaaaaaaaaaaa_el", "lttng-ust-wait-6", "sem.fastdds_fedcba9876543210_mutex",
+        "sem.fastrtps_aaaaaaaaaaaaaaaa_mutex"]
+
+
+def test_the_sweep_waits_for_young_files_to_settle(tmp_path):
+    """A port with no lock file left (its listener gone) is dead once nobody has written it for a
+    moment, a segment whose lock nobody took once its creator had time to: files written just now
+    are waited for, then removed."""
+    for name in ("fastdds_port7000", "sem.fastdds_port7000_mutex", "fastrtps_0123456789abcdef",
+                 "fastrtps_0123456789abcdef_el"):
+        (tmp_path / name).write_bytes(b"")
+    started = time.monotonic()
+    assert sweep_dead_segments(tmp_path) == ["fastdds_port7000", "fastrtps_0123456789abcdef"]
+    assert time.monotonic() - started >= SETTLE_S and not any(tmp_path.iterdir())

@@ -1,7 +1,9 @@
 """The ROS 2 adapter and the Dala lifecycle node over stdio, on ROS 2 from PyPI wheels (`make ros2`):
 goals, feedback, results, calls, ground truth, run after run, a stuck executor, Kilted (docs/ros2.md)."""
 import contextlib
+import fcntl
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -12,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT
-from harness.sut.ros2.environment import installed
+from harness.sut.ros2.environment import LOCK_DIR, installed
 from harness.sut.definitions import load_suts_file
 from harness.sut.external.runner import run_external
 from harness.target.interface import load_interface
@@ -74,6 +76,7 @@ def test_golden_first_steps_then_a_second_run_on_the_reset_node():
         run.send({"op": "ping", "id": 1})
         run.expect(lambda m: m == {"op": "pong", "id": 1}, timeout=30)
         node = run.node_pid()
+        confined_to_localhost_in_its_domain(run, answer["sut"], node)
         run.send({"op": "bye"})
         run.expect(lambda m: m["op"] == "bye")
         run.lines.clear()
@@ -85,6 +88,19 @@ def test_golden_first_steps_then_a_second_run_on_the_reset_node():
         assert wait_gone(children, timeout=15) == set()
     finally:
         run.kill()
+
+
+def confined_to_localhost_in_its_domain(run: Launcher, sut: str, node: int) -> None:
+    """The node and the adapter run with discovery on this machine only, in the domain the
+    launcher holds for the slot (the hello names it)."""
+    domain = re.search(r"\(domain (\d+);", sut).group(1)
+    adapter = next(p for p in descendants(run.process.pid) if running_module(p) == "harness.sut.ros2.serve")
+    for pid in (node, adapter):
+        env = dict(v.split("=", 1) for v in Path(f"/proc/{pid}/environ").read_bytes().decode().split("\0") if "=" in v)
+        assert (env["ROS_AUTOMATIC_DISCOVERY_RANGE"], env["ROS_DOMAIN_ID"]) == ("LOCALHOST", domain), (pid, sut)
+    with pytest.raises(BlockingIOError):  # the launcher's flock holds the domain id
+        with open(LOCK_DIR / f"{domain}.lock") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
 
 
 # The golden mission's set-up, then one long drive (about 37 s of mission time): a stop of the
@@ -242,5 +258,55 @@ def test_first_steps_on_kilted_with_taken_replies():
         children = descendants(run.process.pid)
         assert run.bye() == 0, "".join(run.stderr[-20:])
         assert wait_gone(children, timeout=15) == set()
+    finally:
+        run.kill()
+
+
+CANCELS = """
+[cancels]
+"rflex.Stop" = "rflex.TrackSpeedStart"
+"aspect.Stop" = "aspect.Reset"
+"sick.Stop" = "sick.ContinuousShot"
+
+[cancel_codes]
+ERROR_NONE = "ok"
+ERROR_REJECTED = "too_many_activities"
+ERROR_UNKNOWN_GOAL_ID = "bad_params"
+ERROR_GOAL_TERMINATED = "disallowed"
+"""
+
+
+@pytest.mark.parametrize("distro", ["jazzy", "kilted"])
+def test_a_cancel_ends_a_running_goal_and_one_after_success_is_refused(tmp_path, distro):
+    """With [cancels] in the mapping, a module's Stop is a cancel request of the latest goal of the
+    service it names: a running TrackSpeedStart is canceled (the cancel answers ERROR_NONE, the goal
+    ends CANCELED with the layer's `interrupted`); a cancel of a Reset that succeeded is refused
+    ERROR_GOAL_TERMINATED, one of a ContinuousShot never sent ERROR_UNKNOWN_GOAL_ID, each with the
+    mapping's reply code. On Kilted each cancel is `taken` first (the server's introspection)."""
+    if installed(ROOT, distro):
+        pytest.skip(installed(ROOT, distro))
+    mapping = tmp_path / "ros2.toml"
+    mapping.write_text(MAPPING.read_text().replace("[status_codes]", CANCELS + "\n[status_codes]"))
+    run = launcher(distro=distro, mapping=mapping)
+    try:
+        assert run.start(time_scale=1.0)["op"] == "hello", "".join(run.stderr[-20:])
+        for rqst_id, service in INITS.items():
+            run.send(request(rqst_id, service))
+        assert {run.final(rqst_id) for rqst_id in INITS} == {"ok"}
+        run.send(request(20, "rflex.SetMode", mode="velocity"))
+        assert run.final(20) == "ok"
+        run.send(request(1, "rflex.TrackSpeedStart"))
+        run.expect(lambda m: m["op"] == "reply" and m["id"] == 1 and m["kind"] == "intermediate")
+        run.send(request(2, "rflex.Stop"))
+        assert (run.final(2), run.final(1)) == ("ok", "interrupted")
+        run.send(request(3, "aspect.Reset"))
+        assert run.final(3) == "ok"
+        run.send(request(4, "aspect.Stop"))
+        run.send(request(5, "sick.Stop"))
+        refused = (run.final(4), run.final(5))
+        assert refused == ("disallowed", "bad_params"), refused
+        if "taken" in run.lines[0][1]["caps"]:
+            assert all(run.replies(n)[0]["kind"] == "taken" for n in (2, 4, 5)), [run.replies(n) for n in (2, 4, 5)]
+        assert run.bye() == 0, "".join(run.stderr[-20:])
     finally:
         run.kill()
