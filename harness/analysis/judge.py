@@ -13,15 +13,18 @@ from harness.analysis.oracles import oracle_statements
 from harness.store.sql import render_view
 from harness.trace import Trace
 
+_STAGED = "verdicts_staged"
+
 
 class Judge:
     def __init__(self, interface: Interface, properties: list[Property], epsilon: float = DEFAULT_EPSILON_S):
         self.con = store.connect(":memory:")
         store.add_reply_codes(self.con, interface)
         self.con.execute(render_view("properties", properties=properties))
-        self.sql = "\n".join(s + ";" for s in [render_view("verdicts", target="verdicts"),
-                                                *oracle_statements(properties, epsilon, interface, "events", "verdicts"),
-                                                render_view("shared_codes", target="verdicts")])
+        # every oracle's rows staged, then the verdicts table made from them, shared codes applied
+        self.sql = "\n".join(s + ";" for s in [render_view("verdicts", target=_STAGED),
+                                                *oracle_statements(properties, epsilon, interface, "events", _STAGED),
+                                                render_view("verdicts", target="verdicts", source=_STAGED)])
         self.con.execute(render_view("verdicts", target="verdicts"))  # for the view, until verdicts() makes it
         self.con.execute(render_view("trace_findings"))
 
