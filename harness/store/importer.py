@@ -29,6 +29,7 @@ from harness.schema import cut
 from harness.target.interface import Interface, load_interface
 from harness.store.appends import append, transaction
 from harness.store.database import add_campaign, add_reply_codes, connect, next_id, place
+from harness.store.record import ImportRecord
 from harness.textable import counted
 from harness.trace import OUTCOMES
 
@@ -242,8 +243,8 @@ def load(con, path: Path, interface: Interface, sut_clock: bool = False) -> tupl
     with transaction(con):
         _refuse_a_second_import(con, path, digest)
         campaign_id = next_id(con, "campaigns", "campaign_id")
-        add_campaign(con, campaign_id, str(path), 0, {"kind": "import", "imported": str(path),
-                                                      "interface": interface.path, "sha256": digest})
+        add_campaign(con, campaign_id, str(path), 0, ImportRecord(imported=str(path), interface=interface.path,
+                                                                  sha256=digest))
         add_reply_codes(con, interface)
         first = next_id(con, "traces", "trace_id")
         con.execute("""create temporary table imported_ids as
