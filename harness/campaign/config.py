@@ -94,7 +94,7 @@ def _code_change(campaign_id: int, stored: CampaignRecord, wanted: CampaignRecor
     if stored.code_identity is None or stored.code_identity == wanted.code_identity:
         return
     shown = lambda c: f"version {c.get('version')}, code {c.get('code')}"  # noqa: E731
-    change = (f"{db} holds campaign {campaign_id}, made by this bench at {shown(stored.code_identity)}; "
+    change = (f"{db} holds campaign {campaign_id}, made by the bench at {shown(stored.code_identity)}; "
               f"this bench is at {shown(wanted.code_identity)}")
     if not allowed:
         raise StoreError(f"{change}: its traces would mix runs of two codes. Run the code that made it to "

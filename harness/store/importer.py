@@ -29,7 +29,7 @@ from harness.schema import cut
 from harness.target.interface import Interface, load_interface
 from harness.store.appends import append, transaction
 from harness.store.database import add_campaign, add_reply_codes, connect, next_id, place
-from harness.store.record import ImportRecord
+from harness.store.record import ImportRecord, records
 from harness.textable import counted
 from harness.trace import OUTCOMES
 
@@ -216,9 +216,10 @@ def _refuse(path: Path, unit: str, found: list[tuple[int, str]], interface: Inte
 
 
 def _refuse_a_second_import(con, path: Path, digest: str) -> None:
+    same = [i for i, _, r in records(con, ImportRecord) if r.sha256 == digest]
     earlier = con.execute("""select c.campaign_id, c.created_at, min(t.trace_id), max(t.trace_id)
                              from campaigns c join traces t using (campaign_id)
-                             where c.config->>'sha256' = ? group by all order by 1 limit 1""", [digest]).fetchone()
+                             where c.campaign_id = ? group by all""", [same[0]]).fetchone() if same else None
     if earlier:
         campaign_id, created, first, last = earlier
         raise InputFileError(path, "", f"these events were already imported on {created:%Y-%m-%d %H:%M} as "
