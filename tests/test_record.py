@@ -36,6 +36,12 @@ def test_an_older_campaign_reads_with_its_defaults_and_is_written_back_as_it_was
     assert stored_json(record) == SCHEMA0  # no default is written into a record that lacked it
 
 
+def test_a_mission_file_the_target_lacks_is_recorded_as_none():
+    text = SCHEMA0.replace('{"golden.mission": "9192"}', '{"golden.mission": "9192", "world.toml": null}')
+    assert record_of(text).files == {"golden.mission": "9192", "world.toml": None}
+    assert stored_json(record_of(text)) == text
+
+
 @pytest.mark.parametrize("text", WRITTEN)
 def test_every_kind_reads_as_its_own_model_and_writes_back_unchanged(text):
     record = record_of(text)

@@ -54,7 +54,7 @@ class CampaignRecord(_Record):
     value_mutations: bool = False
     max_delay: float = DEFAULT_MAX_DELAY_S
     jobs: int = 0
-    files: dict[str, str] = {}  # mission file name -> SHA-256
+    files: dict[str, str | None] = {}  # mission file name -> SHA-256 (None: the mission has no such file)
     shard: list[int] | None = None  # [I, N] of --shard I/N
     budget_s: float | None = None
     code_identity: dict[str, str] | None = None  # the bench's version and code hash; None: stored before it was
