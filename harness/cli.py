@@ -11,9 +11,9 @@ import traceback
 from pathlib import Path
 
 from harness import DEFAULT_DB, DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR, __version__
-from harness.adapters.ros.recorder import ROSBAG_ENV
+from harness.sut.ros.recorder import ROSBAG_ENV
 from harness.errors import UntimelyError
-from harness.run import processes
+from harness.sut import processes
 from harness.mutator.operators import OPERATORS, REQUEST_OPERATORS
 from harness.store.database import discard_if_empty
 
@@ -144,7 +144,7 @@ def _parser() -> argparse.ArgumentParser:
                                         "shards' last analysis, else the campaign mission's)")
 
     c = command("init", "write a target folder that runs: interface, properties, golden mission, "
-                "suts.toml and a standard-library adapter", "harness.adapters.ros2.init:main")
+                "suts.toml and a standard-library adapter", "harness.sut.ros2.init:main")
     c.add_argument("dir", help="the folder to write (created; existing files are never overwritten)")
     c.add_argument("--from-genom", metavar="FILE.gen", help="derive the interface and properties from a "
                    "GenoM3 component description")
@@ -199,7 +199,7 @@ def _parser() -> argparse.ArgumentParser:
     db(c)
 
     c = command("import", "load foreign traces (CSV, JSON lines, Parquet, ROS bags) into the store",
-                "harness.store.importer:main")
+                "harness.campaign.importing:main")
     c.add_argument("file", help="a .csv, .jsonl or .parquet file with the events columns, or a ROS 1 .bag, a "
                                 "rosbag2 folder (or its .mcap/.db3), or a folder of bags (docs/ros.md)")
     c.add_argument("--interface", required=True, help="interface description giving the reply classes")

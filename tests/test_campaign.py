@@ -21,7 +21,7 @@ from harness import DEFAULT_MISSION_DIR, ROOT, cli, store
 from harness.campaign import campaign
 from harness.run import workers
 from harness.errors import InputFileError, StoreError, UntimelyError
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.progress import Progress
 
 HERE = Path(__file__).resolve().parent

@@ -15,7 +15,7 @@ from harness.mutator.ddmin import ddmin
 from harness.target.script import parse
 from harness.campaign.representatives import representatives
 from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, shorter_sleeps, store_shrink
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.store.sql import render_query
 from harness.target.interface import load_interface, load_properties
 

@@ -29,10 +29,10 @@ from harness.campaign import budgeted, representatives, sharding, shrink
 from harness.campaign.config import campaign_config, find_campaign
 from harness.campaign.slots import campaign_slots
 from harness.errors import StoreError
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.files import read_text
 from harness.target.interface import Interface
-from harness.target.mission import load_mission
+from harness.target.mission import GOLDEN_FILE, PROPERTIES_FILE, load_mission
 from harness.mutator import strategies
 from harness.mutator.operators import Mutant
 from harness.store.reads import observed_events
@@ -40,8 +40,8 @@ from harness.store.record import CampaignRecord
 from harness.store.sql import render_query
 from harness.progress import Progress
 from harness.analysis.provenance import last_epsilon
-from harness.run.external.definitions import ExternalSut
-from harness.run.external.kept import kept_adapters
+from harness.sut.definitions import ExternalSut
+from harness.sut.external.kept import kept_adapters
 from harness.trace import Trace
 from harness.run.workers import Pool, Setup, Task, script_label
 
@@ -200,7 +200,7 @@ def _judged(con, db, properties, interface, mission, show: bool = True) -> None:
     """Verdicts for every stored trace (new traces, or a session stopped while judging)."""
     if not analyzer.judges_every_trace(con):
         epsilon = last_epsilon(con)  # a resumed campaign keeps the epsilon its verdicts were made with
-        analyzer.materialise(con, properties, epsilon, interface, mission / "properties.toml")
+        analyzer.materialise(con, properties, epsilon, interface, mission / PROPERTIES_FILE)
         if show:
             print(f"verdicts  materialised for every trace of {db} (epsilon {epsilon:g} s)\n")
             for failure in analyzer.failed_oracles(con):
@@ -214,7 +214,7 @@ def _focused(args, con, campaign_id, config, mission, interface, golden, propert
     if campaign_id is None:
         golden_id = store.next_id(con, "scripts", "script_id")
         session = Session(Progress(len(config.sut)), start)
-        campaign_id = _create(con, config, golden_id, read_text(mission / "golden.mission"), [], interface,
+        campaign_id = _create(con, config, golden_id, read_text(mission / GOLDEN_FILE), [], interface,
                               run_tasks, session)
         session.progress.close()
     golden_id = con.execute("select min(script_id) from scripts where campaign_id = ?", [campaign_id]).fetchone()[0]
@@ -242,7 +242,7 @@ def _focused(args, con, campaign_id, config, mission, interface, golden, propert
 
 
 def main(args, runner=None) -> int:
-    """`runner` replaces harness.run.executive.run_script (tests inject failing ones)."""
+    """`runner` replaces harness.sut.executive.run_script (tests inject failing ones)."""
     config = campaign_config(args)
     target = load_mission(args.mission)
     mission, interface = target.folder, target.interface
@@ -285,7 +285,7 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
                             golden_id)
         runs = variants * (1 + sum(m.valid for m in mutants))
         session = Session(Progress(sharding.share(runs, config.shard)), start)
-        campaign_id = _create(con, config, golden_id, read_text(mission / "golden.mission"), mutants,
+        campaign_id = _create(con, config, golden_id, read_text(mission / GOLDEN_FILE), mutants,
                               interface, run_tasks, session)
         pending = pending_tasks(con, campaign_id, config)
     else:

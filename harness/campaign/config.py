@@ -11,8 +11,8 @@ from harness.mutator import strategies
 from harness.mutator.focused import least_s
 from harness.mutator.operators import chosen as chosen_operators
 from harness.run import cluster
-from harness.run.external.definitions import resolve
 from harness.store.record import CampaignRecord, records
+from harness.sut.definitions import resolve
 from harness.target.mission import load_mission
 
 # Arguments that decide what is run; --jobs, --cluster and --db do not.

@@ -11,8 +11,8 @@ from typing import Iterator
 from harness import store
 from harness.campaign.shrink import Behaviour, Shrunk, original, shrunk, stored
 from harness.errors import UntimelyError
-from harness.run.executive import run_script
-from harness.run.external.definitions import ExternalSut
+from harness.sut.executive import run_script
+from harness.sut.definitions import ExternalSut
 from harness.store.record import ShrinkRecord, records
 from harness.target.interface import Property
 

@@ -29,7 +29,7 @@ import random
 from dataclasses import dataclass
 from itertools import zip_longest
 
-from harness.run.executive import DRAIN_S, REACTION_S
+from harness.sut.executive import DRAIN_S, REACTION_S
 from harness.target.interface import Interface, Property
 from harness.mutator.operators import Mutant, plausible, random_request, step_text, validated
 from harness.mutator.targeted import Falsifier, disturbers, falsifiers

@@ -65,7 +65,7 @@ def suts_text(target: Ros2Target, distros: list[str], cwd: Path) -> str:
              "# starts the command below in the distro's environment, as sourcing its setup.bash would (its",
              "# python3 first on PATH), in a ROS 2 domain of its own confined to this machine."]
     for distro in distros:
-        command = f"{{python}} -m harness.adapters.ros2 --distro {distro} --mapping {{mission}}/ros2.toml -- {node}"
+        command = f"{{python}} -m harness.sut.ros2 --distro {distro} --mapping {{mission}}/ros2.toml -- {node}"
         lines += ["", f"[{_sut_name(target)}-{distro}]", f"command = {value(command)}",
                   "slots = 2", "time_scale = 1.0", "startup_s = 90.0", "probe_timeout_s = 5.0"]
     return "\n".join(lines) + "\n"
