@@ -144,7 +144,7 @@ def _parser() -> argparse.ArgumentParser:
                                         "shards' last analysis, else the campaign mission's)")
 
     c = command("init", "write a target folder that runs: interface, properties, golden mission, "
-                "suts.toml and a standard-library adapter", "harness.sut.ros2.init:main")
+                "suts.toml and a standard-library adapter", "harness.campaign.from_bag:init_main")
     c.add_argument("dir", help="the folder to write (created; existing files are never overwritten)")
     c.add_argument("--from-genom", metavar="FILE.gen", help="derive the interface and properties from a "
                    "GenoM3 component description")
@@ -152,6 +152,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="with --from-genom: a folder #include searches, after the .gen file's own (repeatable)")
     c.add_argument("--from-ros2", metavar="COMMAND", help="derive the whole target (interface, ROS 2 mapping, SUTs "
                    "per installed distro, golden mission, properties) from the ROS 2 graph COMMAND brings up")
+    c.add_argument("--from-bag", metavar="BAG", help="with --from-ros2: the golden mission is the session recorded in "
+                   "this rosbag2 bag (MCAP or SQLite3, with service and action introspection)")
 
     c = command("shrink", "reduce a bad trace's script to the smallest one showing the same bad behaviour",
                 "harness.campaign.shrink:main")

@@ -15,6 +15,8 @@ import re
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 SEPARATOR = re.compile(r"^---\s*$", re.MULTILINE)
+# the types rosidl derives from a service or action (the rest of a .srv's field types are messages)
+DERIVED = re.compile(r"_(Request|Response|Event|Goal|Result|Feedback|FeedbackMessage|SendGoal\w*|GetResult\w*)$")
 
 
 def typestore():
@@ -22,13 +24,19 @@ def typestore():
 
 
 def _parsed(text: str, name: str) -> dict:
-    """get_types_from_msg, with srv/action names kept (it files them under .../msg/)."""
+    """get_types_from_msg, with srv/action names kept (it files them under .../msg/), and a field's
+    bare message type in a .srv or .action (lifecycle_msgs' `Transition transition`) resolved as
+    rosidl does, to the package's msg/ folder (get_types_from_msg puts it beside the service)."""
     fix = lambda n: n.replace("/srv/msg/", "/srv/").replace("/action/msg/", "/action/")  # noqa: E731
+
+    def fix_type(n: str) -> str:
+        match = re.fullmatch(r"(\w+)/(?:srv|action)/(?:msg/)?(\w+)", n)
+        return f"{match[1]}/msg/{match[2]}" if match and not DERIVED.search(match[2]) else fix(n)
 
     def fix_field(node):
         kind, rest = node
         if isinstance(rest, str):
-            return kind, fix(rest)
+            return kind, fix_type(rest)
         if isinstance(rest, tuple) and rest and isinstance(rest[0], tuple):
             return kind, (fix_field(rest[0]), *rest[1:])
         return node

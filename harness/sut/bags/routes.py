@@ -42,6 +42,8 @@ class Routes:
             except ValueError:
                 args = None
             return service, args if isinstance(args, dict) else None
+        if len(carried) > 1:  # services sharing one ROS service (lifecycle transitions) differ by their defaults
+            qualified, route = _by_defaults(carried, goal, self.mapping.path)
         args = {argument: _field(goal, path, qualified, self.mapping.path) for argument, path in route.fields.items()}
         known = self.interface.services[qualified].args
         return qualified, {k: float(v) if k in known and known[k].type == "float" else v for k, v in args.items()}
@@ -70,3 +72,16 @@ def _field(goal, path: str, qualified: str, mapping: str):
         kind = getattr(goal, "__msgtype__", type(goal).__name__)
         raise UntimelyError(f"{mapping}: [services] {qualified} reads the field {path!r} of its goal, which the "
                             f"bag's {kind} lacks (its fields: {fields or 'none'}); name a field it has") from None
+
+
+def _by_defaults(carried: list[tuple[str, Route]], request, mapping: str) -> tuple[str, Route]:
+    """The one of several services mapped to one ROS service whose `defaults` the request carries."""
+    for qualified, route in carried:
+        if route.defaults and all(_field(request, path, qualified, mapping) == value
+                                  for path, value in route.defaults.items()):
+            return qualified, route
+    if not any(route.defaults for _, route in carried):
+        return carried[0]
+    raise UntimelyError(f"{mapping}: a request of {carried[0][1].name} carries the defaults of none of "
+                        f"{', '.join(q for q, _ in carried)} ({request!r:.200}); give each of them defaults "
+                        "that tell its requests apart")

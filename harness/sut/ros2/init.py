@@ -2,7 +2,8 @@
 COMMAND runs in a ROS 2 domain of its own, confined to this machine (environment.py), on the first
 installed distro; graph.py reads the graph under that distro's rclpy once it has settled;
 COMMAND is stopped, and harness.target.ros2_graph derives the target that ros2_texts writes.
-Without --from-ros2, `init` is harness.target.scaffold's.
+Without --from-ros2, `init` is harness.target.scaffold's. With --from-bag, the golden mission is a
+recorded session's (harness/campaign/from_bag.py, which reads the bag and calls main here).
 """
 from __future__ import annotations
 
@@ -13,13 +14,14 @@ import subprocess
 import tempfile
 import time
 from pathlib import Path
+from typing import Callable
 
 from harness import ROOT
 from harness.sut.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment, installed
 from harness.errors import UntimelyError
 from harness.target import scaffold
 from harness.target.mission import SUTS_FILE
-from harness.target.ros2_graph import derive
+from harness.target.ros2_graph import Ros2Target, derive
 from harness.target.ros2_texts import WRITTEN, write
 
 SETTLE_S = 2.0  # the graph must stay unchanged this long: nodes create their servers after they appear
@@ -67,7 +69,8 @@ def _stop(process: subprocess.Popen, group: bool = True) -> None:
             continue
 
 
-def main(args) -> int:
+def main(args, recorded: Callable[[Path, Ros2Target], str] | None = None) -> int:
+    """`recorded(draft, target)`: the golden mission's text, given the target written to the folder `draft`."""
     if not getattr(args, "from_ros2", None):
         return scaffold.main(args)
     if args.from_genom:
@@ -77,7 +80,12 @@ def main(args) -> int:
         raise UntimelyError(f"--from-ros2 needs ROS 2: {installed(ROOT, DEFAULT_DISTRO)}")
     folder, cwd = Path(args.dir), Path.cwd()
     target = derive(args.from_ros2, read_graph(args.from_ros2, distros[0], cwd))
-    write(folder, target, distros, cwd)
+    golden = None
+    if recorded is not None:
+        with tempfile.TemporaryDirectory(prefix="untimely-init-") as draft:
+            write(Path(draft) / "target", target, distros, cwd)
+            golden = recorded(Path(draft) / "target", target)
+    write(folder, target, distros, cwd, golden)
     print(f"wrote the target {folder}/ from the ROS 2 graph of {args.from_ros2!r} (read on {distros[0]}): "
           f"{', '.join(WRITTEN)}")
     print(f"  {len(target.services)} services in {len(target.nodes)} node(s), {len(target.properties)} properties; "
