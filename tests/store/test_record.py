@@ -12,8 +12,9 @@ from harness.errors import StoreError
 from harness.run import cluster
 from harness.store.record import (CampaignRecord, ImportRecord, RunRecord, ShrinkRecord, record_of, records,
                                   stored_json)
+from tests.support.paths import ROOT
 
-HARNESS = Path(__file__).resolve().parent.parent / "harness"
+HARNESS = ROOT / "harness"
 # A campaign's record as main at 58d696f stored it (tests/stores/schema0-main-58d696f.duckdb.gz),
 # before --strategy, --shard, --operators, --budget, --value-mutations, external SUTs, code identities.
 SCHEMA0 = ('{"files": {"golden.mission": "9192"}, "jobs": 1, "kind": "campaign", "max_delay": 0.003, '
