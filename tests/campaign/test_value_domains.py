@@ -147,10 +147,11 @@ def test_focused_tests_send_the_manipulators_fast_moves_while_the_arm_is_deploye
     """SLOW(base.Move)'s focused aims: moves legal at rest, each in the start phase of a fresh
     arm.Deploy and while it runs, then the golden's arm.Stop; outside 0.3 m/s they falsify C,
     inside they are disturbances. Without --value-mutations the plan has no value aim."""
-    target = load_mission(DEFAULT_MISSION_DIR.parent / "manipulator")
+    folder = DEFAULT_MISSION_DIR.parent / "manipulator"
+    target = load_mission(folder)
     golden, interface, properties = target.golden(), target.interface, target.properties()
     trace = run_script(golden, "safe", 1, interface, target.world_file)
-    plans = {flag: strategies.plan(CampaignRecord(mission=str(target.folder), mutants=0, sut=["safe"], seed=7,
+    plans = {flag: strategies.plan(CampaignRecord(mission=str(folder), mutants=0, sut=["safe"], seed=7,
                                                   ops_per_mutant=1, strategy="focused", value_mutations=flag),
                                    golden, interface, properties, trace)
              for flag in (False, True)}
