@@ -36,6 +36,7 @@ from harness.target.mission import GOLDEN_FILE, PROPERTIES_FILE, load_mission
 from harness.mutator import strategies
 from harness.mutator.operators import Mutant
 from harness.store.reads import observed_events
+from harness.store.record import CampaignRecord
 from harness.store.sql import render_query
 from harness.progress import Progress
 from harness.analysis.provenance import last_epsilon
@@ -58,11 +59,11 @@ def run_seed(campaign_seed: int, script_number: int, sut: str) -> int:
     return int.from_bytes(digest[:8], "big") >> 1  # fits a signed BIGINT
 
 
-def _tasks(scripts: list[tuple[int, str]], golden_id: int, config: dict) -> list[Task]:
-    n = len(config["sut"])
+def _tasks(scripts: list[tuple[int, str]], golden_id: int, config: CampaignRecord) -> list[Task]:
+    n = len(config.sut)
     return [Task(sharding.trace_id(script_id, v, n), script_id, sut,
-                 run_seed(config["seed"], script_id - golden_id, sut), body)
-            for script_id, body in scripts for v, sut in enumerate(config["sut"])]
+                 run_seed(config.seed, script_id - golden_id, sut), body)
+            for script_id, body in scripts for v, sut in enumerate(config.sut)]
 
 
 @dataclass
@@ -79,19 +80,19 @@ class Session:
         self.progress.advance()
 
 
-def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[Mutant],
+def _create(con, config: CampaignRecord, golden_id: int, golden_text: str, mutants: list[Mutant],
             interface: Interface, run_tasks, session: Session) -> int:
     golden_runs = []
 
     def keep(task, trace):
         golden_runs.append((task, trace))
         session.count(trace)
-    run_tasks(sharding.part(_tasks([(golden_id, golden_text)], golden_id, config), config["shard"]), keep)
+    run_tasks(sharding.part(_tasks([(golden_id, golden_text)], golden_id, config), config.shard), keep)
     with store.transaction(con):
         campaign_id = store.next_id(con, "campaigns", "campaign_id")
-        store.add_campaign(con, campaign_id, config["mission"], config["seed"], config)
+        store.add_campaign(con, campaign_id, config.mission, config.seed, config)
         store.add_reply_codes(con, interface)
-        store.place(con, "variant_positions", "sut", config["sut"])
+        store.place(con, "variant_positions", "sut", config.sut)
         store.add_scripts(con, [store.ScriptRow(golden_id, campaign_id, "golden", golden_text)] + [
             store.ScriptRow(golden_id + n, campaign_id, "mutant", m.body, golden_id, m.operations, m.valid,
                             m.invalid_reason) for n, m in enumerate(mutants, 1)])
@@ -100,10 +101,10 @@ def _create(con, config: dict, golden_id: int, golden_text: str, mutants: list[M
     return campaign_id
 
 
-def _generate(config: dict, golden, interface: Interface, properties, run_golden,
+def _generate(config: CampaignRecord, golden, interface: Interface, properties, run_golden,
               golden_id: int) -> list[Mutant]:
     """The campaign's mutants (harness.mutator.strategies); a long random generation shows its progress."""
-    progress = Progress(config["mutants"], unit="mutants") if config["mutants"] >= SHOW_GENERATION else None
+    progress = Progress(config.mutants, unit="mutants") if config.mutants >= SHOW_GENERATION else None
     mutants = []
     for mutant in strategies.mutants(config, golden, interface, properties, run_golden,
                                      name=lambda n: script_label(golden_id + n)):
@@ -115,7 +116,7 @@ def _generate(config: dict, golden, interface: Interface, properties, run_golden
     return mutants
 
 
-def pending_tasks(con, campaign_id: int, config: dict) -> list[Task]:
+def pending_tasks(con, campaign_id: int, config: CampaignRecord) -> list[Task]:
     scripts = con.execute("select script_id, body from scripts where campaign_id = ? and valid "
                           "order by script_id", [campaign_id]).fetchall()
     golden_id = scripts[0][0]
@@ -127,7 +128,7 @@ def pending_tasks(con, campaign_id: int, config: dict) -> list[Task]:
             raise StoreError(f"trace id {task.trace_id}, which campaign {campaign_id} needs for script "
                              f"{task.script_id} on {task.sut}, is taken by campaign {owners[task.trace_id]}; "
                              "add ad-hoc runs to another --db while a campaign is unfinished")
-    return [t for t in sharding.part(tasks, config["shard"]) if t.trace_id not in owners]
+    return [t for t in sharding.part(tasks, config.shard) if t.trace_id not in owners]
 
 
 class Batches:
@@ -215,18 +216,18 @@ def _focused(args, con, campaign_id, config, mission, interface, golden, propert
     """A focused campaign: the golden on every variant, then tests until it stops (harness.campaign.budgeted)."""
     if campaign_id is None:
         golden_id = store.next_id(con, "scripts", "script_id")
-        session = Session(Progress(len(config["sut"])), start)
+        session = Session(Progress(len(config.sut)), start)
         campaign_id = _create(con, config, golden_id, read_text(mission / GOLDEN_FILE), [], interface,
                               run_tasks, session)
         session.progress.close()
     golden_id = con.execute("select min(script_id) from scripts where campaign_id = ?", [campaign_id]).fetchone()[0]
-    golden_trace = Trace(config["sut"][0], 0, events=observed_events(con, _tasks([(golden_id, "")], golden_id,
+    golden_trace = Trace(config.sut[0], 0, events=observed_events(con, _tasks([(golden_id, "")], golden_id,
                                                                                     config)[0].trace_id))
     plan = strategies.plan(config, golden, interface, properties, golden_trace)
     _judged(con, args.db, properties, interface, mission, show=False)  # what the stored traces found
-    session = Session(Progress(len(config["sut"]) * len(plan.aims), unit="runs"), start)
+    session = Session(Progress(len(config.sut) * len(plan.aims), unit="runs"), start)
     out = shrink.default_out(args.db) if args.shrink else None
-    with Batches(con, campaign_id, session, set(config["external"])) as batches, \
+    with Batches(con, campaign_id, session, set(config.external)) as batches, \
             campaign_slots(config, setup, interface, jobs, args.cluster) as slots:
         focused_run = budgeted.FocusedRun(con, campaign_id, config, plan, golden_id,
                                           lambda script_id, body: _tasks([(script_id, body)], golden_id, config),
@@ -249,7 +250,7 @@ def main(args, runner=None) -> int:
     target = load_mission(args.mission)
     mission, interface = target.folder, target.interface
     golden, properties = target.golden(), target.properties()
-    external = {name: ExternalSut(**spec) for name, spec in config["external"].items()}
+    external = {name: ExternalSut(**spec) for name, spec in config.external.items()}
     setup = Setup(runner or run_script, target.interface_file, target.world_file, args.max_delay,
                   external, REALTIME_WALL_LIMIT_S if external else RUN_WALL_LIMIT_S)
     # A real-time run mostly waits: its slots may outnumber the cores.
@@ -258,14 +259,14 @@ def main(args, runner=None) -> int:
         return _run(args, config, mission, interface, golden, properties, setup, jobs, run_tasks)
 
 
-def _warn_of_a_default_target(con, campaign_id: int, mission: Path, config: dict) -> None:
+def _warn_of_a_default_target(con, campaign_id: int, mission: Path, config: CampaignRecord) -> None:
     """An external SUT every run of which crashed on the default target (Dala) was likely made for
     another one: say so, with its first error, rather than let Dala's properties judge it."""
     if mission.resolve() != DEFAULT_MISSION_DIR.resolve():
         return
     for sut, error in con.execute("""select sut, arg_min(error, trace_id) from traces where campaign_id = ?
                                      group by sut having bool_and(outcome = 'crashed')""", [campaign_id]).fetchall():
-        if sut in config["external"]:
+        if sut in config.external:
             print(f"every run of {sut} crashed on the default target {DEFAULT_MISSION_DIR} (first: "
                   f"{cut(error or 'no reason given')}); if {sut} is made for another target, pass --mission "
                   "FOLDER with its interface.toml and golden.mission", file=sys.stderr)
@@ -273,10 +274,10 @@ def _warn_of_a_default_target(con, campaign_id: int, mission: Path, config: dict
 
 def _run(args, config, mission, interface, golden, properties, setup, jobs, run_tasks) -> int:
     con = store.connect(args.db)
-    campaign_id = find_campaign(con, config, args.db)
-    variants = len(config["sut"])
+    campaign_id = find_campaign(con, config, args.db, getattr(args, "allow_code_change", False))
+    variants = len(config.sut)
     start = time.monotonic()
-    if config["strategy"] == "focused":
+    if config.strategy == "focused":
         _focused(args, con, campaign_id, config, mission, interface, golden, properties, run_tasks, start,
                  setup, jobs)
         return 0
@@ -286,14 +287,14 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
         mutants = _generate(config, golden, interface, properties, lambda: setup.run(golden_run, interface, 0),
                             golden_id)
         runs = variants * (1 + sum(m.valid for m in mutants))
-        session = Session(Progress(sharding.share(runs, config["shard"])), start)
+        session = Session(Progress(sharding.share(runs, config.shard)), start)
         campaign_id = _create(con, config, golden_id, read_text(mission / GOLDEN_FILE), mutants,
                               interface, run_tasks, session)
         pending = pending_tasks(con, campaign_id, config)
     else:
         pending = pending_tasks(con, campaign_id, config)
         total = sharding.share(variants * con.execute("select count(*) from scripts where campaign_id = ? and valid",
-                                                      [campaign_id]).fetchone()[0], config["shard"])
+                                                      [campaign_id]).fetchone()[0], config.shard)
         session = Session(Progress(total, total - len(pending)), start)
         if pending:
             print(f"resuming campaign {campaign_id} in {args.db}: {total - len(pending)} of {total} runs "
@@ -301,7 +302,7 @@ def _run(args, config, mission, interface, golden, properties, setup, jobs, run_
         else:
             print(f"campaign {campaign_id} in {args.db} is complete ({total} runs stored); nothing to run")
     if pending:
-        with Batches(con, campaign_id, session, set(config["external"])) as batches:
+        with Batches(con, campaign_id, session, set(config.external)) as batches:
             run_tasks(pending, batches.add)
     if session.runs:
         session.progress.close()

@@ -2,7 +2,6 @@
 campaign (view bad_behaviours), in worker processes, each failure recorded without stopping the others."""
 from __future__ import annotations
 
-import json
 import multiprocessing
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
@@ -14,6 +13,7 @@ from harness.campaign.shrink import Behaviour, Shrunk, original, shrunk, stored
 from harness.errors import UntimelyError
 from harness.sut.executive import run_script
 from harness.sut.definitions import ExternalSut
+from harness.store.record import ShrinkRecord, records
 from harness.target.interface import Property
 
 
@@ -23,8 +23,7 @@ def representatives(con, properties: list[Property], out: Path, external: dict[s
     (view bad_behaviours) not shrunk yet, `jobs` at a time in worker processes; this process
     stores them in the view's order, one line per behaviour. External SUTs run as the campaign's
     arguments define them (`external`), not as the store records them."""
-    done = {(r["sut"], r["verdict"], r["property"]) for (text,) in con.execute(
-        "select mutations from scripts where kind = 'shrunk'").fetchall() for r in json.loads(text)}
+    done = {(s.sut, s.verdict, s.property) for _, _, s in records(con, ShrinkRecord) if s.steps_after is not None}
     mine = {name: sut.config() for name, sut in external.items()}
     todo = [(Behaviour(sut, verdict, property_id), replace(original(con, trace_id), external=mine))
             for sut, property_id, verdict, trace_id in con.execute(

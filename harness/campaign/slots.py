@@ -22,6 +22,7 @@ from typing import Callable, Iterator
 
 from harness.errors import UntimelyError
 from harness.run.workers import Setup, Task
+from harness.store.record import CampaignRecord
 from harness.trace import Trace
 
 
@@ -90,10 +91,10 @@ class Slots:
 
 
 @contextmanager
-def campaign_slots(config: dict, setup: Setup, interface, jobs: int, cluster: str | None) -> Iterator[Slots | None]:
+def campaign_slots(config: CampaignRecord, setup: Setup, interface, jobs: int, cluster: str | None) -> Iterator[Slots | None]:
     """Slots for a focused campaign whose variants are all external and run here (not on a
     cluster); None otherwise."""
-    if cluster or not set(config["sut"]) <= set(config["external"]):
+    if cluster or not set(config.sut) <= set(config.external):
         yield None
         return
     slots = Slots(setup, interface, jobs)

@@ -22,6 +22,7 @@ from harness.analysis.judge import Judge
 from harness.mutator import focused, operators, targeted
 from harness.mutator.operators import Mutant
 from harness.mutator.timeline import Timeline
+from harness.store.record import CampaignRecord
 from harness.target.script import Script
 from harness.trace import Trace
 
@@ -45,38 +46,38 @@ def operations(strategy: str, given: int | None, time_mutations: bool, named_ope
     return DEFAULT_OPERATIONS[strategy] if given is None else given
 
 
-def plan(config: dict, golden: Script, interface: Interface, properties: list[Property],
+def plan(config: CampaignRecord, golden: Script, interface: Interface, properties: list[Property],
          golden_trace: Trace) -> focused.Plan:
     """A focused campaign's tests, made as the campaign goes (harness.campaign.budgeted). Without
     --value-mutations its tests replay golden values: a value-domain property is no aim of theirs."""
     timeline = Timeline(golden, golden_trace, interface.replies)
-    return focused.Plan(golden, timeline, interface, _aimed(config, properties), config["seed"],
-                        str(Path(config["mission"]) / PROPERTIES_FILE))
+    return focused.Plan(golden, timeline, interface, _aimed(config, properties), config.seed,
+                        str(Path(config.mission) / PROPERTIES_FILE))
 
 
-def _aimed(config: dict, properties: list[Property]) -> list[Property]:
+def _aimed(config: CampaignRecord, properties: list[Property]) -> list[Property]:
     """The properties the targeted and focused strategies aim at: value-domain ones only when value
     mutations are asked for, so that a timing campaign's mutants stay as they were."""
-    if config.get("value_mutations", False):
+    if config.value_mutations:
         return properties
     return [p for p in properties if p.type not in targeted.VALUE_TYPES]
 
 
-def generate(config: dict, golden: Script, interface: Interface, properties: list[Property],
+def generate(config: CampaignRecord, golden: Script, interface: Interface, properties: list[Property],
              run_golden: Callable[[], Trace], name: Callable[[int], str]) -> list[Mutant]:
     """The campaign's mutants, all of them (mutants() gives them one at a time)."""
     return list(mutants(config, golden, interface, properties, run_golden, name))
 
 
-def mutants(config: dict, golden: Script, interface: Interface, properties: list[Property],
+def mutants(config: CampaignRecord, golden: Script, interface: Interface, properties: list[Property],
             run_golden: Callable[[], Trace], name: Callable[[int], str]) -> Iterator[Mutant]:
     """The campaign's mutants, as they are drawn (a campaign shows its progress); `run_golden` runs
     the golden on the campaign's first variant with that run's seed (targeted generation reads its
     timeline and verdicts)."""
-    named, timed = config.get("operators"), config.get("time_mutations", False)
-    draw = operators.Draw(config["mutants"], config["seed"], config["ops_per_mutant"], timed,
-                          tuple(named) if named else operators.chosen(None, timed, config.get("value_mutations", False)))
-    if config["strategy"] == "random":
+    named, timed = config.operators, config.time_mutations
+    draw = operators.Draw(config.mutants, config.seed, config.ops_per_mutant, timed,
+                          tuple(named) if named else operators.chosen(None, timed, config.value_mutations))
+    if config.strategy == "random":
         yield from operators.generate(golden, interface, draw, name)
         return
     properties = _aimed(config, properties)

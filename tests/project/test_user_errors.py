@@ -183,9 +183,10 @@ def test_a_long_mutant_generation_shows_its_progress(monkeypatch, capsys):
     from harness.campaign import campaign
     from harness.target.interface import load_interface
     from harness.target.script import load_script
+    from harness.store.record import CampaignRecord
     interface = load_interface(INTERFACE)
     golden = load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
-    config = {"mutants": 20, "seed": 1, "ops_per_mutant": 1, "time_mutations": False, "strategy": "random"}
+    config = CampaignRecord(mission=str(DEFAULT_MISSION_DIR), mutants=20, sut=["genom"], seed=1, ops_per_mutant=1)
     monkeypatch.setattr(campaign, "SHOW_GENERATION", 10)
     assert len(campaign._generate(config, golden, interface, [], None, 1)) == 20
     assert "20/20 mutants" in capsys.readouterr().err
