@@ -3,7 +3,6 @@
 Runs use the real executive against a small fake layer (every request ends `ok` after half a
 second), so a campaign of a few mutants takes a fraction of a second once its workers are up.
 """
-import argparse
 import io
 import json
 import os
@@ -12,6 +11,7 @@ import signal
 import subprocess
 import sys
 import time
+from dataclasses import asdict
 from functools import partial
 from pathlib import Path
 
@@ -19,6 +19,7 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT, cli, store
 from harness.campaign import campaign
+from harness.campaign.request import CampaignRequest
 from harness.run import workers
 from harness.errors import InputFileError, StoreError, UntimelyError
 from harness.run.executive import run_script
@@ -81,7 +82,7 @@ def arguments(mission, db, **changes):
                   time_mutations=False, value_mutations=False, operators=None, max_delay=0.003, time_scale=None,
                   cluster=None, db=str(db))
     values.update(changes)
-    return argparse.Namespace(**values)
+    return CampaignRequest(**values)
 
 
 def dump(db) -> dict:
@@ -153,8 +154,8 @@ def test_results_do_not_depend_on_jobs_and_a_finished_campaign_does_nothing(miss
 def kill_when_script4_starts(args, tmp_path, setup: str = "") -> None:
     """Run a campaign (stalling_runner) in a child process and SIGKILL it once script 4 has started."""
     marker = tmp_path / "script4-started"
-    program = (f"import argparse, test_campaign as t; from harness.campaign import campaign; {setup}"
-               f"campaign.main(argparse.Namespace(**{vars(args)!r}), runner=t.stalling_runner)")
+    program = (f"import test_campaign as t; from harness.campaign import campaign; {setup}"
+               f"campaign.main(t.CampaignRequest(**{asdict(args)!r}), runner=t.stalling_runner)")
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(HERE), str(ROOT)]), **{MARKER: str(marker)})
     child = subprocess.Popen([sys.executable, "-c", program], env=env, cwd=tmp_path, start_new_session=True,
                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)

@@ -9,6 +9,7 @@ from collections import Counter
 from pathlib import Path
 
 from harness import store
+from harness.campaign.request import RunRequest
 from harness.errors import UntimelyError
 from harness.run.executive import run_script
 from harness.files import existing_file
@@ -57,7 +58,7 @@ def summary(trace: Trace, replies: dict[str, str]) -> str:
     return "\n".join(lines)
 
 
-def main(args) -> int:
+def run(args: RunRequest) -> int:
     script_path = existing_file(args.mission, "file not found; run takes a mission script such as "
                                               "missions/dala/golden.mission")
     interface_path, world_file = mission_files(script_path, args.interface, args.world)

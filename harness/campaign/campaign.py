@@ -27,6 +27,7 @@ from harness.schema import cut
 from harness.analysis import analyzer
 from harness.campaign import budgeted, representatives, sharding, shrink
 from harness.campaign.config import campaign_config, find_campaign
+from harness.campaign.request import CampaignRequest
 from harness.campaign.slots import campaign_slots
 from harness.errors import StoreError
 from harness.run.executive import run_script
@@ -240,7 +241,7 @@ def _focused(args, con, campaign_id, config, mission, interface, golden, propert
     print("\nfindings (view findings):\n" + budgeted.findings_table(con))
 
 
-def main(args, runner=None) -> int:
+def main(args: CampaignRequest, runner=None) -> int:
     """`runner` replaces harness.run.executive.run_script (tests inject failing ones)."""
     config = campaign_config(args)
     target = load_mission(args.mission)

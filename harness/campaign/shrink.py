@@ -30,6 +30,7 @@ from harness.run.executive import run_script
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.analysis.judge import Judge
 from harness.analysis.provenance import campaign_target
+from harness.campaign.request import ShrinkRequest
 from harness.mutator.ddmin import ddmin
 from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
@@ -292,7 +293,7 @@ def default_out(db: str) -> Path:
     return Path(db).resolve().parent / "shrunk"
 
 
-def main(args) -> int:
+def main(args: ShrinkRequest) -> int:
     out = make_folder(Path(args.out) if args.out else default_out(args.db), "the shrunk scripts")  # before the work
     con = store.connect(args.db, create=False)
     orig = with_trusted_sut(original(con, args.trace_id, args.mission), args.sut, bool(args.mission),

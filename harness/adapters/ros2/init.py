@@ -2,7 +2,7 @@
 COMMAND runs in a ROS 2 domain of its own, confined to this machine (environment.py), on the first
 installed distro; graph.py reads the graph under that distro's rclpy once it has settled;
 COMMAND is stopped, and harness.target.ros2_graph derives the target that ros2_texts writes.
-Without --from-ros2, `init` is harness.target.scaffold's.
+Without --from-ros2, `init` is harness.target.scaffold's (harness/commands/init.py chooses).
 """
 from __future__ import annotations
 
@@ -17,7 +17,6 @@ from pathlib import Path
 from harness import ROOT
 from harness.adapters.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment, installed
 from harness.errors import UntimelyError
-from harness.target import scaffold
 from harness.target.ros2_graph import derive
 from harness.target.ros2_texts import WRITTEN, write
 
@@ -66,18 +65,15 @@ def _stop(process: subprocess.Popen, group: bool = True) -> None:
             continue
 
 
-def main(args) -> int:
-    if not getattr(args, "from_ros2", None):
-        return scaffold.main(args)
-    if args.from_genom:
-        raise UntimelyError("give --from-genom or --from-ros2, not both")
+def from_ros2(folder: Path, command: str) -> int:
+    """`init FOLDER --from-ros2 COMMAND`."""
     distros = [d for d in DISTROS if installed(ROOT, d) is None]
     if not distros:
         raise UntimelyError(f"--from-ros2 needs ROS 2: {installed(ROOT, DEFAULT_DISTRO)}")
-    folder, cwd = Path(args.dir), Path.cwd()
-    target = derive(args.from_ros2, read_graph(args.from_ros2, distros[0], cwd))
+    cwd = Path.cwd()
+    target = derive(command, read_graph(command, distros[0], cwd))
     write(folder, target, distros, cwd)
-    print(f"wrote the target {folder}/ from the ROS 2 graph of {args.from_ros2!r} (read on {distros[0]}): "
+    print(f"wrote the target {folder}/ from the ROS 2 graph of {command!r} (read on {distros[0]}): "
           f"{', '.join(WRITTEN)}")
     print(f"  {len(target.services)} services in {len(target.nodes)} node(s), {len(target.properties)} properties; "
           f"SUTs: {', '.join(d for d in distros)}")

@@ -1,0 +1,29 @@
+"""`untimely shrink TRACE`: a bad trace's script, reduced to the smallest showing the same bad behaviour."""
+from __future__ import annotations
+
+from harness.campaign import shrink
+from harness.campaign.request import ShrinkRequest
+from harness.commands import options
+
+NAME = "shrink"
+HELP = "reduce a bad trace's script to the smallest one showing the same bad behaviour"
+Request = ShrinkRequest
+
+
+def arguments(c) -> None:
+    c.add_argument("trace_id", type=int, help="a hung trace, or one with an FN or FP verdict")
+    c.add_argument("--property", help="shrink the FN (else FP) on this property id (default: the hang, "
+                                      "else the trace's first FN or FP)")
+    c.add_argument("--verdict", choices=("FN", "FP"), help="with --property: keep this verdict (default: FN, else FP)")
+    c.add_argument("--mission", help="mission folder (default: the trace's campaign's); its suts.toml "
+                                     "may define the trace's external SUT")
+    c.add_argument("--sut", help="the trace's SUT, named again: an external SUT's command is never "
+                                 f"read from the store{options.EXTERNAL_HELP}")
+    c.add_argument("--run-stored-command", action="store_true",
+                   help="run the external SUT's command recorded in the store (only for a store you trust)")
+    c.add_argument("--out", help="folder of the .mission file (default: shrunk/ beside the store)")
+    options.db(c)
+
+
+def execute(request: ShrinkRequest) -> int:
+    return shrink.main(request)
