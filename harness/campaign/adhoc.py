@@ -13,7 +13,8 @@ from harness.campaign.request import RunRequest
 from harness.errors import UntimelyError
 from harness.run.executive import run_script
 from harness.files import existing_file
-from harness.run.external.runner import run_external
+from harness.run.transport import transport
+from harness.run.workers import Setup
 from harness.target.interface import load_interface
 from harness.target.script import load_script
 from harness.run.external.definitions import resolve
@@ -74,11 +75,9 @@ def run(args: RunRequest) -> int:
     # run, and an external SUT is told the trace id it is making (its hello's `run`).
     con = store.connect(args.db)
     if sut in external:
-        trace_id = store.next_id(con, "traces", "trace_id")
-        trace = run_external(script, external[sut], args.seed, interface, run=trace_id)
         config["external"] = {sut: external[sut].config()}
-    else:
-        trace = run_script(script, sut, args.seed, interface, world_file, max_delay=args.max_delay)
+    setup = Setup(run_script, interface_path, world_file, args.max_delay, external)
+    trace = transport(sut, setup).run(script, args.seed, interface, 0, store.next_id(con, "traces", "trace_id"))
     with store.transaction(con):
         campaign_id = store.next_id(con, "campaigns", "campaign_id")
         store.add_campaign(con, campaign_id, str(script_path), args.seed, config)

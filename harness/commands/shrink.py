@@ -1,9 +1,16 @@
 """`untimely shrink TRACE`: a bad trace's script, reduced to the smallest showing the same bad behaviour."""
 from __future__ import annotations
 
+from pathlib import Path
+
+from harness import store
 from harness.campaign import shrink
 from harness.campaign.request import ShrinkRequest
 from harness.commands import options
+from harness.errors import UntimelyError
+from harness.files import make_folder
+from harness.run.external.kept import kept_adapters
+from harness.target.interface import load_properties
 
 NAME = "shrink"
 HELP = "reduce a bad trace's script to the smallest one showing the same bad behaviour"
@@ -26,4 +33,23 @@ def arguments(c) -> None:
 
 
 def execute(request: ShrinkRequest) -> int:
-    return shrink.main(request)
+    out = make_folder(Path(request.out) if request.out else shrink.default_out(request.db),
+                      "the shrunk scripts")  # before the work
+    con = store.connect(request.db, create=False)
+    orig = shrink.with_trusted_sut(shrink.original(con, request.trace_id, request.mission), request.sut,
+                                   bool(request.mission), request.run_stored_command)
+    properties = load_properties(orig.mission / "properties.toml", orig.interface)
+    if request.verdict and not request.property:
+        raise UntimelyError(f"--verdict {request.verdict} needs --property: the property whose verdict to keep")
+    behaviour = shrink.behaviour_of(orig, properties, request.property, request.verdict)
+    with kept_adapters():
+        try:
+            result = shrink.shrunk(orig, behaviour, properties)
+        except KeyboardInterrupt:  # Ctrl-C or a stop signal: the runs made are stored all the same
+            shrink.store_interrupted(con, orig, behaviour)
+            raise
+    line = shrink.stored(con, behaviour, result, out)  # its runs, even if it failed
+    if result.error:
+        raise UntimelyError(result.error)
+    print(line)
+    return 0
