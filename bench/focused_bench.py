@@ -25,7 +25,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR, ROOT, store
-from harness.adapters.ros2.environment import installed
+from harness.sut.ros2.environment import installed
 from harness.target.mission import load_mission
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))

@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR, ROOT, store
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.target.interface import load_interface, load_properties
 from harness.analysis.judge import Judge
 from harness.mutator import operators, targeted

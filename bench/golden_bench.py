@@ -17,7 +17,7 @@ import time
 from calibration import calibrate
 
 from harness import DEFAULT_MISSION_DIR
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.target.interface import load_interface
 from harness.target.script import load_script
 

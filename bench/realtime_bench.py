@@ -6,7 +6,7 @@ the cores; the speed-up of N slots over 1 is the figure (issue 8 aims at >= 0.8 
 import time
 
 from harness import DEFAULT_MISSION_DIR
-from harness.run.external.definitions import resolve
+from harness.sut.definitions import resolve
 from harness.run.workers import Setup, Task, run_all
 
 TIME_SCALE = 10.0

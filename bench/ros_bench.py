@@ -9,14 +9,14 @@ import threading
 import time
 
 from harness import DEFAULT_MISSION_DIR, ROOT
-from harness.run.external.channel import Connection
+from harness.sut.external.channel import Connection
 from harness.target.interface import load_interface
-from harness.run.external.protocol import PROTO, decode, encode
-from harness.run.external.definitions import ExternalSut, load_suts_file
+from harness.sut.protocol import PROTO, decode, encode
+from harness.sut.definitions import ExternalSut, load_suts_file
 
 ROUND_TRIPS = 150
 INTERFACE = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
-SIM = ExternalSut("sim-reference", command="{python} -m harness.adapters.sim --variant reference")
+SIM = ExternalSut("sim-reference", command="{python} -m harness.sut.simulated --variant reference")
 
 
 class Client:

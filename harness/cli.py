@@ -9,11 +9,11 @@ import traceback
 from pathlib import Path
 
 from harness import __version__
-from harness.adapters.ros.recorder import ROSBAG_ENV
+from harness.sut.ros.recorder import ROSBAG_ENV
 from harness.commands import COMMANDS
 from harness.commands.options import typed
 from harness.errors import UntimelyError
-from harness.run import processes
+from harness.sut import processes
 from harness.store.database import discard_if_empty
 
 

@@ -1,5 +1,5 @@
 """Two ends of a small ROS 2 exchange, run by the ROS 2 tests under a distro's venv python in the
-bench's environment (harness/adapters/ros2/environment.py):
+bench's environment (harness/sut/ros2/environment.py):
 
     python tests/ros2_peer.py serve NAME    # node NAME: service /ndd/set_params (untimely_msgs/srv/Call)
                                             # and action /dala/ndd (untimely_msgs/action/Request), as

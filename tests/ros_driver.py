@@ -20,7 +20,7 @@ from harness.target.interface import load_interface
 ROS_PYTHON = "/usr/bin/python3"
 VENV_PYTHON = ROOT / ".venv-ros" / "bin" / "python"
 MAPPING = DEFAULT_MISSION_DIR / "ros.toml"
-LAUNCHER, NODE = "harness.adapters.ros", "harness.adapters.ros.dala_node"
+LAUNCHER, NODE = "harness.sut.ros", "harness.sut.ros.dala_node"
 
 
 def requires(modules: str, packages: str, what: str):

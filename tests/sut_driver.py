@@ -5,8 +5,8 @@ No executive, no observation delay: requests reach the layer exactly when sent.
 from __future__ import annotations
 
 from harness import DEFAULT_MISSION_DIR
-from harness.sim.kernel import Environment
-from harness.sim.layer import FunctionalLayer
+from harness.sut.simulated.kernel import Environment
+from harness.sut.simulated.layer import FunctionalLayer
 
 WORLD = DEFAULT_MISSION_DIR / "world.toml"
 SETTINGS = {  # what the golden mission configures

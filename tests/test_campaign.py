@@ -22,7 +22,7 @@ from harness.campaign import campaign, runs
 from harness.campaign.request import CampaignRequest
 from harness.run import workers
 from harness.errors import InputFileError, StoreError, UntimelyError
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.progress import Progress
 
 HERE = Path(__file__).resolve().parent

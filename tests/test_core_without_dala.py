@@ -12,8 +12,9 @@ from harness import DEFAULT_MISSION_DIR, ROOT
 from harness.target.interface import load_interface
 from harness.target.layer_description import load_layer
 
-CORE = ("harness/sim/kernel.py", "harness/sim/module.py", "harness/sim/layer.py", "harness/target/layer_description.py",
-        "harness/sim/host.py", "harness/sim/realtime.py", "harness/run/executive.py", "harness/run/workers.py",
+CORE = ("harness/sut/simulated/kernel.py", "harness/sut/simulated/module.py", "harness/sut/simulated/layer.py",
+        "harness/target/layer_description.py", "harness/sut/simulated/host.py", "harness/sut/simulated/realtime.py",
+        "harness/sut/executive.py", "harness/run/workers.py",
         "harness/campaign/campaign.py", "harness/campaign/adhoc.py", "harness/cli.py", "harness/target/mission.py")
 
 

@@ -7,7 +7,7 @@ import signal
 
 import harness
 from harness.errors import InputFileError, ScriptError, UntimelyError
-from harness.run.processes import Stopped
+from harness.sut.processes import Stopped
 
 
 def _modules():

@@ -1,7 +1,7 @@
 """The executive against a small fake layer: sends, waits, delays, hang, crash, determinism."""
 import pytest
 
-from harness.run.executive import DRAIN_S, REACTION_S, run_script
+from harness.sut.executive import DRAIN_S, REACTION_S, run_script
 from harness.target.script import parse, validate
 
 

@@ -11,9 +11,9 @@ import pytest
 from harness import DEFAULT_MISSION_DIR, ROOT, store
 from harness.cli import main as cli
 from harness.errors import UntimelyError
-from harness.run.external.runner import run_external
+from harness.sut.external.runner import run_external
 from harness.target.script import parse
-from harness.run.external.definitions import ExternalSut, resolve
+from harness.sut.definitions import ExternalSut, resolve
 
 FAULTY = Path(__file__).resolve().parent / "adapters" / "faulty.py"
 SHORT = """send rflex.Init as ri
@@ -95,7 +95,7 @@ def test_an_adapter_that_cannot_be_started_is_the_users_error(interface):
 
 
 def test_the_simulator_adapter_over_tcp(interface):
-    server = subprocess.Popen([sys.executable, "-m", "harness.adapters.sim", "--variant", "reference",
+    server = subprocess.Popen([sys.executable, "-m", "harness.sut.simulated", "--variant", "reference",
                                "--listen", "127.0.0.1:0"], stderr=subprocess.PIPE, text=True, cwd=ROOT)
     try:
         port = re.search(r"listening on 127.0.0.1:(\d+)", server.stderr.readline()).group(1)
@@ -156,7 +156,7 @@ def test_run_on_the_command_line_stores_where_and_how_fast_it_ran(tmp_path, caps
     mission.write_text(SHORT)
     (tmp_path / "interface.toml").write_bytes((DEFAULT_MISSION_DIR / "interface.toml").read_bytes())
     (tmp_path / "world.toml").write_bytes((DEFAULT_MISSION_DIR / "world.toml").read_bytes())
-    sut = f"sim=cmd:{{python}} -m harness.adapters.sim --variant bare --mission {DEFAULT_MISSION_DIR}"
+    sut = f"sim=cmd:{{python}} -m harness.sut.simulated --variant bare --mission {DEFAULT_MISSION_DIR}"
     assert cli(["run", str(mission), "--sut", sut, "--time-scale", "10", "--db", str(db)]) == 0
     out = capsys.readouterr().out
     assert "outcome    completed" in out and re.search(r"interface  \d+ pings on .*, round trip p50", out)

@@ -3,8 +3,8 @@ with --taken replies it when its control task takes each request, the bench stor
 taken_events, and the oracles place the request there. A real adapter process, a short script."""
 from harness import DEFAULT_MISSION_DIR, store
 from harness.cli import main as cli
-from harness.run.external.definitions import ExternalSut
-from harness.run.external.runner import run_external
+from harness.sut.definitions import ExternalSut
+from harness.sut.external.runner import run_external
 from harness.target.script import parse
 
 SHORT = """send rflex.Init as ri
@@ -18,7 +18,7 @@ send rflex.Stop as stop
 send sick.Stop as sstop
 wait all
 """
-COMMAND = f"{{python}} -m harness.adapters.sim --variant reference --mission {DEFAULT_MISSION_DIR} --taken"
+COMMAND = f"{{python}} -m harness.sut.simulated --variant reference --mission {DEFAULT_MISSION_DIR} --taken"
 
 
 def test_each_request_gets_one_taken_reply_between_its_sending_and_its_final(interface):

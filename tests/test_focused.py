@@ -11,7 +11,7 @@ from harness.errors import UntimelyError
 from harness.campaign.budget import parse_duration
 from harness.mutator.focused import Plan, bound_s
 from harness.mutator.timeline import Timeline
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.target.mission import load_mission
 from tests.test_toy_target import GOLDEN, INTERFACE, PROPERTIES
 

@@ -5,7 +5,7 @@ import signal
 
 import pytest
 
-from harness.run.external import kept
+from harness.sut.external import kept
 from tests.test_kept_adapters import SIMULATOR, adapters, codes, run
 
 KILLS = 3

@@ -9,9 +9,9 @@ import threading
 
 import pytest
 
-from harness.run.external.channel import MAX_LINE_BYTES, STDERR_KEEP_BYTES
-from harness.run.external.definitions import ExternalSut
-from harness.run.external.runner import run_external
+from harness.sut.external.channel import MAX_LINE_BYTES, STDERR_KEEP_BYTES
+from harness.sut.definitions import ExternalSut
+from harness.sut.external.runner import run_external
 from harness.target.script import parse
 
 from tests.test_external import SHORT

@@ -5,9 +5,9 @@ the block's end leaves no adapter running."""
 import os
 from pathlib import Path
 
-from harness.run.external import kept
-from harness.run.external.definitions import ExternalSut
-from harness.run.external.runner import run_external
+from harness.sut.external import kept
+from harness.sut.definitions import ExternalSut
+from harness.sut.external.runner import run_external
 from harness.target.script import parse
 
 from tests.test_external import FAULTY
@@ -18,7 +18,7 @@ wait early
 send rflex.Init as ri
 wait ri
 """
-SIMULATOR = ExternalSut("sim", command="{python} -m harness.adapters.sim --variant reference", time_scale=20.0,
+SIMULATOR = ExternalSut("sim", command="{python} -m harness.sut.simulated --variant reference", time_scale=20.0,
                         startup_s=30.0, probe_timeout_s=3.0)
 
 

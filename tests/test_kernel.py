@@ -1,7 +1,7 @@
 """The event kernel: ordering in virtual time, processes, interrupts, failures, reprs."""
 import pytest
 
-from harness.sim.kernel import Environment, Interrupt
+from harness.sut.simulated.kernel import Environment, Interrupt
 
 
 def test_equal_time_events_run_in_the_order_they_were_scheduled():

@@ -11,8 +11,8 @@ from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.target.mission import load_mission
 from harness.target.layer_description import load_layer
-from harness.sim.kernel import Environment
-from harness.sim.layer import FunctionalLayer
+from harness.sut.simulated.kernel import Environment
+from harness.sut.simulated.layer import FunctionalLayer
 
 
 def test_dalas_variants_and_their_protections_in_checking_order():
@@ -75,7 +75,7 @@ def test_a_bad_entry_is_refused_naming_it(folder, old, new, message):
 ])
 def test_a_behaviour_module_that_builds_nothing_is_refused_before_any_run(folder, tmp_path, name, message):
     path = folder / "layer.toml"
-    path.write_text(path.read_text().replace('"harness.sim.dala.behaviour"', f'"{name}"'))
+    path.write_text(path.read_text().replace('"harness.sut.dala.behaviour"', f'"{name}"'))
     with pytest.raises(UntimelyError, match=message):
         load_layer(folder).behaviour_module()
     with pytest.raises(UntimelyError, match=message):  # a campaign checks it before it runs anything

@@ -13,7 +13,7 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR, store
 from harness.cli import main
-from harness.run.external.protocol import PROTO, decode, encode
+from harness.sut.protocol import PROTO, decode, encode
 
 ROOT = Path(__file__).resolve().parent.parent
 ADAPTER = ROOT / "examples" / "node" / "adapter.js"

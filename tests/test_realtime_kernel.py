@@ -3,7 +3,7 @@ takes messages in (a busy machine must not starve a SUT's pings into a false han
 import threading
 import time
 
-from harness.sim.realtime import RealtimeEnvironment
+from harness.sut.simulated.realtime import RealtimeEnvironment
 
 
 def test_events_wait_for_the_clock_and_posts_run_at_its_reading():

@@ -6,9 +6,9 @@ import re
 import pytest
 
 from harness import ROOT, SQL_DIR
-from harness.adapters.ros.mapping import TERMINAL_STATUSES
+from harness.sut.ros.mapping import TERMINAL_STATUSES
 from harness.cli import _parser
-from harness.run.external.definitions import KEYS as SUT_KEYS
+from harness.sut.definitions import KEYS as SUT_KEYS
 from harness.store.sql import VERDICTS
 from harness.target.interface import INTERFACE_KEYS, SERVICE_KINDS
 from harness.target.property_types import property_types

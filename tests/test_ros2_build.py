@@ -1,4 +1,4 @@
-"""`make ros2`'s build of untimely_msgs (harness/adapters/ros2/build.py): the wheels' CMake files
+"""`make ros2`'s build of untimely_msgs (harness/sut/ros2/build.py): the wheels' CMake files
 get this machine's include folders, once; every interface file of the package is built for each
 distro, and the build's seconds are recorded."""
 import subprocess
@@ -8,8 +8,8 @@ import numpy
 import pytest
 
 from harness import ROOT
-from harness.adapters.ros2.build import SOURCE, fix_cmake_paths
-from harness.adapters.ros2.environment import DISTROS, Ros2Environment, install_prefix, installed, venv
+from harness.sut.ros2.build import SOURCE, fix_cmake_paths
+from harness.sut.ros2.environment import DISTROS, Ros2Environment, install_prefix, installed, venv
 
 EXPORTED = ('set_target_properties(Python3::Module PROPERTIES\n  INTERFACE_INCLUDE_DIRECTORIES '
             '"/opt/python/cp311-cp311/include/python3.11;/opt/python/cp311-cp311/lib/python3.11/site-packages/numpy/_core/include"\n)\n')

@@ -19,7 +19,7 @@ import psutil
 import pytest
 
 from harness import ROOT
-from harness.adapters.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment, installed
+from harness.sut.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment, installed
 
 PEER, SNIFF = ROOT / "tests" / "ros2_peer.py", ROOT / "tests" / "ros2_sniff.py"
 UNCONFINED = ("FASTDDS_DEFAULT_PROFILES_FILE", "FASTRTPS_DEFAULT_PROFILES_FILE")

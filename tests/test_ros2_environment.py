@@ -1,4 +1,4 @@
-"""A ROS 2 process's environment (harness/adapters/ros2/environment.py): what it sets, a domain id
+"""A ROS 2 process's environment (harness/sut/ros2/environment.py): what it sets, a domain id
 no other holder on this machine has (other processes included), its log folder removed."""
 import subprocess
 import sys
@@ -6,12 +6,12 @@ import sys
 import pytest
 
 from harness import ROOT
-from harness.adapters.ros2.environment import (DOMAIN_IDS, DISTROS, PROFILE, PROFILE_VARIABLE, Ros2Environment,
+from harness.sut.ros2.environment import (DOMAIN_IDS, DISTROS, PROFILE, PROFILE_VARIABLE, Ros2Environment,
                                                Ros2Error, hold_domain_id, installed)
 
 HOLDER = """
 import sys
-from harness.adapters.ros2.environment import hold_domain_id
+from harness.sut.ros2.environment import hold_domain_id
 lock, domain_id = hold_domain_id(int(sys.argv[1]))
 print(domain_id, flush=True)
 sys.stdin.read()

@@ -8,7 +8,7 @@ import sys
 import pytest
 
 from harness import ROOT
-from harness.adapters.ros2.environment import installed
+from harness.sut.ros2.environment import installed
 from harness.store.database import connect
 from harness.target.mission import load_mission
 

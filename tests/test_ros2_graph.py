@@ -1,12 +1,12 @@
 """The target derived from a ROS 2 graph (harness/target/ros2_graph.py, ros2_texts.py), without ROS:
-the graph is the JSON harness/adapters/ros2/graph.py prints, written here by hand."""
+the graph is the JSON harness/sut/ros2/graph.py prints, written here by hand."""
 import copy
 
 import pytest
 
 from harness.cli import main
 
-from harness.adapters.ros.mapping import load_mapping
+from harness.sut.ros.mapping import load_mapping
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface, load_properties
 from harness.target.ros2_graph import derive

@@ -12,15 +12,15 @@ from pathlib import Path
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT
-from harness.adapters.ros2.environment import installed
-from harness.run.external.definitions import load_suts_file
-from harness.run.external.runner import run_external
+from harness.sut.ros2.environment import installed
+from harness.sut.definitions import load_suts_file
+from harness.sut.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import parse, validate
 from tests.ros_driver import Launcher, descendants, request, running_module, wait_gone
 
 MAPPING = DEFAULT_MISSION_DIR / "ros2.toml"
-NODE = "harness.adapters.ros2.dala_node"
+NODE = "harness.sut.ros2.dala_node"
 
 
 def requires_ros2(distro: str):
@@ -28,7 +28,7 @@ def requires_ros2(distro: str):
 
 
 def launcher(variant: str = "reference", distro: str = "jazzy", mapping: Path = MAPPING) -> Launcher:
-    return Launcher(command=[sys.executable, "-m", "harness.adapters.ros2", "--distro", distro, "--mapping",
+    return Launcher(command=[sys.executable, "-m", "harness.sut.ros2", "--distro", distro, "--mapping",
                              str(mapping), "--", "python", "-m", NODE, "--variant", variant, "--mapping", str(mapping)])
 
 

@@ -1,5 +1,5 @@
-"""A ROS 2 run recorded to an MCAP bag (harness/adapters/ros2/recorder.py) imports with the project's
-ROS 2 bag reader (harness/store/bags/ros2.py) to the exchange that happened: tests/ros2_peer.py's
+"""A ROS 2 run recorded to an MCAP bag (harness/sut/ros2/recorder.py) imports with the project's
+ROS 2 bag reader (harness/sut/bags/ros2.py) to the exchange that happened: tests/ros2_peer.py's
 call of ndd.SetParams and goal of ndd.GotoPosition, mapped by tests/ros2_recording.toml."""
 import json
 import signal
@@ -11,9 +11,9 @@ from rosbags.rosbag2 import Reader
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from harness import ROOT
-from harness.adapters.ros2.environment import DISTROS, Ros2Environment, installed
+from harness.sut.ros2.environment import DISTROS, Ros2Environment, installed
 from harness.store.database import connect
-from harness.store.importer import import_file
+from harness.campaign.importing import import_path
 
 PEER, MAPPING = ROOT / "tests" / "ros2_peer.py", ROOT / "tests" / "ros2_recording.toml"
 TIMEOUT_S = 60
@@ -33,7 +33,7 @@ def record(ros: Ros2Environment, bag: Path) -> dict:
     recorder = None
     try:
         assert server.stdout.readline().strip() == "ready"
-        recorder = subprocess.Popen([str(ros.python), "-m", "harness.adapters.ros2.recorder", str(bag),
+        recorder = subprocess.Popen([str(ros.python), "-m", "harness.sut.ros2.recorder", str(bag),
                                      "--action", "/dala/ndd=untimely_msgs/action/Request",
                                      "--service", "/ndd/set_params=untimely_msgs/srv/Call"],
                                     env=ros.env, stdout=subprocess.PIPE, text=True, cwd=ROOT)
@@ -51,7 +51,7 @@ def record(ros: Ros2Environment, bag: Path) -> dict:
 
 def imported(bag: Path, interface) -> list[tuple]:
     con = connect(":memory:")
-    import_file(con, bag, interface, str(MAPPING))
+    import_path(con, bag, interface, str(MAPPING))
     rows = con.execute("select kind, module || '.' || service, args::varchar, reply from events order by seq").fetchall()
     return [(kind, service, json.loads(args) if args else None, reply) for kind, service, args, reply in rows]
 
@@ -86,7 +86,7 @@ def test_a_malformed_topic_argument_is_refused_naming_it_and_the_form(tmp_path):
     if installed(ROOT, DISTROS[0]):
         pytest.skip(installed(ROOT, DISTROS[0]))
     with Ros2Environment(ROOT, DISTROS[0], slot=0) as ros:
-        done = subprocess.run([str(ros.python), "-m", "harness.adapters.ros2.recorder", str(tmp_path / "bag"),
+        done = subprocess.run([str(ros.python), "-m", "harness.sut.ros2.recorder", str(tmp_path / "bag"),
                                "--service", "ndd/set_params=Call"], env=ros.env, capture_output=True, text=True,
                               timeout=TIMEOUT_S, cwd=ROOT)
     assert done.returncode != 0 and "Traceback" not in done.stderr

@@ -4,7 +4,8 @@ import signal
 import time
 import xmlrpc.client
 
-from harness.adapters.ros import processes
+from harness.sut.processes import stop_all
+from harness.sut.ros import master
 
 from tests.ros_driver import MAPPING, Launcher, descendants, hello, request, requires_ros, wait_gone
 
@@ -181,18 +182,18 @@ def test_virtual_damage_reaches_the_bench():
 
 def test_a_master_whose_port_was_taken_meanwhile_is_replaced(monkeypatch, tmp_path):
     """The other run's master on that port would answer in its place: ours must, on a port of its own."""
-    first, env = processes.start_master(str(tmp_path), 30)
+    first, env = master.start_master(str(tmp_path), 30)
     taken = int(env["ROS_MASTER_URI"].rsplit(":", 1)[1])
     offers = iter([taken])
-    free_port = processes.free_port
-    monkeypatch.setattr(processes, "free_port", lambda: next(offers, None) or free_port())
+    free_port = master.free_port
+    monkeypatch.setattr(master, "free_port", lambda: next(offers, None) or free_port())
     second = None
     try:
-        second, env2 = processes.start_master(str(tmp_path), 30)
+        second, env2 = master.start_master(str(tmp_path), 30)
         assert env2["ROS_MASTER_URI"] != env["ROS_MASTER_URI"]
         assert xmlrpc.client.ServerProxy(env2["ROS_MASTER_URI"]).getPid("/test")[2] == second.process.pid
     finally:
-        processes.stop_all([first] + ([second] if second else []))
+        stop_all([first] + ([second] if second else []))
 
 
 def test_a_ros_service_of_a_package_debian_lacks_is_generated_from_its_srv_file(tmp_path):

@@ -1,7 +1,7 @@
 """ROS 1 bags without ROS: bags written here with rosbags' rosbag1 writer, holding the actionlib
 topics of the generic action (untimely_msgs/Request, the seven messages genaction derives from
-harness/adapters/ros/untimely_msgs/Request.action), import to the traces the test expects
-(harness/store/bags/ros1.py). The bag recorded by Debian's rosbag during a live run is in
+harness/sut/ros/untimely_msgs/Request.action), import to the traces the test expects
+(harness/sut/bags/ros1.py). The bag recorded by Debian's rosbag during a live run is in
 test_ros_bags1.py."""
 import json
 
@@ -12,7 +12,7 @@ from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 from harness import DEFAULT_MISSION_DIR
 from harness.errors import InputFileError
 from harness.store.database import connect
-from harness.store.importer import import_file
+from harness.campaign.importing import import_path
 
 ACTION = {  # what genaction.py writes for Request.action
     "RequestActionGoal": "Header header\nactionlib_msgs/GoalID goal_id\nRequestGoal goal\n",
@@ -82,7 +82,7 @@ class Bag:
 
 def imported(path, interface, **options):
     con = connect(":memory:")
-    import_file(con, path, interface, **options)
+    import_path(con, path, interface, **options)
     rows = con.execute("select label, seq, round(t, 3), kind, rqst_id, service, args::varchar, reply "
                        "from events join traces using (trace_id) order by trace_id, seq").fetchall()
     return [(*row[:6], json.loads(row[6]) if row[6] else None, row[7]) for row in rows]
@@ -169,7 +169,7 @@ def test_the_servers_header_stamps_are_the_suts_clock_in_internal_events(tmp_pat
     bag.status(12.3, 12.25, ("g3", REJECTED, "wait_init"))  # its result is not in the bag
     bag.close()
     con = connect(":memory:")
-    import_file(con, tmp_path / "clock.bag", interface)
+    import_path(con, tmp_path / "clock.bag", interface)
     assert con.execute("select rqst_id, kind, round(t, 3), reply, args::varchar from internal_events "
                        "order by seq").fetchall() == [
         (1, "request", 0.05, None, "{}"), (1, "intermediate", 0.1, None, None), (1, "final", 0.4, "ok", None),

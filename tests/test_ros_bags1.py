@@ -1,6 +1,6 @@
 """A ROS 1 bag recorded with Debian's rosbag during a run on the ROS Dala layer (`run --rosbag`)
-imports to the run's own trace and judges the same (harness/adapters/ros/recorder.py,
-harness/store/bags/ros1.py). One run in real time: a bag's clock is the wall clock. The launcher
+imports to the run's own trace and judges the same (harness/sut/ros/recorder.py,
+harness/sut/bags/ros1.py). One run in real time: a bag's clock is the wall clock. The launcher
 answers the hello only once every publisher has accepted the recorder, so the bag holds the first
 goal even on a loaded machine (docs/ros.md, "Recording a run's bag")."""
 import shutil

@@ -1,6 +1,6 @@
 """ROS 2 bags (rosbag2, MCAP and SQLite3) import to the traces a robot recorded: written here with
 rosbags' writer from the real action_msgs and service_msgs definitions and a made-up package's
-action and service (tests/bags/rover.toml maps them), read raw by harness/store/bags/ros2.py."""
+action and service (tests/bags/rover.toml maps them), read raw by harness/sut/bags/ros2.py."""
 import json
 from pathlib import Path
 
@@ -11,9 +11,9 @@ from rosbags.rosbag2 import StoragePlugin, Writer
 from harness import DEFAULT_MISSION_DIR
 from harness.cli import main as cli
 from harness.errors import InputFileError
-from harness.store.bags.ros2_types import register, typestore
+from harness.sut.bags.ros2_types import register, typestore
 from harness.store.database import connect
-from harness.store.importer import import_file
+from harness.campaign.importing import import_path
 
 MAPPING = Path(__file__).parent / "bags" / "rover.toml"
 DRIVE = "float64 x\nfloat64 y\n---\nstring message\n---\nfloat64 distance\n"
@@ -131,7 +131,7 @@ def robot_day(path: Path, plugin: StoragePlugin, introspection: bool = True) -> 
 
 def imported(path: Path, interface, table: str = "events"):
     con = connect(":memory:")
-    import_file(con, path, interface, str(MAPPING))
+    import_path(con, path, interface, str(MAPPING))
     rows = con.execute("select seq, round(t, 4), kind, rqst_id, module || '.' || service, args::varchar, reply "
                        f"from {table} order by seq").fetchall()
     return [(*row[:5], json.loads(row[5]) if row[5] else None, row[6]) for row in rows]

@@ -6,10 +6,10 @@ import threading
 import time
 
 from harness import DEFAULT_MISSION_DIR
-from harness.run.external.runner import run_external
+from harness.sut.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import load_script
-from harness.run.external.definitions import load_suts_file
+from harness.sut.definitions import load_suts_file
 from tests.ros_driver import LAUNCHER, NODE, descendants, ensure_ros_venv, requires_ros, running_module, wait_gone
 from tests.test_external_campaign import assert_judges_like_in_process, campaign
 

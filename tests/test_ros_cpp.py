@@ -1,4 +1,4 @@
-"""The C++ node (harness/adapters/ros/cpp, built by `make ros-cpp`): roscpp and actionlib serving
+"""The C++ node (harness/sut/ros/cpp, built by `make ros-cpp`): roscpp and actionlib serving
 MoveBase goals, Trigger calls and generic goals, forwarding each to the simulated layer, and its
 reset service between runs. A campaign through it judges like the simulator in process."""
 import functools
@@ -50,5 +50,5 @@ def test_a_campaign_through_the_cpp_node_judges_like_the_simulator_in_process(tm
 def test_the_cpp_node_serves_run_after_run_each_on_a_fresh_layer():
     if cpp_missing():
         pytest.skip(cpp_missing())
-    layer = [str(ensure_ros_venv()), "-m", "harness.adapters.sim", "--variant", "reference"]
+    layer = [str(ensure_ros_venv()), "-m", "harness.sut.simulated", "--variant", "reference"]
     assert_run_after_run(Launcher(mapping=DEFAULT_MISSION_DIR / "ros-cpp.toml", node=[str(NODE), "--", *layer]))

@@ -2,7 +2,7 @@
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
-from harness.adapters.ros.mapping import load_mapping
+from harness.sut.ros.mapping import load_mapping
 from harness.errors import InputFileError, UntimelyError
 
 DALA = load_mapping(DEFAULT_MISSION_DIR / "ros.toml")
@@ -132,7 +132,7 @@ def test_a_typed_route_serves_one_service_only(tmp_path):
 
 
 def test_a_recorded_bag_holds_every_action_topic_and_the_json_topics(interface):
-    from harness.adapters.ros.recorder import recorded_topics
+    from harness.sut.ros.recorder import recorded_topics
     typed = load_mapping(DEFAULT_MISSION_DIR / "ros-typed.toml")
     topics = recorded_topics(typed, [(s.module, s.name) for s in interface.services.values()])
     assert {"/move_base/goal", "/move_base/result", "/dala/ndd/feedback", "/dala/ndd/status", "/dala/ndd/cancel",

@@ -1,4 +1,4 @@
-"""Message classes of typed routes (harness/adapters/ros/messages.py), under Debian's ROS Python:
+"""Message classes of typed routes (harness/sut/ros/messages.py), under Debian's ROS Python:
 an action of a package Debian lacks, generated from its .action text (with a dependency on
 Debian's geometry_msgs), filled from a request's arguments and the route's defaults."""
 import json
@@ -11,8 +11,8 @@ pytestmark = requires_ros
 PROBE = """
 import json, sys
 from pathlib import Path
-from harness.adapters.ros.messages import action_classes, fill
-from harness.adapters.ros.routes import Route
+from harness.sut.ros.messages import action_classes, fill
+from harness.sut.ros.routes import Route
 from harness.errors import UntimelyError
 route = Route("action", "/dock", "dock_msgs/Dock", {"x": "pose.position.x", "speed": "speed", "slow": "slow"},
               {"pose.orientation.w": 1.0}, code="code", definition="Dock.action")
@@ -46,8 +46,8 @@ SERVICE_PROBE = """
 import json, sys
 from pathlib import Path
 import roscpp.srv, std_srvs.srv
-from harness.adapters.ros.messages import fill, service_class
-from harness.adapters.ros.routes import Route
+from harness.sut.ros.messages import fill, service_class
+from harness.sut.ros.routes import Route
 folder = Path(sys.argv[1])
 made = {name: service_class(Route("service", "/s", f"made_srvs/{name}", definition=f"{name}.srv"), folder)
         for name in ("Trigger", "SetBool", "GetLoggers", "Dock")}

@@ -1,4 +1,4 @@
-"""The recorder's wait for its connections (harness/adapters/ros/recorder.py), against a stand-in
+"""The recorder's wait for its connections (harness/sut/ros/recorder.py), against a stand-in
 for the master and a publishing node on XML-RPC: no ROS needed. The live recording is in
 test_ros_bags1.py."""
 import threading
@@ -7,8 +7,8 @@ from xmlrpc.server import SimpleXMLRPCServer
 
 import pytest
 
-from harness.adapters.ros.processes import ChildError
-from harness.adapters.ros.recorder import wait_connected
+from harness.sut.processes import ChildError
+from harness.sut.ros.recorder import wait_connected
 
 
 @pytest.fixture

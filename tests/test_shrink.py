@@ -15,7 +15,7 @@ from harness.target.script import parse
 from harness.campaign.context import CampaignContext
 from harness.campaign.representatives import representatives
 from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, shorter_sleeps, store_shrink
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.run.workers import Setup
 from harness.target.mission import load_mission
 

@@ -57,7 +57,7 @@ def test_a_trace_of_sim_genom_shrinks_once_its_sut_is_named_again(tmp_path, caps
     capsys.readouterr()
     assert cli(["shrink", "1", "--db", db]) == 2  # the store's command is not run on its word
     assert re.search(r"error: trace 1 ran on 'sim-genom', whose command the store records as '\{python\} -m "
-                     r"harness.adapters.sim --variant genom'; shrink does not run a command read from a store: "
+                     r"harness.sut.simulated --variant genom'; shrink does not run a command read from a store: "
                      r"name the SUT again with --sut sim-genom=cmd:COMMAND, or --mission FOLDER",
                      capsys.readouterr().err)
     assert cli(["shrink", "1", "--db", db, "--mission", str(tmp_path), "--out", str(tmp_path / "out")]) == 0

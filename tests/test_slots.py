@@ -9,9 +9,9 @@ import pytest
 
 from harness.campaign.slots import Slots, SlotsClosed
 from harness.errors import UntimelyError
-from harness.run.external import channel
-from harness.run.external.channel import StdioChannel
-from harness.run.external.definitions import ExternalSut
+from harness.sut.external import channel
+from harness.sut.external.channel import StdioChannel
+from harness.sut.definitions import ExternalSut
 from harness.run.workers import Task
 from harness.trace import Trace
 

@@ -4,7 +4,7 @@
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.target.script import load_script
 from sut_driver import WORLD
 

@@ -5,8 +5,8 @@ import random
 import pymunk
 import pytest
 
-from harness.sim.dala.laser import Laser, wall
-from harness.sim.dala.world import load_world
+from harness.sut.dala.laser import Laser, wall
+from harness.sut.dala.world import load_world
 from sut_driver import WORLD
 
 

@@ -6,8 +6,8 @@ import pytest
 
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
-from harness.sim.kernel import Environment
-from harness.sim.layer import FunctionalLayer
+from harness.sut.simulated.kernel import Environment
+from harness.sut.simulated.layer import FunctionalLayer
 from sut_driver import WORLD, Driver
 
 

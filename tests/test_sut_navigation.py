@@ -4,7 +4,7 @@ import random
 
 import pytest
 
-from harness.sim.dala.navigation import CELL_M, CLEARANCE_M, OccupancyMap, steer, wrap
+from harness.sut.dala.navigation import CELL_M, CLEARANCE_M, OccupancyMap, steer, wrap
 
 
 def wall(cart: OccupancyMap, x: float, y0: float, y1: float) -> None:

@@ -4,8 +4,8 @@ import math
 import pytest
 
 from harness.errors import InputFileError
-from harness.sim.kernel import Environment
-from harness.sim.dala.world import World, load_world
+from harness.sut.simulated.kernel import Environment
+from harness.sut.dala.world import World, load_world
 from sut_driver import WORLD
 
 ARENA = """

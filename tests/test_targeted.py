@@ -9,7 +9,7 @@ from harness import DEFAULT_MISSION_DIR, store
 from harness.campaign.config import campaign_config, find_campaign
 from harness.cli import main
 from harness.errors import StoreError, UntimelyError
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.target.interface import Property, load_interface, load_properties
 from harness.analysis.judge import Judge
 from harness.mutator import targeted

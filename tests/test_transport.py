@@ -9,8 +9,8 @@ from harness.campaign import campaign
 from harness.campaign.request import CampaignRequest
 from harness.cli import main
 from harness.run import transport
-from harness.run.executive import run_script
-from harness.run.external.definitions import ExternalSut
+from harness.sut.executive import run_script
+from harness.sut.definitions import ExternalSut
 from harness.run.workers import Setup
 
 ECHO_S = 0.05  # virtual seconds the echo layer takes to answer

@@ -8,10 +8,10 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR, cli, store
 from harness.analysis.judge import Judge
-from harness.run.external.definitions import ExternalSut
+from harness.sut.definitions import ExternalSut
 from harness.mutator import strategies
-from harness.run.executive import run_script
-from harness.run.external.runner import run_external
+from harness.sut.executive import run_script
+from harness.sut.external.runner import run_external
 from harness.target.domains import violation
 from harness.target.mission import load_mission
 from harness.target.script import parse

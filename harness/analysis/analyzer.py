@@ -26,6 +26,7 @@ from harness.store.database import connect
 from harness.store.reads import ordered, relations
 from harness.store.sql import render_query, render_view, view_order
 from harness.target.interface import Interface, Property, load_interface, load_properties
+from harness.target.mission import INTERFACE_FILE
 from harness.textable import counted, format_table, percent, rate_interval, with_orders
 
 # (events source, verdicts table): the observed timeline and the ground truth.
@@ -276,7 +277,7 @@ def main(db: str, properties: str | None = None, interface: str | None = None,
     con = connect(db, create=False)
     properties_path = Path(properties) if properties else default_properties(con)
     epsilon = last_epsilon(con) if epsilon is None else epsilon
-    interface_path = Path(interface) if interface else properties_path.parent / "interface.toml"
+    interface_path = Path(interface) if interface else properties_path.parent / INTERFACE_FILE
     if not interface_path.exists():
         raise InputFileError(interface_path, "", f"file not found; the properties {properties_path} name services "
                              "of an interface description: pass --interface FILE (default: beside the properties)")

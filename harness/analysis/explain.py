@@ -23,6 +23,7 @@ from harness.store.reads import exists, relations, require_analysis
 from harness.store.sql import sql_id_list
 from harness.analysis.provenance import default_properties
 from harness.store.database import connect
+from harness.target.mission import INTERFACE_FILE
 from harness.textable import format_table
 
 Key = tuple[int, str, int]  # (trace_id, property_id, rqst_id): one verdict row
@@ -37,11 +38,11 @@ def judged_files(con, properties: str | None = None) -> tuple[Path, Path]:
                                 and analysis_id = (select max(analysis_id) from analyses)""").fetchall()) \
         if exists(con, "analysis_files") else {}
     if properties is not None:
-        return Path(properties), Path(properties).parent / "interface.toml"
+        return Path(properties), Path(properties).parent / INTERFACE_FILE
     usable = "properties" in found and Path(found["properties"]).is_file()
     path = Path(found["properties"]) if usable else default_properties(con)
-    interface_file = Path(found.get("interface") or path.parent / "interface.toml") if usable else None
-    return path, interface_file or path.parent / "interface.toml"
+    interface_file = Path(found.get("interface") or path.parent / INTERFACE_FILE) if usable else None
+    return path, interface_file or path.parent / INTERFACE_FILE
 
 
 def judged_properties(con) -> tuple[Interface, dict[str, Property]]:

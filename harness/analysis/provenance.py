@@ -14,6 +14,7 @@ from pathlib import Path
 
 from harness import DEFAULT_EPSILON_S, SQL_DIR
 from harness.errors import StoreError
+from harness.target.mission import INTERFACE_FILE, PROPERTIES_FILE
 
 
 def _sha256(path: Path) -> str | None:
@@ -35,7 +36,7 @@ def sources(properties_file: Path | None, interface_file: Path | None = None) ->
     if properties_file is None:
         return []
     files = [("properties", properties_file),
-             ("interface", interface_file or properties_file.parent / "interface.toml")]
+             ("interface", interface_file or properties_file.parent / INTERFACE_FILE)]
     files += [("template", t) for t in templates()]
     return [(role, str(path.resolve()), _sha256(path)) for role, path in files]
 
@@ -82,7 +83,7 @@ def default_properties(con) -> Path:
     """The properties file of the target the last campaign, run or import was made from."""
     tried = []
     for mission, config in con.execute("select mission, config from campaigns order by campaign_id desc").fetchall():
-        candidate = campaign_target(mission, json.loads(config or "{}")) / "properties.toml"
+        candidate = campaign_target(mission, json.loads(config or "{}")) / PROPERTIES_FILE
         if candidate.is_file():
             return candidate
         tried.append(str(candidate))

@@ -11,21 +11,22 @@ from pathlib import Path
 from harness import store
 from harness.campaign.request import RunRequest
 from harness.errors import UntimelyError
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.files import existing_file
 from harness.run.transport import transport
 from harness.run.workers import Setup
 from harness.target.interface import load_interface
+from harness.target.mission import INTERFACE_FILE, WORLD_FILE
 from harness.target.script import load_script
-from harness.run.external.definitions import resolve
+from harness.sut.definitions import resolve
 from harness.trace import Trace
 
 
 def mission_files(script_path: Path, interface: str | None = None, world: str | None = None) -> tuple[Path, Path]:
     """The interface and world descriptions: those given, else those beside the mission script."""
     folder = script_path.resolve().parent
-    return (Path(interface) if interface else folder / "interface.toml",
-            Path(world) if world else folder / "world.toml")
+    return (Path(interface) if interface else folder / INTERFACE_FILE,
+            Path(world) if world else folder / WORLD_FILE)
 
 
 def latency_line(provenance: dict) -> str:

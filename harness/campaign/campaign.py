@@ -30,15 +30,15 @@ from harness.files import read_text
 from harness.mutator import strategies
 from harness.mutator.operators import Mutant
 from harness.progress import Progress
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
 from harness.run.executor import open_executor
-from harness.run.external.definitions import ExternalSut
-from harness.run.external.kept import kept_adapters
+from harness.sut.definitions import ExternalSut
+from harness.sut.external.kept import kept_adapters
 from harness.run.workers import Setup, script_label
 from harness.schema import cut
 from harness.store.reads import observed_events
 from harness.store.sql import render_query
-from harness.target.mission import load_mission
+from harness.target.mission import GOLDEN_FILE, PROPERTIES_FILE, load_mission
 from harness.trace import Trace
 
 RUN_WALL_LIMIT_S = 600.0  # of a simulated run; a real-time one has the executive's watchdogs
@@ -48,7 +48,7 @@ SHOW_GENERATION = 2_000  # from this many mutants on, generating them shows its 
 
 def _create(ctx: CampaignContext, golden_id: int, mutants: list[Mutant], session: Session) -> int:
     """The golden runs on every variant, then the campaign, its scripts and those traces, stored together."""
-    config, golden_runs, golden_text = ctx.config, [], read_text(ctx.mission / "golden.mission")
+    config, golden_runs, golden_text = ctx.config, [], read_text(ctx.mission / GOLDEN_FILE)
 
     def keep(task, trace):
         golden_runs.append((task, trace))
@@ -106,7 +106,7 @@ def _judged(ctx: CampaignContext, show: bool = True) -> None:
     """Verdicts for every stored trace (new traces, or a session stopped while judging)."""
     if not analyzer.judges_every_trace(ctx.con):
         epsilon = last_epsilon(ctx.con)  # a resumed campaign keeps the epsilon its verdicts were made with
-        analyzer.materialise(ctx.con, ctx.properties, epsilon, ctx.interface, ctx.mission / "properties.toml")
+        analyzer.materialise(ctx.con, ctx.properties, epsilon, ctx.interface, ctx.mission / PROPERTIES_FILE)
         if show:
             print(f"verdicts  materialised for every trace of {ctx.db} (epsilon {epsilon:g} s)\n")
             for failure in analyzer.failed_oracles(ctx.con):
@@ -144,7 +144,7 @@ def _focused(ctx: CampaignContext, start: float) -> None:
 
 
 def main(request: CampaignRequest, runner=None) -> int:
-    """`runner` replaces harness.run.executive.run_script (tests inject failing ones)."""
+    """`runner` replaces harness.sut.executive.run_script (tests inject failing ones)."""
     config = campaign_config(request)
     target = load_mission(request.mission)
     golden, properties = target.golden(), target.properties()  # refused before anything starts

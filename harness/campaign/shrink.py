@@ -26,14 +26,15 @@ from pathlib import Path
 from harness import DEFAULT_EPSILON_S, store
 from harness.errors import ScriptError, StoreError, UntimelyError
 from harness.files import make_folder
-from harness.run.executive import run_script
+from harness.sut.executive import run_script
+from harness.target.mission import INTERFACE_FILE, SUTS_FILE, WORLD_FILE
 from harness.target.interface import Interface, Property, load_interface
 from harness.analysis.judge import Judge
 from harness.analysis.provenance import campaign_target
 from harness.mutator.ddmin import ddmin
 from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
-from harness.run.external.definitions import SUTS_FILE, ExternalSut, load_suts_file, resolve
+from harness.sut.definitions import ExternalSut, load_suts_file, resolve
 from harness.trace import Trace
 from harness.run.workers import Setup, Task
 
@@ -73,11 +74,11 @@ class Original:
 
     @cached_property
     def interface(self) -> Interface:
-        return load_interface(self.mission / "interface.toml")
+        return load_interface(self.mission / INTERFACE_FILE)
 
     def run(self, body: str, runner=run_script) -> Trace:
         """Run a script on the trace's variant with its seed, as the campaign's workers do."""
-        setup = Setup(runner, self.mission / "interface.toml", self.mission / "world.toml", self.max_delay,
+        setup = Setup(runner, self.mission / INTERFACE_FILE, self.mission / WORLD_FILE, self.max_delay,
                       {name: ExternalSut(**spec) for name, spec in self.external.items()})
         trace = setup.run(Task(self.trace_id, self.script_id, self.sut, self.seed, body), self.interface, self.slot)
         self.made.append((body, trace))
@@ -242,8 +243,8 @@ def header(orig: Original, behaviour: Behaviour, script_id: int, path: Path, run
     return (f"# Shrunk reproducer (script {script_id}): {behaviour}, from trace {orig.trace_id} "
             f"(script {orig.script_id}, {steps_before} steps) in {runs} runs.\n"
             f"# Replay: python -m harness run {path} --sut {orig.sut} --seed {orig.seed} "
-            f"--max-delay {orig.max_delay:g} --interface {orig.mission / 'interface.toml'} "
-            f"--world {orig.mission / 'world.toml'}\n")
+            f"--max-delay {orig.max_delay:g} --interface {orig.mission / INTERFACE_FILE} "
+            f"--world {orig.mission / WORLD_FILE}\n")
 
 
 def write_mission(out: Path, orig: Original, behaviour: Behaviour, script_id: int, body: str, runs: int) -> Path:

@@ -3,8 +3,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from harness.campaign import importing
 from harness.commands import options
-from harness.store import importer
 
 NAME = "import"
 HELP = "load foreign traces (CSV, JSON lines, Parquet, ROS bags) into the store"
@@ -27,4 +27,4 @@ def arguments(c) -> None:
 
 
 def execute(request: Request) -> int:
-    return importer.main(request.db, request.file, request.interface, request.ros)
+    return importing.main(request.db, request.file, request.interface, request.ros)

@@ -9,8 +9,9 @@ from harness.campaign.request import ShrinkRequest
 from harness.commands import options
 from harness.errors import UntimelyError
 from harness.files import make_folder
-from harness.run.external.kept import kept_adapters
+from harness.sut.external.kept import kept_adapters
 from harness.target.interface import load_properties
+from harness.target.mission import PROPERTIES_FILE
 
 NAME = "shrink"
 HELP = "reduce a bad trace's script to the smallest one showing the same bad behaviour"
@@ -38,7 +39,7 @@ def execute(request: ShrinkRequest) -> int:
     con = store.connect(request.db, create=False)
     orig = shrink.with_trusted_sut(shrink.original(con, request.trace_id, request.mission), request.sut,
                                    bool(request.mission), request.run_stored_command)
-    properties = load_properties(orig.mission / "properties.toml", orig.interface)
+    properties = load_properties(orig.mission / PROPERTIES_FILE, orig.interface)
     if request.verdict and not request.property:
         raise UntimelyError(f"--verdict {request.verdict} needs --property: the property whose verdict to keep")
     behaviour = shrink.behaviour_of(orig, properties, request.property, request.verdict)

@@ -8,7 +8,10 @@ value, those inside the domain disturbances), anywhere, or, for a state-dependen
 r runs. A test for it is
   1. the context: the golden script's sends of the services s and r need (their modules' inits,
      the Q of the PC properties naming them, transitively), in the golden's order, with the golden's waits on
-     them given a timeout (twice the longest run the golden showed, plus a second);
+     them given a timeout (twice the longest run the golden showed, plus a second). A module's inits
+     need each other (each is an init of the others' module): that cycle is sent in the golden's
+     order too; a cycle of PC properties alone (x needs q ok before, q needs x) is refused, as no
+     service of it can be sent first;
   2. the perturbation: s alone (q never sent, or s with its exceptional value), q then s (s lands
      while q runs), r then s (in r's start phase), or r, a sleep shorter than r's shortest golden
      run, then s;
@@ -29,8 +32,10 @@ import random
 from dataclasses import dataclass
 from itertools import zip_longest
 
-from harness.run.executive import DRAIN_S, REACTION_S
+from harness.errors import UntimelyError
+from harness.sut.executive import DRAIN_S, REACTION_S
 from harness.target.interface import Interface, Property
+from harness.target.mission import PROPERTIES_FILE
 from harness.mutator.operators import Mutant, plausible, random_request, step_text, validated
 from harness.mutator.targeted import Falsifier, disturbers, falsifiers
 from harness.mutator.timeline import Timeline
@@ -110,17 +115,20 @@ def aims(properties: list[Property], interface: Interface) -> list[Aim]:
 class Builder:
     """Writes the test of an aim from the golden script and its run's timeline."""
 
-    def __init__(self, golden: Script, timeline: Timeline, interface: Interface, properties: list[Property]):
-        self.golden, self.interface = golden, interface
+    def __init__(self, golden: Script, timeline: Timeline, interface: Interface, properties: list[Property],
+                 source: str = PROPERTIES_FILE):
+        self.golden, self.interface, self.source = golden, interface, source
         # A service needs its module's inits (the interface names them) and the Q of the PC
-        # properties naming it.
+        # properties naming it (`declared`: which property says x needs q).
         self.needs: dict[str, set[str]] = {s: {i for i in interface.of_kind("init") if i != s
                                                and interface.services[i].module == svc.module}
                                            for s, svc in interface.services.items()}
+        self.declared: dict[tuple[str, str], str] = {}
         for p in properties:
             if p.type == "PC":
                 for x in p.x:
                     self.needs.setdefault(x, set()).update(p.q)
+                    self.declared.update({(x, q): p.id for q in p.q if (x, q) not in self.declared})
         self.runs: dict[str, list[float]] = {}
         for a in timeline.activities:
             if a.accepted and a.end is not None:
@@ -140,11 +148,17 @@ class Builder:
         """The services that must have ended ok before `services` are sent, transitively;
         `without`: leave out that one and whatever needs it."""
         found: list[str] = []
+        visiting: list[str] = []  # the services whose needs are being visited, outermost first
 
         def visit(service: str) -> bool:
             if service == without:
                 return False
+            if service in visiting:  # a cycle: its services are all wanted, sent in the golden's order
+                self._check_cycle(visiting[visiting.index(service):] + [service])
+                return True
+            visiting.append(service)
             needed = [visit(q) for q in sorted(self.needs.get(service, ()))]
+            visiting.pop()
             if not all(needed):
                 return False
             if service not in found:
@@ -154,6 +168,17 @@ class Builder:
             for q in sorted(self.needs.get(service, ())):
                 visit(q)
         return found
+
+    def _check_cycle(self, cycle: list[str]) -> None:
+        """A cycle that module inits close (each needs the others) has an order, the golden's; one
+        of PC properties alone has none: refused, naming its properties and their file."""
+        edges = list(zip(cycle, cycle[1:]))
+        if all(edge in self.declared for edge in edges):
+            says = "; ".join(f"{self.declared[(x, q)]} makes {x} need {q} ok before it" for x, q in edges)
+            raise UntimelyError(f"{self.source}: the PC properties need each other in a cycle, "
+                                f"{' -> '.join(cycle)} ({says}), so no service of it can be sent first and no "
+                                "focused test can set it up; remove the Q of one of them (or fix the golden and "
+                                "the properties to the order the layer really needs)")
 
     def _timeout(self, services) -> float:
         longest = max([max(self.runs.get(s, [UNSEEN_RUN_S])) for s in services] + [0.0])
@@ -238,10 +263,14 @@ class Plan:
     """The campaign's tests in order (see the module doc)."""
 
     def __init__(self, golden: Script, timeline: Timeline, interface: Interface, properties: list[Property],
-                 seed: int):
+                 seed: int, source: str = PROPERTIES_FILE):
+        """`source`: the properties' file, named when they need each other in a cycle."""
         self.aims = aims(properties, interface)
         self.timed = [a for a in self.aims if a.timed]
-        self.builder, self.interface, self.seed = Builder(golden, timeline, interface, properties), interface, seed
+        self.builder = Builder(golden, timeline, interface, properties, source)
+        self.interface, self.seed = interface, seed
+        for service in interface.services:  # a cycle of properties is refused before any test runs
+            self.builder.closure([service])
 
     def aim(self, n: int) -> tuple[Aim, int]:
         """Test n's aim and its round (0: the aim's first test)."""

@@ -12,10 +12,12 @@ stops by itself (harness.campaign.budgeted); its rates describe its tests only.
 """
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Callable
 
 from harness.errors import UntimelyError
 from harness.target.interface import Interface, Property
+from harness.target.mission import PROPERTIES_FILE
 from harness.analysis.judge import Judge
 from harness.mutator import focused, operators, targeted
 from harness.mutator.operators import Mutant
@@ -48,7 +50,8 @@ def plan(config: dict, golden: Script, interface: Interface, properties: list[Pr
     """A focused campaign's tests, made as the campaign goes (harness.campaign.budgeted). Without
     --value-mutations its tests replay golden values: a value-domain property is no aim of theirs."""
     timeline = Timeline(golden, golden_trace, interface.replies)
-    return focused.Plan(golden, timeline, interface, _aimed(config, properties), config["seed"])
+    return focused.Plan(golden, timeline, interface, _aimed(config, properties), config["seed"],
+                        str(Path(config["mission"]) / PROPERTIES_FILE))
 
 
 def _aimed(config: dict, properties: list[Property]) -> list[Property]:

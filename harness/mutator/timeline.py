@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from harness.run.executive import REACTION_S
+from harness.sut.executive import REACTION_S
 from harness.target.script import Script
 from harness.trace import Trace
 

@@ -147,11 +147,13 @@ _DETAILS = {
         select e.trace_id, e.seq, e.t, e.kind, e.rqst_id, e.module, e.service, e.args, e.reply, c.class
         from events e left join reply_codes c using (module, service, reply)
         where e.{_WANTED} order by e.trace_id, e.seq""",
-    # the analyzer's requests view pairs each request with its final reply as the oracles do
+    # the analyzer's requests view pairs each request with its final reply as the oracles do;
+    # lifecycle_states names a managed ROS 2 node's state at each request sent to it
     "requests": f"""
         select r.trace_id, r.rqst_id, r.module, r.service, e.args, r.t as start, r.final_t as "end",
-               r.reply, r.class as reply_class
+               r.reply, r.class as reply_class, l.state as lifecycle, l.pending
         from requests r left join events e on e.trace_id = r.trace_id and e.seq = r.seq
+        left join ({{lifecycle}}) l on l.trace_id = r.trace_id and l.rqst_id = r.rqst_id
         where r.{_WANTED} order by r.trace_id, r.t, r.seq""",
     "verdicts": f"select * from verdicts where {_WANTED} order by trace_id, rqst_id, property_id",
     "world": f"select * from world_events where {_WANTED} order by trace_id, t",
@@ -174,8 +176,18 @@ def trace_rows(con, ids: list[int], batch: int = 50, chunk: int = 500) -> Iterat
         yield from _chunk_rows(con, ids[start:start + chunk], batch)
 
 
+def _lifecycle(con, ids: str) -> str:
+    """The lifecycle states of the traces `ids`; none in a store analysed before view
+    lifecycle_states existed (a temporary view would not reach the cursors: connections of their own)."""
+    if exists(con, "lifecycle_states"):
+        return f"select trace_id, rqst_id, state, pending from lifecycle_states where trace_id in ({ids})"
+    return "select null::bigint as trace_id, null::bigint as rqst_id, null::varchar as state, null::varchar as pending"
+
+
 def _chunk_rows(con, ids: list[int], batch: int) -> Iterator[dict[str, Rows]]:
-    cursors = {name: con.cursor().execute(sql.format(ids=sql_id_list(ids))) for name, sql in _DETAILS.items()}
+    listed = sql_id_list(ids)
+    cursors = {name: con.cursor().execute(sql.format(ids=listed, lifecycle=_lifecycle(con, listed)))
+               for name, sql in _DETAILS.items()}
     columns = {name: [d[0] for d in cursor.description] for name, cursor in cursors.items()}
     streams = {name: _streamed(cursor) for name, cursor in cursors.items()}
     heads = {name: next(stream, None) for name, stream in streams.items() if name != "traces"}

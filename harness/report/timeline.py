@@ -27,11 +27,25 @@ class Request:
     end: float | None = None  # time of the final reply; None = no final reply in the trace
     reply: str | None = None
     reply_class: str | None = None
+    lifecycle: str | None = None  # a managed ROS 2 node's state when the request was sent (view lifecycle_states)
+    pending: str | None = None  # its transitions requested before and answered after it
 
     def label(self) -> str:
         args = json.loads(self.args) if self.args else {}
         words = " ".join(f"{k}={v}" for k, v in args.items()) if isinstance(args, dict) else str(args)
         return f"{self.module}.{self.service} {words}".strip()
+
+    @property
+    def state(self) -> str | None:
+        """The node's lifecycle state in words: `inactive`, `unconfigured (configure pending)`."""
+        if self.lifecycle is None:
+            return None
+        return f"{self.lifecycle} ({self.pending} pending)" if self.pending else self.lifecycle
+
+    @property
+    def shown(self) -> str:
+        """The bar's label: the service, and the node's lifecycle state where it has one."""
+        return f"{self.service} [{self.lifecycle}{'?' if self.pending else ''}]" if self.lifecycle else self.service
 
 
 @dataclass
@@ -62,7 +76,7 @@ class Bar:
     def label_x(self, room_until: float) -> float | None:
         """Where the service name goes: inside the bar after its marks when it fits, else after
         the bar when there is room before `room_until` (the next bar of its row), else nowhere."""
-        width = LABEL_CHAR_W * len(self.request.service)
+        width = LABEL_CHAR_W * len(self.request.shown)
         inside = max(self.x0, self.marks_end) + 2
         if self.x1 - inside > width:
             return inside
@@ -84,6 +98,8 @@ def _bar_title(r: Request, verdicts: list[dict]) -> str:
     ended = ("no final reply before the trace ended" if r.end is None
              else f"final reply {r.reply!r} (class {r.reply_class or '?'}) at {r.end:.3f} s")
     lines = [f"#{r.rqst_id} {r.label()}", f"requested at {r.start:.3f} s, {ended}"]
+    if r.state:
+        lines.append(f"lifecycle state of {r.module} at the request: {r.state}")
     lines += [f"{v['verdict']} {v['property_id']}" for v in verdicts]
     return "\n".join(lines)
 
@@ -160,7 +176,7 @@ def _bar(lane, bar: Bar, top: float, room_until: float) -> None:
             text_anchor="middle")
     label_x = bar.label_x(room_until)
     if label_x is not None:
-        add(group, "text", r.service, css_class="bar-label", x=label_x, y=top + BAR_H - 2)
+        add(group, "text", r.shown, css_class="bar-label", x=label_x, y=top + BAR_H - 2)
 
 
 def _world_lane(root, world: list[dict], x, y: float, height: float) -> None:

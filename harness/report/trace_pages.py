@@ -13,6 +13,7 @@ from markupsafe import Markup
 from harness.report.html import VERDICTS, render, trace_href
 from harness.report.svg import text
 from harness.report.timeline import Request, timeline
+from harness.target.mission import GOLDEN_FILE
 
 
 class Rows(NamedTuple):
@@ -56,7 +57,7 @@ def _diff(trace: dict) -> list[tuple[str, str]]:
     """The mutant's unified diff against the golden script, each line with its CSS class."""
     if trace["body"] is None or trace["golden"] is None or trace["script_kind"] == "golden":
         return []
-    lines = difflib.unified_diff(_steps(trace["golden"]), _steps(trace["body"]), "golden.mission",
+    lines = difflib.unified_diff(_steps(trace["golden"]), _steps(trace["body"]), GOLDEN_FILE,
                                  f"script-{trace['script_id']}.mission", lineterm="")
     css = {"@": "hunk", "+": "add", "-": "del"}
     return [(css.get(line[:1], "same"), line) for line in lines]

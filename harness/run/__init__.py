@@ -1,1 +1,1 @@
-"""Running scripts: the executive, the worker pool, the Dask cluster; external SUTs in run/external/."""
+"""Running scripts in numbers: the worker pool and the Dask cluster, over the runners of harness/sut/."""

@@ -32,7 +32,7 @@ from harness import MISSIONS_DIR, ROOT, SQL_DIR
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.trace import Trace
-from harness.run.external import kept
+from harness.sut.external import kept
 from harness.run.workers import Setup, Task, crashed
 
 PACKAGE = Path(__file__).resolve().parent.parent  # harness/

@@ -2,7 +2,7 @@
 returns its trace. The simulated layer runs in this process in virtual time (`Simulated`); an
 adapter speaking untimely/1 runs in wall-clock time (`Adapter`), started for the run on stdio
 (`--sut NAME=cmd:COMMAND`; the ROS 1 and ROS 2 launchers are such commands) or reached over TCP
-(`NAME=tcp://HOST:PORT`), the channel that harness.run.external.channel opens for its
+(`NAME=tcp://HOST:PORT`), the channel that harness.sut.external.channel opens for its
 definition.
 
 A SUT's name is offered to the kinds of REGISTRY in order; the first that takes it makes its
@@ -15,8 +15,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Protocol
 
-from harness.run.external.definitions import ExternalSut
-from harness.run.external.runner import run_external
+from harness.sut.definitions import ExternalSut
+from harness.sut.external.runner import run_external
 from harness.target.interface import Interface
 from harness.target.script import Script
 from harness.trace import Trace

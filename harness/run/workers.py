@@ -14,7 +14,7 @@ spawned worker takes a second or more to start on a loaded machine.
 
 Workers are spawned (not forked): the parent holds an open DuckDB connection and threads.
 They ignore SIGINT, so Ctrl-C reaches the parent alone, which stops them: SIGTERM, on which a
-busy worker ends its adapter (harness.run.processes), then SIGKILL after a grace. A worker whose
+busy worker ends its adapter (harness.sut.processes), then SIGKILL after a grace. A worker whose
 parent dies gets SIGTERM too, and leaves quietly.
 """
 from __future__ import annotations
@@ -30,11 +30,12 @@ from pathlib import Path
 from typing import Callable
 
 from harness.errors import UntimelyError
-from harness.run import processes, transport
-from harness.run.external.kept import kept_adapters
+from harness.run import transport
+from harness.sut import processes
+from harness.sut.external.kept import kept_adapters
 from harness.target.interface import load_interface
 from harness.target.script import parse
-from harness.run.external.definitions import ExternalSut
+from harness.sut.definitions import ExternalSut
 from harness.trace import Trace
 
 STOP_GRACE_S = 8.0  # a busy worker's adapter may take GRACE_S, then TERM_GRACE_S, to end

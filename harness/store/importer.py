@@ -1,12 +1,13 @@
-"""`python -m harness import FILE --interface FILE`: traces from elsewhere into the store (docs/reference/store.md).
+"""Traces from elsewhere into the store (`import`, docs/reference/store.md; the command is
+harness/campaign/importing.py).
 
 The file (CSV, JSON lines or Parquet) holds the events columns, one event per row, plus
 optionally `outcome` and `sut` per trace. Every row is checked against the interface first;
 bad rows are reported with their line and value and nothing is written. Then one transaction
 adds a campaign (mission = the file, seed 0), the traces (integer ids; the file's own trace
-name kept as traces.label) and their events. ROS bags become the same rows first
-(harness/store/bags: one trace per bag) and are checked alike; their header stamps, the SUT's own
-clock, go to internal_events.
+name kept as traces.label) and their events. ROS bags reach the store as the same rows (`Rows`,
+parsed by harness/sut/bags: one trace per bag) and are checked alike; their header stamps, the
+SUT's own clock, go to internal_events.
 """
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ import hashlib
 import io
 import json
 from pathlib import Path
+from typing import NamedTuple
 
 import duckdb
 import pyarrow as pa
@@ -22,14 +24,12 @@ import pyarrow.csv as pacsv
 import pyarrow.parquet as pq
 
 from harness.errors import InputFileError
-from harness.store.bags import is_bag, read_bags
 from harness.store.export import with_exported_traces
 from harness.files import read_bytes, read_text
 from harness.schema import cut
-from harness.target.interface import Interface, load_interface
+from harness.target.interface import Interface
 from harness.store.appends import append, transaction
-from harness.store.database import add_campaign, add_reply_codes, connect, next_id, place
-from harness.textable import counted
+from harness.store.database import add_campaign, add_reply_codes, next_id, place
 from harness.trace import OUTCOMES
 
 REQUIRED = ("trace_id", "seq", "t", "kind", "rqst_id", "module", "service")
@@ -270,15 +270,25 @@ def _events(con, staged: str) -> duckdb.DuckDBPyRelation:
                        from {staged} s join imported_ids i on i.label = s.trace_id order by i.id, s.line""")
 
 
-def import_file(con, path: str | Path, interface: Interface, ros: str | None = None) -> tuple[int, int, int]:
-    """Events from a file of events, or from bags (`ros`: their mapping file, else ros.toml beside the interface)."""
+class Rows(NamedTuple):
+    """What the store receives to import: the events as text columns (REQUIRED and OPTIONAL) plus
+    `line`, what a line is called in messages, and the events on the SUT's own clock (bags) or None."""
+    events: pa.Table
+    unit: str
+    sut_clock: pa.Table | None = None
+
+
+def import_file(con, path: str | Path, interface: Interface) -> tuple[int, int, int]:
+    """Events from a file of events (CSV, JSON lines, Parquet)."""
     path = Path(path)
-    sut_clock = None
-    if is_bag(path):
-        table, unit, sut_clock = read_bags(path, interface, ros)
-    else:
-        table, unit = read(path)
-    known = {"staged": table, **({"sut_clock": sut_clock} if sut_clock is not None else {}),
+    return import_rows(con, path, interface, Rows(*read(path)))
+
+
+def import_rows(con, path: Path, interface: Interface, rows: Rows) -> tuple[int, int, int]:
+    """The rows read from `path`, checked against the interface, then stored as one campaign:
+    (campaign_id, first trace id, traces)."""
+    sut_clock = rows.sut_clock
+    known = {"staged": rows.events, **({"sut_clock": sut_clock} if sut_clock is not None else {}),
              "known_services": pa.table({"module": [s.module for s in interface.services.values()],
                                          "service": [s.name for s in interface.services.values()]}),
              "known_replies": pa.table({"reply": list(interface.replies)})}
@@ -288,21 +298,9 @@ def import_file(con, path: str | Path, interface: Interface, ros: str | None = N
     try:
         found = problems(cursor)
         if found:
-            _refuse(path, unit, found, interface)
+            _refuse(path, rows.unit, found, interface)
         return load(cursor, path, interface, sut_clock is not None)
     except duckdb.Error as e:
         raise InputFileError(path, "", f"cannot import: {e}") from None
     finally:
         cursor.close()
-
-
-def main(db: str, file: str, interface: str, ros: str | None = None) -> int:
-    interface = load_interface(interface)
-    con = connect(db)
-    path = Path(file)
-    campaign_id, first, count = import_file(con, path, interface, ros)
-    events = con.execute("select count(*) from events where trace_id between ? and ?",
-                         [first, first + count - 1]).fetchone()[0]
-    print(f"Imported {counted(count, 'trace')} ({counted(events, 'event')}) from {path} as campaign {campaign_id}, "
-          f"trace ids {first}-{first + count - 1}. Run python -m harness analyze --db {db} to judge them.")
-    return 0

@@ -35,6 +35,7 @@ from typing import Annotated, Literal
 
 from pydantic import ConfigDict, Field, model_validator
 
+from harness import current_modules
 from harness.errors import InputFileError, UntimelyError
 from harness.files import read_toml
 from harness.schema import Strict, accepted, cut, dotted, validated, where
@@ -262,7 +263,7 @@ def _picked(path, text, keys: tuple, names, known: dict) -> tuple:
 @functools.cache
 def _behaviour(path: Path, at: str, name: str):
     try:
-        module = importlib.import_module(name)
+        module = importlib.import_module(current_modules(name))  # a name from before harness/sut/ too
     except Exception as e:  # any failure to import is the file's error, named with its cause
         raise InputFileError(path, at, f"behaviour = {cut(name)} cannot be imported ({e}); name an importable "
                              "Python module") from None

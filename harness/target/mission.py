@@ -8,6 +8,10 @@
 | `layer.toml` | the simulated layer's own knowledge: protections, defects, variants | to simulate |
 | `world.toml` | the world the layer's behaviour module builds, if it needs one | no |
 | `suts.toml` | external systems under test | no |
+| `ros.toml`, `ros2.toml` | how the interface appears on ROS 1, ROS 2 (the adapters' and bags' mapping) | no |
+
+These names are this module's (`*_FILE`): the rest of the bench uses them, never their text
+(tests/test_layout.py checks it).
 
 A trace depends on the golden script, the interface, the layer description and the world (not on
 the properties: editing a property re-judges traces, it does not re-run them): their hashes are a
@@ -25,8 +29,15 @@ from harness.target.interface import Interface, Property, load_interface, load_p
 from harness.target.script import Script, load_script
 from harness.target.layer_description import LAYER_FILE, LayerDescription, load_layer
 
-REQUIRED = ("golden.mission", "interface.toml")
-TRACE_FILES = REQUIRED + (LAYER_FILE, "world.toml")
+INTERFACE_FILE = "interface.toml"
+GOLDEN_FILE = "golden.mission"
+PROPERTIES_FILE = "properties.toml"
+WORLD_FILE = "world.toml"
+SUTS_FILE = "suts.toml"
+ROS_MAPPING_FILE = "ros.toml"
+ROS2_MAPPING_FILE = "ros2.toml"
+REQUIRED = (GOLDEN_FILE, INTERFACE_FILE)
+TRACE_FILES = REQUIRED + (LAYER_FILE, WORLD_FILE)
 
 
 @dataclass(frozen=True)
@@ -36,20 +47,20 @@ class Mission:
 
     @property
     def interface_file(self) -> Path:
-        return self.folder / "interface.toml"
+        return self.folder / INTERFACE_FILE
 
     @property
     def golden_file(self) -> Path:
-        return self.folder / "golden.mission"
+        return self.folder / GOLDEN_FILE
 
     @property
     def properties_file(self) -> Path:
-        return self.folder / "properties.toml"
+        return self.folder / PROPERTIES_FILE
 
     @property
     def world_file(self) -> Path:
         """The world the layer is built on; the path stands for the folder when there is none."""
-        return self.folder / "world.toml"
+        return self.folder / WORLD_FILE
 
     @property
     def simulated(self) -> bool:
@@ -87,4 +98,4 @@ def load_mission(folder: str | Path) -> Mission:
     folder = Path(folder)
     if not folder.is_dir():
         raise InputFileError(folder, "", "not a folder; give a mission folder such as missions/dala")
-    return Mission(folder, load_interface(folder / "interface.toml"))
+    return Mission(folder, load_interface(folder / INTERFACE_FILE))

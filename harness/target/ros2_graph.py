@@ -1,6 +1,6 @@
 """A target derived from a ROS 2 graph (`untimely init DIR --from-ros2 COMMAND`, docs/ros2.md):
-pure, no ROS import. harness/adapters/ros2/init.py reads the graph with rclpy and hands it here
-as the JSON harness/adapters/ros2/graph.py prints; harness/target/ros2_texts.py writes the files.
+pure, no ROS import. harness/sut/ros2/init.py reads the graph with rclpy and hands it here
+as the JSON harness/sut/ros2/graph.py prints; harness/target/ros2_texts.py writes the files.
 
 What the graph states, and what follows from it:
 - a module per node; an `exec` service per action server, a `control` service per service of the
@@ -103,7 +103,7 @@ class Ros2Target:
 
 
 def graph_nodes(data: dict) -> list[NodeGraph]:
-    """The graph's JSON (harness/adapters/ros2/graph.py) as nodes; refuses one without a node."""
+    """The graph's JSON (harness/sut/ros2/graph.py) as nodes; refuses one without a node."""
     def endpoints(entries) -> tuple[Endpoint, ...]:
         return tuple(Endpoint(e["name"], e["type"], e["fields"], e.get("response")) for e in entries)
     try:

@@ -5,11 +5,13 @@ from __future__ import annotations
 
 import json
 import shlex
+from dataclasses import dataclass
 from pathlib import Path
 
 from harness.target.ros2_graph import REFUSED, REPLIES, Derived, Ros2Target
 from harness.target.draft import WAIT_TIMEOUT_S, Draft, properties_text
 from harness.target.scaffold import write_all_or_none
+from harness.target.script import Step
 
 WRITTEN = ("interface.toml", "ros2.toml", "suts.toml", "golden.mission", "properties.toml")
 HEARTBEAT_STALE_S = 2.0  # the node's executor answers get_parameters within this, or the trace hangs
@@ -65,7 +67,7 @@ def suts_text(target: Ros2Target, distros: list[str], cwd: Path) -> str:
              "# starts the command below in the distro's environment, as sourcing its setup.bash would (its",
              "# python3 first on PATH), in a ROS 2 domain of its own confined to this machine."]
     for distro in distros:
-        command = f"{{python}} -m harness.adapters.ros2 --distro {distro} --mapping {{mission}}/ros2.toml -- {node}"
+        command = f"{{python}} -m harness.sut.ros2 --distro {distro} --mapping {{mission}}/ros2.toml -- {node}"
         lines += ["", f"[{_sut_name(target)}-{distro}]", f"command = {value(command)}",
                   "slots = 2", "time_scale = 1.0", "startup_s = 90.0", "probe_timeout_s = 5.0"]
     return "\n".join(lines) + "\n"
@@ -92,6 +94,46 @@ def golden_text(target: Ros2Target) -> str:
     return "\n".join(lines) + "\n"
 
 
+@dataclass(frozen=True)
+class Recorded:
+    """A request of a recorded session (`init --from-bag`): when it was sent and answered (seconds
+    from the bag's start; `final` None when the bag holds no final reply), the service and its
+    arguments (argument -> text; None when the bag does not carry them)."""
+    sent: float
+    service: str
+    args: dict[str, str] | None
+    final: float | None
+
+
+def recorded_golden_text(target: Ros2Target, requests: list[Recorded], source: str) -> str:
+    """The recorded session as the golden mission: its requests in their order, with their
+    arguments; a request sent after an earlier one's final reply waits for that reply first (so
+    the replay keeps what the session showed: the next request followed the reply), and the rest
+    of each gap between sends is a sleep."""
+    golden = {s.qualified: s.golden for s in target.services}
+    steps, pending, handles, last = [], [], {}, requests[0].sent if requests else 0.0
+    for request in requests:
+        for earlier in sorted((r for r in pending if r[0].final <= request.sent), key=lambda r: r[0].final):
+            steps.append(Step(0, "wait", handle=earlier[1], seconds=WAIT_TIMEOUT_S))
+            pending.remove(earlier)
+            last = max(last, earlier[0].final)
+        if round(request.sent - last, 3) > 0:
+            steps.append(Step(0, "sleep", seconds=round(request.sent - last, 3)))
+        last = request.sent
+        count = handles[request.service] = handles.get(request.service, 0) + 1
+        handle = f"{request.service.replace('.', '_')}_{count}"
+        args = golden[request.service] if request.args is None else request.args
+        comment = "arguments not in the bag: the derived values" if request.args is None and args else ""
+        steps.append(Step(0, "send", request.service, tuple(args.items()), handle, comment=comment))
+        if request.final is not None:
+            pending.append((request, handle))
+    steps += [Step(0, "wait", handle=handle, seconds=WAIT_TIMEOUT_S) for _, handle in pending]
+    lines = [f"# The golden mission recorded in {source}, made by `untimely init --from-ros2 --from-bag`:",
+             "# its requests in their order with their arguments; a request the session sent after an",
+             "# earlier one's final reply waits for it, and the rest of each gap between sends is a sleep.", ""]
+    return "\n".join(lines + [step.render() for step in steps]) + "\n"
+
+
 def _has(target: Ros2Target, module: str, name: str) -> bool:
     return any(s.name == name and s.transition for s in target.of(module))
 
@@ -108,9 +150,10 @@ def properties_text_of(target: Ros2Target) -> str:
     return text + ("\n".join(lines) + "\n" if actions else "")
 
 
-def write(folder: Path, target: Ros2Target, distros: list[str], cwd: Path) -> list[Path]:
-    """Write the target folder, all files or none; refuses to overwrite any file of it."""
+def write(folder: Path, target: Ros2Target, distros: list[str], cwd: Path, golden: str | None = None) -> list[Path]:
+    """Write the target folder, all files or none; refuses to overwrite any file of it. `golden`:
+    the golden mission's text (a recorded session's), else the derived one."""
     texts = {"interface.toml": interface_text(target), "ros2.toml": mapping_text(target),
-             "suts.toml": suts_text(target, distros, cwd), "golden.mission": golden_text(target),
+             "suts.toml": suts_text(target, distros, cwd), "golden.mission": golden or golden_text(target),
              "properties.toml": properties_text_of(target)}
     return write_all_or_none(folder, texts, {})

@@ -154,7 +154,7 @@ TARGET = [
     Case("layer: a negative duration", run, "layer.toml:17: timing.Stop: run_s = -0.05; give a number of seconds >= 0",
          prepare=_edit("layer.toml", "run_s = 0.05", "run_s = -0.05")),
     *(Case(f"layer: behaviour = os, {command.__name__}", command, "layer.toml:7: behaviour = 'os' has no "
-           "build(env, world_file) function", prepare=_edit("layer.toml", '"harness.sim.dala.behaviour"', '"os"'))
+           "build(env, world_file) function", prepare=_edit("layer.toml", '"harness.sut.dala.behaviour"', '"os"'))
       for command in (run, campaign)),
     Case("layer: default_suts = []", campaign, "layer.toml:12: layer.default_suts = []; give a non-empty list",
          prepare=_edit("layer.toml", 'default_suts = ["genom", "bip-a", "bip-b"]', "default_suts = []")),

@@ -1,1 +1,0 @@
-"""Adapters that put a system behind the `untimely/1` protocol (docs/reference/protocol.md)."""

@@ -1,0 +1,93 @@
+"""One slot's ROS 2 adapter process, under the distro's interpreter, in the environment the
+launcher (__main__.py) made: it starts the SUT's node on the bench's hello, brings it up, and
+serves run after run (docs/ros2.md). Not started by hand: `python -m harness.sut.ros2` does.
+
+Order: the bench's hello gives the time scale, passed to the node as $UNTIMELY_TIME_SCALE; once
+every mapped server and service answers, a lifecycle node has been configured and activated, and
+the node has echoed a first ping, the hello is answered and requests flow. With a lifecycle node
+the hello offers `reuse`: on `bye` the node is reset (deactivate, cleanup, configure, activate: a
+fresh layer), bye is answered, and the next hello starts the next run on the same node. With
+$UNTIMELY_ROSBAG set (a folder), the run's traffic is recorded into the MCAP bag FOLDER/trace-ID
+(ID: the hello's run), once every recorded topic has its publisher, and reuse is not offered. On end
+of input, SIGTERM, or `bye` without reuse, the node is stopped. A failure is an `error` line.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+
+from harness.sut.ros.lines import LineWriter, read_hello, run_main, serve
+from harness.sut.ros.mapping import load_mapping
+from harness.sut.processes import Child, stop_all
+from harness.sut.ros.recorder import recording_folder
+from harness.sut.protocol import PROTO
+
+RECORDER_DRAIN_S = 1.0  # within the bench's 2 s of grace after bye
+
+
+def run(args, out: LineWriter) -> None:
+    mapping = load_mapping(args.mapping)
+    first = hello = read_hello(sys.stdin)
+    if hello is None:
+        return
+    started = time.monotonic()
+    node = Child("node", args.node, {**os.environ, "UNTIMELY_TIME_SCALE": repr(hello["time_scale"])})
+    adapter = recorder = None
+    try:
+        import rclpy  # only here: the launcher's environment is what makes it importable
+
+        from harness.sut.ros2.adapter import RESET, BRING_UP, Adapter
+        rclpy.init(signal_handler_options=rclpy.signals.SignalHandlerOptions.NO)
+        adapter = Adapter(mapping, hello["interface"], hello["time_scale"], out.write)
+        adapter.wait_for_servers(args.startup_timeout, node.failure)
+        discovery = time.monotonic() - started  # the node's start-up and its discovery by the adapter
+        if recording_folder():  # one bag per run, so no reuse
+            recorder = adapter.record(Path(recording_folder()) / f"trace-{hello['run']}", args.startup_timeout)
+        reusable = mapping.lifecycle and not recorder
+        if mapping.lifecycle:
+            adapter.transition(BRING_UP, args.startup_timeout)
+        adapter.start_probing()
+        runs = 0
+        while hello is not None:
+            if mapping.ping_topic:
+                adapter.wait_echo(args.startup_timeout, node.failure)
+            runs += 1
+            adapter.hello(PROTO, f"ROS 2 {os.environ.get('UNTIMELY_ROS2_DISTRO', '')} adapter (domain "
+                                 f"{os.environ.get('ROS_DOMAIN_ID')}; node: {' '.join(args.node)}; up in {discovery:.2f} s; run {runs} of "
+                                 "this node)", ["reuse"] * reusable + ["taken"] * adapter.taken)
+            if not (serve(adapter, sys.stdin) and reusable) or node.failure():
+                break
+            adapter.end_run()
+            adapter.transition(RESET, args.startup_timeout)
+            hello = read_hello(sys.stdin, first)
+    finally:
+        if recorder:
+            time.sleep(RECORDER_DRAIN_S)  # what is still in flight to the recorder (its topics lag the replies)
+            recorder.close()
+        stop_all([node], grace_s=1.0)  # within the bench's grace after its SIGTERM
+        if adapter:
+            adapter.close()
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m harness.sut.ros2.serve", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--mapping", required=True, help="the ros2.toml beside the interface")
+    parser.add_argument("--startup-timeout", type=float, default=60.0)
+    parser.add_argument("node", nargs="+", help="the SUT node's command, after --")
+    args = parser.parse_args(argv)
+    try:
+        code = run_main(run, args)
+    except SystemExit as e:  # SIGTERM, after the teardown
+        code = e.code
+    # Not the interpreter's finalisation: rclpy's C++ objects, destroyed while an executor thread
+    # is still inside rcl, abort the process (std::terminate); everything is stopped already.
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
+
+
+if __name__ == "__main__":
+    main()
