@@ -16,7 +16,7 @@ import re
 import sys
 from pathlib import Path
 
-from harness.errors import InputFileError, UntimelyError
+from harness.errors import InputFileError
 from harness.sut.bags import _rosbag2_folder, bags, read_bags
 from harness.sut.ros2 import init
 from harness.target.interface import load_interface
