@@ -23,7 +23,7 @@ SEED    ?= 2012
 JOBS    ?= 0
 STRATEGY ?= random
 
-.PHONY: venv system ros ros-cpp ros2 test bench campaign analyze report paper clean
+.PHONY: venv system ros ros-cpp ros2 test test-fast bench campaign analyze report paper clean
 
 venv: $(STAMP)
 
@@ -97,6 +97,11 @@ build/ros2/%/install/.built: .venv-ros2-%/.installed $(ROS2_DIR)/build.py $(ROS2
 
 test: system $(STAMP) ros ros-cpp ros2
 	$(PY) -m pytest
+
+# The tests not marked slow (docs/contributing.md): every package, in minutes, with .venv alone; a
+# test that needs what `make test` installs (ROS, chromium, Node.js) is slow or skips, saying why.
+test-fast: $(STAMP)
+	$(PY) -m pytest -m "not slow"
 
 bench: $(STAMP) ros ros2
 	$(PY) bench/run.py

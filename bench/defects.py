@@ -7,7 +7,7 @@ an FN on a property whose rejection or interruption code is that protection's re
 `deadlock_on_start` as a hang; a `leak_during_init` as an FN on a property with the leaking
 protection's code. A missing argument check (checks_args, narrows_while) is left out: the timing defects are
 what the bench's figures compare, and only campaigns with --value-mutations aim at argument
-checks (tests/test_value_domains.py checks that they expose them).
+checks (tests/campaign/test_value_domains.py checks that they expose them).
 A defect counts as exposed when the store's `findings` view holds such a
 finding with a shrunk reproducer of at most MAX_STEPS steps.
 """

@@ -10,9 +10,9 @@ shrink runs included, until it stopped, and whether each defect has a reproducer
 Then the same Dala campaign in real time, at 1x on 8 slots: on the out-of-process simulator
 (`sim-*` SUTs of missions/dala/suts.toml), on the ROS layer (`ros-*`, skipped without
 `make ros`) and on the ROS 2 lifecycle node (`ros2-*` on Jazzy, skipped without `make ros2`; with
-the median seconds a slot's node took to start and be discovered): its wall minutes, mission seconds, the slots' speed-up (mission s per wall s; 8 at
-best), how close the in-process campaign's mission seconds predicted it, and whether every
-defect was exposed. Figures, not pass or fail: a busy machine gives a smaller speed-up, so the
+how many nodes were started and the median seconds one took to start and be discovered): its wall minutes, mission seconds, the slots' speed-up (mission s per wall s; 8 at
+best), how close the in-process campaign's mission seconds predicted it, whether every
+defect was exposed, and where the slots' wall time went (in runs, beyond their mission time, idle). Figures, not pass or fail: a busy machine gives a smaller speed-up, so the
 load average is printed beside them. UNTIMELY_BENCH_REALTIME chooses (default `sim,ros,ros2`; a
 comma-separated choice of them, or `none`): each takes about 10 minutes on a 2-core machine.
 """
@@ -124,15 +124,26 @@ def realtime_line(prefix: str, db: Path, twin: Path, wall: float, load: float) -
             f"{len(wanted) - len(missing)} of {len(wanted)} defects exposed"
             + (f" (missing: {', '.join(missing)})" if missing else "")
             + f"; {runs} stored runs (golden and tests), median {beyond:.1f} s wall each beyond their mission time"
-            + discovery(con)
+            + slot_use(con, wall) + discovery(con)
             + f"; load average {load:.1f} before, {os.getloadavg()[0]:.1f} after on {os.cpu_count()} cores")
 
 
+def slot_use(con, wall: float) -> str:
+    """Where the slots' wall time went: in runs (their mission time and beyond it), and idle (a
+    round waiting for its slowest run, a shrink for its previous step, the bench between runs)."""
+    in_runs, beyond, hung = con.execute("select sum(wall_s), sum(wall_s - sim_s / time_scale), "
+                                        "count(*) filter (where outcome = 'hung') from traces "
+                                        "join trace_runs using (trace_id)").fetchone()
+    return (f"; the slots spent {in_runs / (SLOTS * wall):.0%} of their wall time in runs ({beyond:,.0f} slot-s "
+            f"of it beyond mission time), the rest idle; {hung} runs hung")
+
+
 def discovery(con) -> str:
-    """The median seconds a ROS 2 node took to start and be discovered (its adapter's `up in` text)."""
-    up = con.execute("select median(regexp_extract(sut_info, 'up in ([0-9.]+) s', 1)::double) from trace_runs "
-                     "where sut_info like '%run 1 of this node)'").fetchone()[0]
-    return "" if up is None else f"; a node up and discovered in {up:.1f} s (median)"
+    """How many ROS 2 nodes were started, and the median seconds one took to start and be
+    discovered (its adapter's `up in` text)."""
+    starts, up = con.execute("select count(*), median(regexp_extract(sut_info, 'up in ([0-9.]+) s', 1)::double) "
+                             "from trace_runs where sut_info like '%run 1 of this node)'").fetchone()
+    return "" if up is None else f"; {starts} nodes started, each up and discovered in {up:.1f} s (median)"
 
 
 def realtime_choice() -> list[str]:

@@ -2,7 +2,7 @@
 
 Two stores with the same fingerprint hold the same scripts, traces (all but wall times), events,
 ground truth, world events and verdicts, float for float: a change meant only to make the bench
-faster must leave the fingerprint of a campaign unchanged (tests/test_campaign_fingerprint.py).
+faster must leave the fingerprint of a campaign unchanged (tests/campaign/test_campaign_fingerprint.py).
 A table's columns are those the store defines (sql/schema.sql, sql/views/verdicts.sql), in their
 order, but for LEFT_OUT: a column added to the schema enters the fingerprint by itself.
 """

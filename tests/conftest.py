@@ -28,7 +28,7 @@ def pytest_report_header():
     import re
     import tomllib
     from importlib.metadata import version
-    from pathlib import Path
-    project = tomllib.loads((Path(__file__).parents[1] / "pyproject.toml").read_text())["project"]
+    from tests.support.paths import ROOT
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
     names = [re.match(r"[\w.-]+", r).group(0) for r in project["dependencies"]]
     return "untimely dependencies: " + ", ".join(f"{n} {version(n)}" for n in names)

@@ -5,7 +5,7 @@ stores them all, but runs only its part of the runs: those whose trace id t has
 (t - 1) mod N = I - 1. Trace ids and seeds do not depend on who runs what, so the N stores
 hold disjoint traces of one campaign; `merge` copies them into a new store, which it then
 judges as the last analysis of the shards did. The merged store holds what the unsharded
-campaign stores (tests/test_sharding.py compares their fingerprints).
+campaign stores (tests/campaign/test_sharding.py compares their fingerprints).
 
 `merge` refuses, with a message, stores of different campaigns (other arguments or mission
 files), the same part twice, a missing part, a part missing some of its traces (naming them), and an

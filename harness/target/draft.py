@@ -3,6 +3,7 @@ of the stand-in layer, with the comments they are written with (harness.target.s
 them; harness.target.genom.derive drafts one from a GenoM3 description)."""
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass, field
 
 # The catalogue every draft starts from: (class, what it means).
@@ -14,6 +15,14 @@ REPLIES = {"ok": ("T", "the service ended normally"),
 WAIT_TIMEOUT_S = 30  # a golden wait gives up after this, should an activity never end by itself
 
 
+@dataclass(frozen=True)
+class DraftArg:
+    """An argument of interface.toml (its type, no bounds) and the word the golden mission sends."""
+    type: str  # float | str
+    word: str
+    doc: str = ""
+
+
 @dataclass
 class Draft:
     """A target's interface and properties, with the comments they are written with."""
@@ -23,6 +32,7 @@ class Draft:
     replies: dict[str, tuple[str, str]] = field(default_factory=lambda: dict(REPLIES))
     notes: list[str] = field(default_factory=list)  # what could not be derived
     left_out: set[str] = field(default_factory=set)  # services the golden mission does not request
+    args: dict[str, dict[str, DraftArg]] = field(default_factory=dict)  # "module.Service" -> name -> argument
 
 
 def pex(draft: Draft, module: str, init: str, r_p: str = "wait_init", cites: tuple = ()) -> dict:
@@ -41,6 +51,12 @@ def pre(x: str, first: list[str], cites: tuple = ()) -> dict:
             "why": f"{x} needs an earlier ok of {', '.join(first)}", "cites": cites}
 
 
+def val(x: str, reply: str, args: list[str], cites: tuple = ()) -> dict:
+    return {"id": f"VAL({x})", "family": "VAL", "type": "VAL", "x": [x], "r_p": reply,
+            "why": f"{x} accepts only values of {', '.join(args)} within their domains of interface.toml, "
+                   f"and rejects the others with {reply}", "cites": cites}
+
+
 def _toml_list(names: list[str]) -> str:
     return "[" + ", ".join(f'"{n}"' for n in names) + "]"
 
@@ -48,6 +64,15 @@ def _toml_list(names: list[str]) -> str:
 def _entry(p: dict, keys: tuple[str, ...]) -> list[str]:
     return [f'{key} = {_toml_list(p[key]) if isinstance(p[key], list) else chr(34) + p[key] + chr(34)}'
             for key in keys if key in p]
+
+
+def _args(args: dict[str, DraftArg]) -> str:
+    """The `args` table of a service in interface.toml (a TOML inline table: JSON's strings are TOML's)."""
+    if not args:
+        return ""
+    specs = [f'{name} = {{ type = "{a.type}"' + (f", doc = {json.dumps(a.doc)}" if a.doc else "") + " }"
+             for name, a in args.items()]
+    return f", args = {{ {', '.join(specs)} }}"
 
 
 def interface_text(draft: Draft) -> str:
@@ -60,13 +85,14 @@ def interface_text(draft: Draft) -> str:
     lines += [f'{code} = "{cls}"  # {meaning}' for code, (cls, meaning) in draft.replies.items()]
     for module, services in draft.modules.items():
         lines += ["", f"[modules.{module}]"]
-        lines += [f'services.{name} = {{ kind = "{kind}" }}' for name, kind in services.items()]
+        lines += [f'services.{name} = {{ kind = "{kind}"{_args(draft.args.get(f"{module}.{name}", {}))} }}'
+                  for name, kind in services.items()]
     return "\n".join(lines) + "\n"
 
 
 def properties_text(draft: Draft) -> str:
     lines = ["# The safety properties the oracles judge (docs/reference/properties.md): one [[property]] each,",
-             "# of a basic type PC, ES, EE, EX, MX_R or MX_I over services of interface.toml.",
+             "# of a basic type PC, ES, EE, EX, MX_R, MX_I or VAL over services of interface.toml.",
              "# Edit, then `untimely analyze` judges every stored trace again (nothing is re-run)."]
     for p in draft.properties:
         lines += ["", f"# {p['why']}"] + [f"#   from {cite}" for cite in p.get("cites", ())] + ["[[property]]"]
@@ -79,7 +105,9 @@ def standin_text(draft: Draft) -> str:
     that a campaign on it finds no fault until the real layer is connected."""
     lines = ["# What the stand-in layer of adapter.py does, written by `untimely init` with the properties:",
              "# [[requires]]: a request of x is rejected with `reply` until every q has ended ok once;",
-             "# [[interrupts]]: an accepted request of `by` interrupts the running x activities with `reply`.",
+             "# [[interrupts]]: an accepted request of `by` interrupts the running x activities with `reply`;",
+             "# [[validates]]: a request of x whose arguments break their domain in interface.toml is rejected",
+             "# with `reply` (after the [[requires]] rules, as genom3 runs a validate codel after them).",
              "# Replace adapter.py by your layer's adapter; this file is then no longer read."]
     for p in draft.properties:
         if p["type"] == "PC":
@@ -90,6 +118,9 @@ def standin_text(draft: Draft) -> str:
             dominated.setdefault(y, []).extend(x for x in p["x"] if x not in dominated.get(y, []))
     for by, x in dominated.items():
         lines += ["", "[[interrupts]]", f'by = "{by}"', f"x = {_toml_list(x)}", 'reply = "interrupted"']
+    for p in draft.properties:
+        if p["type"] == "VAL":
+            lines += ["", f"# {p['id']}", "[[validates]]", *_entry(p, ("x",)), f'reply = "{p["r_p"]}"']
     return "\n".join(lines) + "\n"
 
 
@@ -126,7 +157,8 @@ def golden_text(draft: Draft) -> str:
     for module, services in draft.modules.items():
         lines += ["", f"# {module}"]
         for service in _ordered(draft, module):
-            lines.append(f"send {service}")
+            args = draft.args.get(service, {})
+            lines.append(" ".join([f"send {service}", *(f"{name}={a.word}" for name, a in args.items())]))
             if services[service.split(".", 1)[1]] != "control" or service in needed:
                 lines.append(f"wait all timeout={WAIT_TIMEOUT_S}")
     lines.append(f"wait all timeout={WAIT_TIMEOUT_S}")

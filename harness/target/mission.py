@@ -11,7 +11,7 @@
 | `ros.toml`, `ros2.toml` | how the interface appears on ROS 1, ROS 2 (the adapters' and bags' mapping) | no |
 
 These names are this module's (`*_FILE`): the rest of the bench uses them, never their text
-(tests/test_layout.py checks it).
+(tests/project/test_layout.py checks it).
 
 A trace depends on the golden script, the interface, the layer description and the world (not on
 the properties: editing a property re-judges traces, it does not re-run them): their hashes are a

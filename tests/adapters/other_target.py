@@ -1,5 +1,5 @@
 """An untimely/1 adapter made for another target than Dala: it answers hello, then gives up on the
-first request, naming what it does not know (tests/test_recorded_target.py)."""
+first request, naming what it does not know (tests/campaign/test_recorded_target.py)."""
 import json
 import sys
 

@@ -1,5 +1,5 @@
 """A small untimely/1 adapter (stdlib only) for the toy pump-and-valve target of
-tests/test_focused.py: Init takes 0.2 mission s; an exec request of a module not initialised is
+tests/campaign/test_focused.py: Init takes 0.2 mission s; an exec request of a module not initialised is
 refused `not_ready`; pump.Run runs until a Halt of its module (`stopped`); valve.Open runs 1 s;
 Halt stops its module's activities and ends `ok` after 0.05 s. `--careless`: pump.Run is not
 refused while valve.Open runs (the DRY protection missing)."""

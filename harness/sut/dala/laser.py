@@ -4,7 +4,7 @@ A pymunk ray query costs several µs of Python wrapping per ray; the world's sha
 circles, so the nearest hit is cheaper computed directly. The arithmetic is chipmunk's own
 (Munk2D `CircleSegmentQuery`, `cpSegmentShapeSegmentQuery`, `cpSpaceSegmentQueryFirst`), operation
 for operation in IEEE doubles, so every hit equals pymunk's to the last bit: the traces, which
-depend on where the rover steers, stay the same (tests/test_sut_laser.py compares them).
+depend on where the rover steers, stay the same (tests/sut/dala/test_sut_laser.py compares them).
 
 Only shapes that the scan's range can reach are tested, each only by the rays that point at it: a
 shape is left out only when it is out of range by more than REACH_MARGIN_M, or off the ray's

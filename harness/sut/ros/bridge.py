@@ -20,6 +20,9 @@ from typing import Callable
 from harness.sut.ros.mapping import Mapping
 from harness.sut.ros.replies import Replies
 
+ECHO_WAIT_S = 0.1  # a start-up ping's echo, before it is published again
+ECHO_POLL_S = 0.005
+
 
 class Bridge:
     def __init__(self, mapping: Mapping, interface: dict, time_scale: float, write: Callable[[dict], None]):
@@ -107,13 +110,17 @@ class Bridge:
                 self.write({"op": "pong", "id": ping_id})
 
     def echoed(self) -> bool:
-        """One start-up ping (id 0; the bench's count from 1) through the SUT and back."""
+        """One start-up ping (id 0; the bench's count from 1) through the SUT and back within
+        ECHO_WAIT_S; looked at every ECHO_POLL_S, as a hello waits for it (once per run)."""
         with self.lock:
             self.pending_pings[0] = False
             self.publish_ping(json.dumps({"id": 0}))
-        time.sleep(0.1)
-        with self.lock:
-            return self.pending_pings.pop(0)
+        deadline = time.monotonic() + ECHO_WAIT_S
+        while True:
+            time.sleep(ECHO_POLL_S)
+            with self.lock:
+                if self.pending_pings[0] or time.monotonic() > deadline:
+                    return self.pending_pings.pop(0)
 
     # -- ground truth and virtual damage ---------------------------------------------------------
     def _t(self, stamp: float) -> float:

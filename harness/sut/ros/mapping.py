@@ -4,7 +4,7 @@ and ROS 2 adapters, their nodes and the bag importer; no ROS import, so it can b
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Literal
 
@@ -23,6 +23,11 @@ TERMINAL_STATUSES = ("SUCCEEDED", "ABORTED", "PREEMPTED", "REJECTED", "RECALLED"
 DEFAULT_STATUS_CODES = {"SUCCEEDED": "ok", "ABORTED": "aborted", "PREEMPTED": "interrupted",
                         "REJECTED": "rejected", "RECALLED": "rejected", "CANCELED": "interrupted"}
 DEFAULT_ACTION = "/{module}"
+# ROS 2: the return codes of a cancel request's response (action_msgs/srv/CancelGoal) and their
+# default reply codes: ERROR_NONE, the goal is canceling; the others, the cancel is refused.
+CANCEL_RESPONSES = ("ERROR_NONE", "ERROR_REJECTED", "ERROR_UNKNOWN_GOAL_ID", "ERROR_GOAL_TERMINATED")
+DEFAULT_CANCEL_CODES = {"ERROR_NONE": "ok", "ERROR_REJECTED": "rejected", "ERROR_UNKNOWN_GOAL_ID": "rejected",
+                        "ERROR_GOAL_TERMINATED": "rejected"}
 
 
 @dataclass(frozen=True)
@@ -47,6 +52,10 @@ class Mapping:
     service: str | None = None
     node: str | None = None
     lifecycle: bool = False
+    # ROS 2: "module.Service" -> "module.Service" of the goals a request of it cancels, and the
+    # reply code of each CancelGoal return code
+    cancels: dict[str, str] = field(default_factory=dict)
+    cancel_codes: dict[str, str] = field(default_factory=lambda: dict(DEFAULT_CANCEL_CODES))
 
     @property
     def folder(self) -> Path:
@@ -137,6 +146,10 @@ class MappingFile(Strict):
     node: str | None = Field(None, pattern=r"^/[A-Za-z_][A-Za-z0-9_/]*$",
                              description="give the ROS 2 node's full name, such as \"/robot\"")
     lifecycle: bool = Field(False, description="give true for a lifecycle node (rclpy.lifecycle), else false")
+    cancels: dict[str, str] = Field({}, description='give a table of "module.Service" = "module.Service": a '
+                                    "request of the first cancels the latest goal of the second (ROS 2)")
+    cancel_codes: dict[Literal[CANCEL_RESPONSES], Annotated[str, Field(min_length=1)]] = Field(
+        {}, description=f"give reply codes for cancel responses: {', '.join(CANCEL_RESPONSES)}")
 
     @model_validator(mode="after")
     def _consistent(self):
@@ -147,9 +160,10 @@ class MappingFile(Strict):
                 raise ValueError(f"{key} = {cut(template)} may only use {{module}} and {{service}}") from None
         if self.lifecycle and not self.node:
             raise ValueError("lifecycle = true needs node, the lifecycle node's name")
-        for service in self.services:
-            if service.count(".") != 1:
-                raise ValueError(f"services: {cut(service)} is not \"module.Service\"")
+        for key, names in (("services", list(self.services)), ("cancels", [*self.cancels, *self.cancels.values()])):
+            for service in names:
+                if service.count(".") != 1:
+                    raise ValueError(f"{key}: {cut(service)} is not \"module.Service\"")
         if (self.ping_topic is None) != (self.pong_topic is None):
             raise ValueError("give both ping_topic and pong_topic, or neither")
         return self
@@ -161,4 +175,5 @@ def load_mapping(path: str | Path) -> Mapping:
     spec = validated(MappingFile, data, path, text)
     return Mapping(str(path), spec.action, {service: parse_route(path, service, route) for service, route in spec.services.items()}, {**DEFAULT_STATUS_CODES, **spec.status_codes},
                    spec.heartbeat_stale_s, spec.world_topic, spec.internal_topic, spec.ping_topic, spec.pong_topic,
-                   spec.reset_service, spec.service, spec.node, spec.lifecycle)
+                   spec.reset_service, spec.service, spec.node, spec.lifecycle, spec.cancels,
+                   {**DEFAULT_CANCEL_CODES, **spec.cancel_codes})

@@ -53,9 +53,11 @@ def main(argv: list[str] | None = None) -> int:
 def stop(adapter: subprocess.Popen, ros: Ros2Environment) -> None:
     """SIGTERM: the adapter tears down, and the log folder and domain id are given back at once,
     as the bench's SIGKILL follows within seconds (a dying node may still write a log line, into a
-    removed folder: nothing is left behind)."""
+    removed folder: nothing is left behind). Not waiting for the adapter keeps a hung slot's
+    restart quick (so does not waiting for young files); the shared memory of its processes, if they are killed, is swept by the next
+    environment closed on this machine (environment.sweep_dead_segments)."""
     adapter.terminate()
-    ros.close()
+    ros.close(settle=False)
 
 
 if __name__ == "__main__":

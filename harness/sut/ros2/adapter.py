@@ -20,6 +20,8 @@ from the mapping file (ros2.toml). Rules:
 - `taken` (where every route's server has introspection: services from Jazzy on, actions from
   Kilted on): the server's introspection event of receiving the request, a goal's named by its id,
   a call's by its sequence number, is relayed as a `taken` reply when it arrives;
+- a request of a service the mapping's [cancels] names is a cancel request of the latest goal of
+  the service it names; the cancel's response is its final reply (cancels.py);
 - liveness: the node's executor must answer NODE/get_parameters (probed every PROBE_PERIOD_S) within
   the mapping's heartbeat_stale_s, the node must echo the ping, and a probe sent with the ping must
   come back; otherwise the pings go unanswered (the trace is `hung`) and stderr says why.
@@ -34,8 +36,6 @@ from typing import Callable
 
 import rclpy
 from action_msgs.msg import GoalStatus
-from lifecycle_msgs.msg import Transition
-from lifecycle_msgs.srv import ChangeState
 from rcl_interfaces.srv import GetParameters
 from rclpy.action import ActionClient, ActionServer
 from rclpy.callback_groups import ReentrantCallbackGroup
@@ -50,6 +50,9 @@ from harness.sut.ros.bridge import Bridge
 from harness.sut.ros.mapping import Mapping, interface_kinds, interface_services
 from harness.sut.ros.replies import Replies
 from harness.sut.ros.routes import Route
+from harness.sut.ros2.cancels import cancel_taken, cancel_targets, send_cancel
+from harness.sut.ros2.lifecycle import Lifecycle
+from harness.sut.ros2.teardown import release
 from harness.sut.ros2.types import fill, interface_name, route_class
 from harness.errors import UntimelyError
 
@@ -59,8 +62,6 @@ QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
 PROBE_PERIOD_S = 0.2
 # Service introspection came with Jazzy (rclpy 7), action introspection with Kilted (rclpy 9).
 ACTION_INTROSPECTION = hasattr(ActionServer, "configure_introspection")
-BRING_UP = (Transition.TRANSITION_CONFIGURE, Transition.TRANSITION_ACTIVATE)
-RESET = (Transition.TRANSITION_DEACTIVATE, Transition.TRANSITION_CLEANUP) + BRING_UP
 
 
 class Adapter(Bridge):
@@ -86,6 +87,11 @@ class Adapter(Bridge):
                 self.node.create_subscription(kind.Impl.SendGoalService.Event,
                                               f"{route.name}/_action/send_goal/_service_event", self._goal_taken, QOS,
                                               callback_group=group)
+        cancelled = set(cancel_targets(mapping, self.routes).values())  # checked on every distro
+        for name in cancelled if ACTION_INTROSPECTION else ():
+            self.node.create_subscription(self.types[name].Impl.CancelGoalService.Event,
+                                          f"{name}/_action/cancel_goal/_service_event",
+                                          lambda event: cancel_taken(self, event), QOS, callback_group=group)
         # `taken` is a promise for every request: only where every route's server has introspection
         self.taken = ACTION_INTROSPECTION or all(route.kind == "service" for route in self.routes.values())
         for topic, handler in ((mapping.world_topic, self._world), (mapping.internal_topic, self._internal),
@@ -96,10 +102,11 @@ class Adapter(Bridge):
         node = mapping.node
         self.probe = self.node.create_client(GetParameters, f"{node}/get_parameters", callback_group=group) \
             if node else None
-        self.transitions = self.node.create_client(ChangeState, f"{node}/change_state", callback_group=group) \
-            if mapping.lifecycle else None
+        self.lifecycle = Lifecycle(self.node, node, group) if mapping.lifecycle else None
         self.answered, self.stale_said = time.monotonic(), False  # the probe's last answer
         self.goals: dict[int, object] = {}  # request id -> ClientGoalHandle of this run
+        self.latest: dict[str, UUID] = {}  # "module.Service" -> the id of its latest goal of this run
+        self.cancelling: dict[str, list[int]] = {}  # goal id (hex) -> the cancel requests of it not yet taken
         self.unprobed: set[int] = set()  # the bench's pings whose own probe has not come back
         self.executor = MultiThreadedExecutor(num_threads=4)
         self.executor.add_node(self.node)
@@ -108,6 +115,7 @@ class Adapter(Bridge):
 
     def forget(self) -> None:
         self.goals, self.calls, self.call_counts, self.unprobed = {}, {}, {}, set()
+        self.latest, self.cancelling = {}, {}
 
     def ping(self, message: dict) -> None:
         """The echo through the ping topic, and a round trip of its own through the node's executor
@@ -149,7 +157,8 @@ class Adapter(Bridge):
         deadline = time.monotonic() + timeout_s
         waits = [(name, lambda c=client: c.server_is_ready() if isinstance(c, ActionClient) else c.service_is_ready())
                  for name, client in self.clients.items()]
-        waits += [(client.srv_name, client.service_is_ready) for client in (self.probe, self.transitions) if client]
+        waits += [(client.srv_name, client.service_is_ready)
+                  for client in ([self.probe] if self.probe else []) + (self.lifecycle.clients() if self.lifecycle else [])]
         for name, connected in waits:
             while not connected():
                 problem = alive()
@@ -185,14 +194,7 @@ class Adapter(Bridge):
             self.stopped.wait(PROBE_PERIOD_S)
 
     def transition(self, transitions: tuple[int, ...], timeout_s: float) -> None:
-        """Drive the lifecycle node through `transitions`, each awaited."""
-        for transition in transitions:
-            future = self.transitions.call_async(ChangeState.Request(transition=Transition(id=transition)))
-            done = threading.Event()
-            future.add_done_callback(lambda _f: done.set())
-            if not done.wait(timeout_s) or not future.result().success:
-                raise UntimelyError(f"the node {self.mapping.node} refused or did not answer lifecycle transition "
-                                    f"{transition} within {timeout_s:g} s")
+        self.lifecycle.transition(transitions, timeout_s)
 
     def record(self, path, timeout_s: float):
         """A Recorder of this run's traffic into the bag `path`, spun by this adapter's executor, once
@@ -219,7 +221,7 @@ class Adapter(Bridge):
 
     def close(self) -> None:
         self.stopped.set()
-        self.executor.shutdown(timeout_sec=0.5)
+        release([self.node], self.executor)
 
     # -- bench -> ROS 2 --------------------------------------------------------------------------
     def request(self, message: dict) -> None:
@@ -227,6 +229,8 @@ class Adapter(Bridge):
         route = self.routes.get(f"{module}.{service}")
         if route is None:
             raise UntimelyError(f"request {rqst_id} names {module}.{service}, which the hello's interface does not declare")
+        if f"{module}.{service}" in self.mapping.cancels:
+            return send_cancel(self, rqst_id, self.mapping.cancels[f"{module}.{service}"])
         kind = self.types[route.name]
         body = kind.Goal if route.kind == "action" else kind.Request
         body = fill(body(**({"service": service} if route.generic else {})), route, message["args"])
@@ -243,8 +247,9 @@ class Adapter(Bridge):
                 return
             goal_id = os.urandom(16)
             self.goal_ids[goal_id.hex()] = rqst_id
+            uuid = self.latest[f"{module}.{service}"] = UUID(uuid=list(goal_id))
             future = self.clients[route.name].send_goal_async(
-                body, feedback_callback=lambda _fb: replies.feedback(rqst_id), goal_uuid=UUID(uuid=list(goal_id)))
+                body, feedback_callback=lambda _fb: replies.feedback(rqst_id), goal_uuid=uuid)
         future.add_done_callback(lambda f: self._accepted(replies, rqst_id, route, f))
 
     # -- ROS 2 -> bench (executor threads) -------------------------------------------------------

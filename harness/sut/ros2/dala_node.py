@@ -47,6 +47,7 @@ from std_msgs.msg import String
 from harness.sut.ros.mapping import load_mapping
 from harness.sut.ros.node_args import dala_arguments
 from harness.sut.ros.routes import Route, read_field
+from harness.sut.ros2.teardown import release
 from harness.sut.ros2.types import route_class
 from harness.errors import UntimelyError
 from harness.sut.simulated.host import LayerHost
@@ -106,7 +107,7 @@ class DalaNode(LifecycleNode):
                 server = ActionServer(
                     self, kind, route.name, execute_callback=self._execute_for(qualified, route, kind),
                     goal_callback=lambda _goal: GoalResponse.ACCEPT if self.active else GoalResponse.REJECT,
-                    cancel_callback=lambda _goal: CancelResponse.REJECT,  # Dala's goals end by its Stop services
+                    cancel_callback=self._cancel_for(qualified),
                     callback_group=group)
                 if hasattr(server, "configure_introspection"):  # rclpy 9 (Kilted) on; the contents name the goal
                     server.configure_introspection(self.get_clock(), QOS, ServiceIntrospectionState.CONTENTS)
@@ -159,9 +160,25 @@ class DalaNode(LifecycleNode):
             result = kind.Result()
             if route.code or route.generic:
                 setattr(result, route.code or "code", code)
-            goal_handle.succeed() if code == "ok" else goal_handle.abort()
+            if code == "ok":
+                goal_handle.succeed()
+            else:
+                goal_handle.canceled() if goal_handle.is_cancel_requested else goal_handle.abort()
             return result
         return execute
+
+    def _cancel_for(self, qualified: str):
+        """Dala's goals end by its modules' Stop services. A mapping whose [cancels] names this
+        service makes a cancel of one of its goals (rclpy asks only for goals still running) that
+        service of the layer, e.g. rflex.Stop for rflex.TrackSpeedStart; otherwise it is refused."""
+        canceller = next((c for c, target in self.mapping.cancels.items() if target == qualified), None)
+
+        def cancel(_goal) -> CancelResponse:
+            if canceller is None or not self.active:
+                return CancelResponse.REJECT
+            self._request(canceller, {}, Ending(self.executor, ""))  # no ground truth: no request of the bench's
+            return CancelResponse.ACCEPT
+        return cancel
 
     def _serve_for(self, qualified: str, route: Route):
         async def serve(request, response):
@@ -242,10 +259,11 @@ def main(argv: list[str] | None = None) -> int:
         executor.spin()
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
-    if node.host:
+    if node.host and node.active:  # a configured layer that was never activated has no thread to stop
         node.host.stop()
+    release([node], executor)  # its participant's shared memory goes with it
     sys.stderr.flush()
-    # Not rclpy's orderly shutdown: nothing is left to save, and the adapter is stopping too.
+    # Not the interpreter's finalisation: rclpy's C++ destructors can abort it, and nothing is left to save.
     os._exit(1 if node.failure else 0)
 
 

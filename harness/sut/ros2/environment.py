@@ -10,25 +10,27 @@ also the ROS 2 prefix (its `lib/` and `share/`), and builds `untimely_msgs` into
 `Ros2Environment(root, distro, slot)`, once entered (or `open()`ed; `close()` ends it):
 - `env`: os.environ plus the distro venv's `bin` first on PATH, PYTHONPATH, LD_LIBRARY_PATH and
   AMENT_PREFIX_PATH for the built package, `ROS_DISTRO`, `ROS_LOG_DIR` in a private temporary
-  folder, `RMW_IMPLEMENTATION=rmw_fastrtps_cpp`, the Fast DDS profile fastdds.xml that keeps every
-  packet on loopback (UDP on 127.0.0.1, no shared memory) and announces faster, and a
-  `ROS_DOMAIN_ID` that no other holder on this machine has. The discovery range is SUBNET: on
-  Jazzy, LOCALHOST makes rmw_fastrtps replace the profile's transports with its own, shared
-  memory included, whose /dev/shm segments a killed process leaves behind; the profile confines;
+  folder, `RMW_IMPLEMENTATION=rmw_fastrtps_cpp`, `ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST` (no
+  packet leaves this machine; rmw_fastrtps adds the shared-memory transport, whose /dev/shm files
+  a killed process leaves behind: `close()` sweeps them), the Fast DDS profile fastdds.xml (data
+  sharing off, faster announcements), and a `ROS_DOMAIN_ID` no other holder on this machine has;
 - `python`: the distro venv's interpreter; `domain_id`; `log_dir`; `distro`.
 The domain id is held by an flock on a file of a machine-wide folder for as long as the object is
 open (the kernel releases it if the process dies): 8 slots of a campaign and several pytest
 processes, even of other checkouts, never share one. `slot` says where the search starts, so a
-campaign's slots usually get the same ids run after run. `close()` removes the log folder.
+campaign's slots usually get the same ids run after run. `close()` removes the log folder and
+the shared memory of dead Fast DDS participants (`sweep_dead_segments`).
 `installed(root, distro)` says whether `make ros2` has built the distro, else why not.
 """
 from __future__ import annotations
 
 import fcntl
 import os
+import re
 import shutil
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 from harness.errors import UntimelyError
@@ -42,6 +44,12 @@ PROFILE = Path(__file__).resolve().parent / "fastdds.xml"
 # Fast DDS 2 (Jazzy) reads the first; Fast DDS 3 (Kilted) the second, and warns on the first.
 PROFILE_VARIABLE = {"jazzy": "FASTRTPS_DEFAULT_PROFILES_FILE", "kilted": "FASTDDS_DEFAULT_PROFILES_FILE"}
 PYTHON_DIR = f"python{sys.version_info.major}.{sys.version_info.minor}"
+SHM = Path("/dev/shm")
+# A participant's segment (16 hex digits) or a port of Fast DDS 2 (fastrtps_) or 3 (fastdds_).
+SEGMENT = re.compile(r"(fastrtps|fastdds)_(port\d+|[0-9a-f]{16})")
+# Fast DDS creates a segment's lock file and locks it in the next system call: a younger unlocked
+# one may be in that gap, an older one has lost its owner.
+SETTLE_S = 1.0
 
 
 class Ros2Error(UntimelyError):
@@ -87,7 +95,10 @@ class Ros2Environment:
         self.env = self._environment()
         return self
 
-    def close(self) -> None:
+    def close(self, settle: bool = True) -> None:
+        """Gives the log folder and domain id back, and sweeps what dead processes left in /dev/shm
+        (without `settle`, not waiting for files too young to tell: sweep_dead_segments)."""
+        sweep_dead_segments(settle=settle)  # what its processes, killed or ended by os._exit, left
         if self.log_dir is not None:
             shutil.rmtree(self.log_dir, ignore_errors=True)
             self.log_dir = None
@@ -115,7 +126,7 @@ class Ros2Environment:
             "_ROS_WHEELS_BOOTSTRAP_COMPLETE": "1",
             "ROS_LOG_DIR": str(self.log_dir),
             "ROS_DOMAIN_ID": str(self.domain_id),
-            "ROS_AUTOMATIC_DISCOVERY_RANGE": "SUBNET",
+            "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST",
             "ROS_DISTRO": self.distro,
             "RMW_IMPLEMENTATION": "rmw_fastrtps_cpp",
             PROFILE_VARIABLE[self.distro]: str(PROFILE),
@@ -147,3 +158,62 @@ def hold_domain_id(slot: int):
         return lock, domain_id
     raise Ros2Error(f"all {len(ids)} ROS 2 domain ids ({ids[0]}-{ids[-1]}) are held by other runs "
                     f"on this machine (locks in {LOCK_DIR}); wait for them to end or run fewer slots")
+
+
+def sweep_dead_segments(shm: Path = SHM, settle: bool = True) -> list[str]:
+    """Removes the Fast DDS shared-memory files (a segment or port, its lock files, its semaphore)
+    whose owner is gone, as Fast DDS's `fastdds shm clean` does, and returns their segments' names.
+    A living owner holds an flock on the segment's `_el` file (a port's listeners on `_el` or
+    `_sl`); a port left with no lock file at all is dead once nothing has written it for a while.
+    A file younger than SETTLE_S may be one whose creator has yet to lock it: with `settle`, such
+    files (of processes that just ended, as a rule) are waited for once, SETTLE_S."""
+    removed, young = _sweep(shm)
+    if young and settle:
+        time.sleep(SETTLE_S)
+        removed += _sweep(shm)[0]
+    return removed
+
+
+def _sweep(shm: Path) -> tuple[list[str], bool]:
+    """The dead segments removed, and whether one was too young to tell."""
+    removed, young = [], False
+    for segment in sorted(shm.iterdir()):
+        if not SEGMENT.fullmatch(segment.name):
+            continue
+        locks = [lock for lock in (shm / f"{segment.name}_el", shm / f"{segment.name}_sl") if lock.exists()]
+        if any(_age(path) < SETTLE_S for path in locks or [segment]):
+            young = True
+            continue
+        fds = [_unowned(lock) for lock in locks]
+        try:
+            if None not in fds:
+                for path in (segment, *locks, shm / f"sem.{segment.name}_mutex"):
+                    path.unlink(missing_ok=True)
+                removed.append(segment.name)
+        finally:
+            for fd in fds:
+                if fd is not None:
+                    os.close(fd)
+    return removed, young
+
+
+def _age(path: Path) -> float:
+    """Seconds since the file was last written (a file removed meanwhile by its owner: very old)."""
+    try:
+        return time.time() - path.stat().st_mtime
+    except FileNotFoundError:
+        return float("inf")
+
+
+def _unowned(lock: Path) -> int | None:
+    """An open descriptor holding the lock file's flock when no process holds it, else None."""
+    try:
+        fd = os.open(lock, os.O_RDONLY)
+    except FileNotFoundError:
+        return None
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        return None
+    return fd

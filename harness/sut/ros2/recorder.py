@@ -10,7 +10,9 @@ records until SIGINT or SIGTERM, then closes the bag; it prints "recording" once
 has publishers at all has one discovered. Per action NAME it records NAME/_action/status and
 NAME/_action/feedback, and on Kilted (ROS_DISTRO), whose action servers and clients have
 introspection, NAME/_action/{send_goal,get_result,cancel_goal}/_service_event; per service NAME,
-NAME/_service_event. Each connection stores the definition rosbag2 would (a message's .msg text
+NAME/_service_event. An introspection event is written at its own stamp (the instant the side
+that published it sent or received the request or response), anything else at its arrival. Each
+connection stores the definition rosbag2 would (a message's .msg text
 with those it uses; a service's or action's .srv or .action text for its derived types), found
 under AMENT_PREFIX_PATH, and the type hash its publisher announces, so the project's bag reader
 (`untimely import`) and rosbag2 read it.
@@ -22,6 +24,7 @@ import importlib
 import os
 import re
 import signal
+import struct
 import threading
 import time
 from functools import partial
@@ -46,6 +49,15 @@ def action_topics(name: str, action_type: str, distro: str | None = None) -> lis
                    (f"{name}/_action/get_result/_service_event", f"{action_type}_GetResult_Event"),
                    (f"{name}/_action/cancel_goal/_service_event", "action_msgs/srv/CancelGoal_Event")]
     return topics
+
+
+def event_stamp_ns(raw: bytes) -> int:
+    """The stamp of a service event from its CDR bytes: service_msgs/ServiceEventInfo is the event's
+    first field, its `uint8 event_type` then `builtin_interfaces/Time stamp` (int32 sec, uint32
+    nanosec, aligned to 4), after the 4-byte encapsulation header whose second byte says the
+    endianness (1: little)."""
+    sec, nanosec = struct.unpack_from("<iI" if raw[1] & 1 else ">iI", raw, 8)
+    return sec * 1_000_000_000 + nanosec
 
 
 def service_topics(name: str, service_type: str) -> list[tuple[str, str]]:
@@ -124,13 +136,15 @@ class Recorder:
             self.node.create_subscription(message_class(msgtype), topic, partial(self._write, topic), qos, raw=True)
 
     def _write(self, topic: str, raw: bytes) -> None:
-        received_ns = time.time_ns()
+        # An introspection event's instant is its own stamp, not its arrival here: events of separate
+        # topics arrive some milliseconds out of the order they happened in (docs/ros2.md, "Recording").
+        instant_ns = event_stamp_ns(raw) if topic.endswith("/_service_event") else time.time_ns()
         with self.lock:
             if self.writer is None:
                 return
             if topic not in self.connections:
                 self.connections[topic] = self._connection(topic)
-            self.writer.write(self.connections[topic], received_ns, raw)
+            self.writer.write(self.connections[topic], instant_ns, raw)
 
     def _connection(self, topic: str):
         """The topic's connection, typed by the hash its publisher announces."""

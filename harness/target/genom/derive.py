@@ -2,11 +2,13 @@
 following genom3's semantics of the clauses:
 - `S after Q` (S cannot run until Q has ended ok once) and `B before S` (the same, written on B):
   the PC property PRE(S), q = those services, enforced by genom3's standard exception
-  `disallowed`; a service every other activity needs this way is the init service: PEX(module);
+  `disallowed`; the one service every other activity needs this way (if only one) is the init
+  service: PEX(module);
 - `S interrupts X` (`all`: every service): S is a dominator of the running activity X: AIB(X), EE,
   enforced by `interrupted`; genom3's standard `kill` interrupts all;
 - exceptions: class R (a rejection) when only validate codels can throw them (every service that
-  throws one has a validate codel and no other codel), class T (ended with it) otherwise.
+  throws one has a validate codel and no other codel), class T (ended with it) otherwise;
+- validate codels: the arguments they check and the VAL properties they state (validate.py).
 Every property names, in a comment of properties.toml, the clauses and lines it comes from.
 """
 from __future__ import annotations
@@ -16,6 +18,7 @@ from pathlib import Path
 from harness.errors import InputFileError
 from harness.target.draft import Draft, aib, pex, pre
 from harness.target.genom.reader import GenomScope, provided, read_scopes
+from harness.target.genom.validate import validated
 
 STANDARD_REPLIES = {"too_many_activities": ("R", "genom3: no free instance of the activity (standard exception)")}
 UNUSABLE = ("abort_activity", "connect_port", "connect_service")  # name middleware ids a mission cannot know
@@ -53,7 +56,7 @@ def _preconditions(c: GenomScope, services: dict, draft: Draft) -> None:
     needed = {q for first in needs.values() for q in first}
     common = sorted(q for q in needed if any(a != q for a in activities)
                     and all(q in needs.get(a, {}) for a in activities if a != q))
-    if activities and common:
+    if activities and len(common) == 1:  # several: none of them is *the* init service, each stays a PRE
         init = common[0]
         draft.modules[c.name][init] = "init"
         cites = [cite for a in activities if a != init for cite in needs[a].pop(init)]
@@ -99,6 +102,7 @@ def _component(c: GenomScope, draft: Draft) -> None:
     _preconditions(c, services, draft)
     _dominators(c, services, draft)
     _exceptions(c, services, draft)
+    validated(c, services, draft)
     draft.notes += c.notes
     draft.notes.append(f"{c.name}: genom3's standard services {', '.join(UNUSABLE)} are left out (they name an "
                        "activity or a port by an identifier of the middleware, which a mission cannot know)")
@@ -115,12 +119,13 @@ def from_genom(path: Path, includes: list[Path]) -> Draft:
         _component(c, draft)
         if len(draft.properties) == before:
             raise InputFileError(c.where.file, c.where.line, f"component {c.name} states no property untimely can "
-                                 "judge (no activity, so nothing to interrupt, and no after or before clause); "
+                                 "judge (no activity, so nothing to interrupt, no after or before clause, and no "
+                                 "validate codel that rejects with an exception of its own); "
                                  "write the target by hand from `untimely init DIR` (without --from-genom)")
     draft.notes += [f"#pragma {words} ({where}) concerns genom3's build, not the interface: ignored"
                     for where, words in source.pragmas if words.split()[:1] != ["provides"]]
-    draft.notes += ["service inputs (the args of interface.toml) and their domains (what validate codels check) "
-                    "are not derived: add args to interface.toml and values to golden.mission",
+    draft.notes += ["service inputs other than those a rejecting validate codel checks (the args of interface.toml) "
+                    "are not derived, nor any argument's bounds: add them to interface.toml and golden.mission",
                     "which activities run until stopped is not derived: the golden mission waits for each "
                     "activity at most 30 s",
                     "cross-component exclusions (EXC, MX_I) are stated nowhere in a .gen file: add them to "

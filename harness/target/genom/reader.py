@@ -16,6 +16,7 @@ from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedInput
 
 from harness.errors import InputFileError
+from harness.target.genom.params import CodelParam, Param, codel_param, service_param
 from harness.target.genom.preprocess import Origin, Source, preprocess
 
 HERE = Path(__file__).resolve().parent
@@ -31,6 +32,8 @@ class GenomService:
     clauses: dict[str, list[str]] = field(default_factory=dict)  # interrupts/before/after/throws -> names
     lines: dict[str, Origin] = field(default_factory=dict)  # clause -> where it is written
     validate: str | None = None  # the validate codel's name
+    params: tuple[Param, ...] = ()  # the service's parameters
+    checks: tuple[CodelParam, ...] = ()  # the validate codel's parameters
     codels: int = 0  # codels besides validate
     scope: str = ""  # the component or interface that declares it
 
@@ -63,6 +66,7 @@ def _names(tree: Tree) -> list[str]:
 def _service(tree: Tree, source: Source, scope: str) -> GenomService:
     kind, name = tree.children[0], tree.children[1]
     service = GenomService(str(name), str(kind), source.origins[name.line - 1], scope=scope)
+    service.params = tuple(service_param(c) for c in tree.children[2:] if isinstance(c, Tree) and c.data == "parameter")
     clauses = next((c for c in tree.children[2:] if isinstance(c, Tree) and c.data == "clauses"), None)
     for clause in clauses.children if clauses else []:
         where = source.origins[clause.meta.line - 1]
@@ -72,6 +76,7 @@ def _service(tree: Tree, source: Source, scope: str) -> GenomService:
             service.lines.setdefault(clause.data, where)
         elif clause.data == "validate":
             service.validate, service.lines["validate"] = str(clause.children[0]), where
+            service.checks = tuple(codel_param(c) for c in clause.children[1:] if c is not None)
         elif clause.data == "codel":
             service.codels += 1
     return service

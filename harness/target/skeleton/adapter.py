@@ -21,11 +21,15 @@ with the properties), on the interface the bench sends in its hello:
 - an accepted control request ends `ok` at once; an accepted init or exec request runs INIT_S or
   ACTIVITY_S mission seconds, then ends `ok`;
 - an accepted request of a service some [[interrupts]] entry names as `by` interrupts the running
-  activities of that entry's x first, which end with its reply.
-It checks no argument: a campaign finds what such a layer lets through.
+  activities of that entry's x first, which end with its reply;
+- a request of a service some [[validates]] entry names in x, once the [[requires]] rules let it
+  through, is rejected with its reply when an argument breaks its domain in interface.toml (beside
+  this file): missing though required, of the wrong JSON type, outside min..max, not one of the
+  choices, not matching the pattern. Other services' arguments are not checked.
 """
 import json
 import os
+import re
 import sys
 import threading
 import tomllib
@@ -33,6 +37,28 @@ import tomllib
 INIT_S = 0.3       # mission seconds an init service takes
 ACTIVITY_S = 1.0   # mission seconds an exec activity runs
 RULES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "standin.toml")
+INTERFACE = os.path.join(os.path.dirname(RULES), "interface.toml")
+
+
+def domains() -> dict:
+    """"module.Service" -> argument -> its spec, from interface.toml beside this file."""
+    if not os.path.exists(INTERFACE):
+        return {}
+    with open(INTERFACE, "rb") as f:
+        modules = tomllib.load(f).get("modules", {})
+    return {f"{m}.{s}": spec.get("args", {}) for m, services in modules.items()
+            for s, spec in services.get("services", {}).items()}
+
+
+def legal(value, spec: dict) -> bool:
+    """Whether a request's JSON value (None: absent) lies in the argument's domain."""
+    if value is None:
+        return not spec.get("required", True)
+    if spec["type"] == "float":
+        number = isinstance(value, (int, float)) and not isinstance(value, bool)
+        return number and spec.get("min", value) <= value <= spec.get("max", value)
+    return isinstance(value, str) and value in spec.get("choices", [value]) and \
+        re.fullmatch(spec.get("pattern", ".*"), value, re.S) is not None
 
 
 class Layer:
@@ -41,14 +67,20 @@ class Layer:
         self.scale = float(hello.get("time_scale", 1.0))    # mission seconds per wall second
         self.requires = rules.get("requires", [])           # [{x, q, reply}]
         self.interrupts = rules.get("interrupts", [])       # [{by, x, reply}]
+        self.validates = rules.get("validates", [])         # [{x, reply}]
+        self.domains = domains()                            # "module.Service" -> argument -> spec
         self.done: set[str] = set()                         # "module.Service" that ended ok once
         self.running: dict[int, tuple[str, threading.Event, list]] = {}  # id -> service, cut, reply
         self.lock = threading.Lock()
         self.over = False  # the bench said bye: nothing of this run may be sent any more
 
-    def rejection(self, service: str) -> str | None:
+    def rejection(self, service: str, args: dict) -> str | None:
         for rule in self.requires:
             if service in rule["x"] and not set(rule["q"]) <= self.done:
+                return rule["reply"]
+        for rule in self.validates:
+            spec = self.domains.get(service, {})
+            if service in rule["x"] and not all(legal(args.get(name), spec[name]) for name in spec):
                 return rule["reply"]
         return None
 
@@ -56,7 +88,7 @@ class Layer:
         """A request crosses the interface: decide, then reply (here, in a thread of its own)."""
         name, kind = f"{module}.{service}", self.kinds[module][service]
         with self.lock:
-            rejected = self.rejection(name)
+            rejected = self.rejection(name, args)
             if rejected:
                 return final(rqst_id, rejected)
             for rule in self.interrupts:

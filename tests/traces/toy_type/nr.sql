@@ -1,4 +1,4 @@
-{#- NR[x, r_p], a toy type for the tests (tests/test_toy_property_type.py): x is never to be
+{#- NR[x, r_p], a toy type for the tests (tests/analysis/test_toy_property_type.py): x is never to be
     rejected with r_P, whatever came before (C always holds). Verdict table of PC with C true:
     accepted TN, r_P FP, another rejection op, no final reply omega. -#}
 {% import 'oracles/_base.sql' as base %}

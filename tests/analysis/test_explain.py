@@ -1,0 +1,158 @@
+"""`explain TRACE_ID PROPERTY [RQST_ID]`: the events that decided a verdict."""
+import shutil
+
+import pytest
+
+from harness import DEFAULT_MISSION_DIR
+from harness.analysis import explain
+from harness.analysis.analyzer import materialise
+from harness.analysis.explain import Explainer, judged_properties
+from harness.cli import main
+from harness.store.database import connect
+from harness.target.property_types import property_types
+from tests.support.traces import HERE, INTERFACE, all_fixtures, load, judged_store
+
+EPSILON = 0.01
+
+
+def _store(tmp_path, name: str):
+    """A fixture file's traces judged from a copy of the Dala mission's files."""
+    mission = tmp_path / "mission"
+    shutil.copytree(DEFAULT_MISSION_DIR, mission, dirs_exist_ok=True)
+    fixture = load(HERE / name)
+    db = tmp_path / "store.duckdb"
+    judged_store(fixture, EPSILON, db).close()
+    con = connect(db)
+    materialise(con, fixture.properties, EPSILON, INTERFACE, mission / "properties.toml")
+    con.close()
+    return db, {case.label: n for n, case in enumerate(fixture.cases, 1)}
+
+
+@pytest.mark.slow
+def test_a_pc_verdict_shows_the_ok_replies_that_set_c(tmp_path, capsys):
+    db, ids = _store(tmp_path, "pc.trace")
+    trace = ids["pc_tie_request_first"]
+    assert main(["explain", str(trace), "PEX(rflex)", "--db", str(db)]) == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[:3] == [
+        f"PEX(rflex) on request 2 of trace {trace}: FN",
+        "  x(i) rflex.TrackSpeedStart sent at 1.000000 s; final reply ok (class T) at 2.000000 s",
+        "  C is false; margin 0.000000 s; suspicious (epsilon 0.01 s)"]
+    assert "q rflex.Init  ok at 1.000000" in out and "yes            no" in out
+
+
+def test_an_ee_verdict_shows_the_y_requests_and_that_causality_settles_it(tmp_path, capsys):
+    db, ids = _store(tmp_path, "flag.trace")
+    trace = ids["flag_control_is_no_cause"]
+    assert main(["explain", str(trace), "AIB(ndd.GotoPosition)", "1", "--db", str(db)]) == 0
+    out = capsys.readouterr().out
+    assert f"AIB(ndd.GotoPosition) on request 1 of trace {trace}: TP" in out
+    assert "C is false; margin 0.002000 s; not suspicious" in out
+    assert "y ndd.Stop #3  sent 1.000000, ok (T) at 1.100000" in out
+    assert "one of them came before the end whatever the observed order, so C cannot hold" in out
+
+
+def test_explain_refuses_an_unknown_property_or_request(tmp_path, capsys):
+    db, ids = _store(tmp_path, "pc.trace")
+    assert main(["explain", "1", "PEX(nosuch)", "--db", str(db)]) == 2
+    assert "no property 'PEX(nosuch)'" in capsys.readouterr().err
+    assert main(["explain", "1", "PEX(rflex)", "9", "--db", str(db)]) == 2
+    assert "trace 1 has no verdict of PEX(rflex) on request 9; it has verdicts on requests [2]" in \
+        capsys.readouterr().err
+
+
+def test_a_value_domain_verdict_shows_the_arguments_their_values_and_domains(tmp_path, capsys):
+    db, ids = _store(tmp_path, "val.trace")
+    trace = ids["val_false_rp"]
+    assert main(["explain", str(trace), "VAL(ndd)", "2", "--db", str(db)]) == 0
+    out = capsys.readouterr().out
+    assert out.splitlines()[:3] == [
+        f"VAL(ndd) on request 2 of trace {trace}: TP",
+        '  x(i) ndd.GotoPosition {"x": "nan", "y": 4.0} sent at 0.200000 s; final reply bad_params (class R) '
+        'at 0.300000 s',
+        "  C is false; margin - s; not suspicious (epsilon 0.01 s)"]
+    assert 'argument x  "nan"; domain float 0..20  yes' in out and "argument y  4.0; domain float 0..20    no" in out
+    assert main(["explain", str(ids["val_false_rp"]), "VAL(ndd)", "5", "--db", str(db)]) == 0
+    assert "argument y  missing; domain float 0..20" in capsys.readouterr().out
+
+
+def test_a_property_whose_oracle_fails_is_not_explained_and_the_others_are(tmp_path, monkeypatch):
+    db, ids = _store(tmp_path, "flag.trace")
+    con = connect(db, read_only=True)
+    explainer = Explainer(con, *judged_properties(con))
+    keys = [tuple(k) for k in con.execute("select trace_id, property_id, rqst_id from verdicts "
+                                          "order by all").fetchall()]
+    assert len({p for _, p, _ in keys}) >= 2
+    normal = explainer.explain(keys)
+    broken = keys[0][1]
+    original = explain.render_property
+    monkeypatch.setattr(explain, "render_property", lambda prop, *args, **kwargs: (
+        "select no_such_column from verdicts" if prop.id == broken else original(prop, *args, **kwargs)))
+    texts = explainer.explain(keys)
+    assert {k: t for k, t in texts.items() if k[1] != broken} == {k: t for k, t in normal.items() if k[1] != broken}
+    failed = [t for k, t in texts.items() if k[1] == broken]
+    assert failed and all(t.splitlines()[1] == '  not explained: the property\'s oracle failed (Binder Error: '
+                          'Referenced column "no_such_column" not found in FROM clause!); fix its template, then '
+                          'analyze again' for t in failed)
+
+
+SELF_INTERRUPTING = """component selfish {
+  activity X() { interrupts X; };
+  activity Y();
+};
+"""
+
+
+def test_explain_report_and_junit_never_crash_on_an_ee_verdict_without_a_y_request(tmp_path, capsys):
+    """An activity that interrupts itself, requested twice, and one that only genom3's kill
+    interrupts (no request of it in the trace): every verdict is explained, reported and written
+    as JUnit (explain crashed on the verdict no y request decided)."""
+    gen = tmp_path / "selfish.gen"
+    gen.write_text(SELF_INTERRUPTING)
+    folder, db = tmp_path / "selfish", tmp_path / "s.duckdb"
+    assert main(["init", str(folder), "--from-genom", str(gen)]) == 0
+    script = folder / "trace.mission"  # beside the target's interface and suts.toml
+    script.write_text("send selfish.Y as y\nsleep 0.2\nsend selfish.X as a\nsleep 0.2\nsend selfish.X as b\nwait all\n")
+    assert main(["run", str(script), "--sut", "adapter", "--db", str(db)]) == 0
+    assert main(["analyze", "--db", str(db), "--properties", str(folder / "properties.toml"),
+                 "--junit", str(tmp_path / "j.xml")]) == 0
+    con = connect(db, read_only=True)
+    verdicts = con.execute("select trace_id, property_id, rqst_id, verdict from verdicts").fetchall()
+    con.close()
+    assert {v[1] for v in verdicts} == {"AIB(selfish.X)", "AIB(selfish.Y)"}, verdicts
+    capsys.readouterr()
+    for trace_id, property_id, rqst_id, _ in verdicts:
+        assert main(["explain", str(trace_id), property_id, str(rqst_id), "--db", str(db)]) == 0
+    out = capsys.readouterr()
+    assert "Traceback" not in out.err and "AIB(selfish.X)" in out.out
+    assert main(["report", "--db", str(db), "--out", str(tmp_path / "report")]) == 0
+    assert (tmp_path / "j.xml").read_text().startswith("<?xml")
+
+
+def test_a_crash_exits_with_its_own_status_not_the_finding_status(tmp_path, capsys, monkeypatch):
+    def broken(args):
+        raise AttributeError("'NoneType' object has no attribute 'startswith'")
+    monkeypatch.setattr(explain, "main", broken)
+    assert main(["explain", "1", "P", "--db", str(tmp_path / "none.duckdb")]) == 3
+    err = capsys.readouterr().err
+    assert "crashed (a bug, not a finding)" in err and "AttributeError" in err
+
+
+@pytest.mark.slow
+def test_every_verdict_of_every_fixture_is_explained(tmp_path):
+    """The hand-made traces cover every verdict cell of every type: each verdict row gets an
+    explanation naming its property and verdict, none a traceback."""
+    explained = set()
+    for n, fixture in enumerate(all_fixtures()):
+        con = judged_store(fixture, EPSILON, tmp_path / f"{n}.duckdb")
+        rows = con.execute("select trace_id, property_id, rqst_id, verdict from verdicts").fetchall()
+        texts = Explainer(con, fixture.interface, {p.id: p for p in fixture.properties}).explain(
+            [(t, p, r) for t, p, r, _ in rows])
+        con.close()
+        types = {p.id: p.type for p in fixture.properties}
+        for trace_id, property_id, rqst_id, verdict in rows:
+            assert texts[(trace_id, property_id, rqst_id)].startswith(
+                f"{property_id} on request {rqst_id} of trace {trace_id}: {verdict}"), fixture.path
+            explained.add((types[property_id], verdict))
+    assert {t for t, _ in explained} == set(property_types())  # every type a template declares
+    assert {v for _, v in explained} >= {"TN", "TP", "FN", "FP"}
