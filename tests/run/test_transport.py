@@ -4,6 +4,8 @@ the built-in kinds stay what --sut names."""
 from dataclasses import dataclass
 from pathlib import Path
 
+import pytest
+
 from harness import DEFAULT_MISSION_DIR, store
 from harness.campaign import campaign
 from harness.campaign.request import CampaignRequest
@@ -43,6 +45,7 @@ def echo(name, setup):
     return Echo(name) if name.startswith("echo") else None
 
 
+@pytest.mark.slow
 def test_a_toy_transport_added_by_one_registry_entry_runs_a_campaign(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(transport, "REGISTRY", [echo, *transport.REGISTRY])
     db = tmp_path / "echo.duckdb"
