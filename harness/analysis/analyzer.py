@@ -63,8 +63,8 @@ class Oracle:
                              f"{message}{where}")
 
 
-def _shared_names(events: str) -> tuple[str, str]:
-    return events, f"{events}_causes"
+def _shared_names(events: str) -> tuple[str, str, str]:
+    return events, f"{events}_causes", f"{events}_epsilons"
 
 
 def _shared(events: str) -> Shared:
@@ -135,8 +135,6 @@ def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsi
     rendered = render_oracles(properties, epsilon, interface)  # a property that cannot be rendered stops us here
     try:
         failures = _judge(con, rendered)
-        for _, target in SOURCES:  # on the temporary table: an update of the published one fills the WAL
-            con.execute(render_view("shared_codes", target=staged(target)))
         with transaction(con):
             replace_old_analysis(con)
             keep_previous(con)

@@ -13,16 +13,19 @@ from harness.analysis.oracles import render_property
 from harness.store.sql import render_view
 from harness.trace import Trace
 
+_STAGED = "verdicts_staged"
+
 
 class Judge:
     def __init__(self, interface: Interface, properties: list[Property], epsilon: float = DEFAULT_EPSILON_S):
         self.con = store.connect(":memory:")
         store.add_reply_codes(self.con, interface)
         self.con.execute(render_view("properties", properties=properties))
-        self.sql = "\n".join([render_view("verdicts", target="verdicts") + ";"]
-                             + [render_property(p, "events", epsilon, interface, peers=properties, into="verdicts") + ";"
+        # every oracle's rows staged, then the verdicts table made from them, shared codes applied
+        self.sql = "\n".join([render_view("verdicts", target=_STAGED) + ";"]
+                             + [render_property(p, "events", epsilon, interface, peers=properties, into=_STAGED) + ";"
                                 for p in properties]
-                             + [render_view("shared_codes", target="verdicts") + ";"])
+                             + [render_view("verdicts", target="verdicts", source=_STAGED) + ";"])
         self.con.execute(render_view("verdicts", target="verdicts"))  # for the view, until verdicts() makes it
         self.con.execute(render_view("trace_findings"))
 

@@ -26,9 +26,10 @@ _SERVICE = re.compile(r"[^.\s']+\.[^.\s']+")
 @dataclass(frozen=True)
 class Shared:
     """The temporary tables that every oracle of an analysis reads, made once per events table
-    (render_shared): its requests, and the candidate causes of their ends."""
+    (render_shared): its requests, the candidate causes of their ends, and each trace's epsilon."""
     requests: str
     causes: str
+    epsilons: str
 
 
 def _parameters(prop: Property) -> dict:
@@ -60,8 +61,13 @@ def _scope(prop: Property, enders: list[tuple[str, str, str]]) -> tuple[list[str
     template declares `{% set scope = 'services' %}`, of its own services alone (then given too)."""
     services = _services(_parameters(prop))
     modules = sorted({s.split(".")[0] for s in services} | {y.split(".")[0] for *_, y in enders})
-    own = getattr(ENV.get_template(_template(prop)).module, "scope", "modules") == "services"
+    own = _declares(prop, "scope", "modules") == "services"
     return modules, services if own else None
+
+
+def _declares(prop: Property, name: str, default):
+    """What the template of the property's type sets `name` to (`{% set name = ... %}`)."""
+    return getattr(ENV.get_template(_template(prop)).module, name, default)
 
 
 def interrupters(properties: list[Property]) -> list[tuple[str, str, str]]:
@@ -104,6 +110,7 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
     if shared is not None:
         _table_name(shared.requests, "requests table")
         _table_name(shared.causes, "causes table")
+        _table_name(shared.epsilons, "epsilons table")
     if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
         raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
     parameters = _parameters(prop)
@@ -113,6 +120,7 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
         modules, services = _scope(prop, enders)
         return ENV.get_template("oracles/_oracle.sql").render(
             template=template, into=into, shared=shared and shared.requests, shared_causes=shared and shared.causes,
+            shared_epsilons=shared and shared.epsilons,
             services=services, id=prop.id, family=prop.family, events=events,
             epsilon=round(float(epsilon), 6), parameters=parameters, enders=enders, runs=runs, taken=taken,
             modules=modules,
@@ -141,19 +149,21 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
 def render_shared(properties: list[Property], events: str, epsilon: float, interface: Interface | None,
                   into: Shared) -> str:
     """The statements making what every oracle of an analysis shares, once per events table
-    (sql/oracles/_requests.sql): the tables `into` of `events`'s requests and of the candidate
-    causes of their ends; the oracles read them when rendered with `shared=into`."""
+    (sql/oracles/_requests.sql): the tables `into` of `events`'s requests, of the candidate
+    causes of their ends and of each trace's epsilon; the oracles read them when rendered with `shared=into`."""
     _table_name(events, "events source")
     _table_name(into.requests, "requests table")
     _table_name(into.causes, "causes table")
+    _table_name(into.epsilons, "epsilons table")
     enders = interrupters(properties)
     scopes = [_scope(p, [e for e in enders if e[0] in p.x or e[0] in p.y]) for p in properties]
     # the requests every oracle reads, and no more: whole modules for those that search causes
     modules = sorted({m for ms, services in scopes if services is None for m in ms})
     services = sorted({s for _, ss in scopes for s in ss or () if s.split(".")[0] not in modules})
     return ENV.get_template("oracles/_requests.sql").render(
-        events=events, into=into.requests, shared_causes=into.causes, taken=True, runs=True,
+        events=events, into=into.requests, shared_causes=into.causes, shared_epsilons=into.epsilons, taken=True, runs=True,
         epsilon=round(float(epsilon), 6), enders=enders, modules=modules, services=services,
+        args=any(_declares(p, "needs_args", False) for p in properties),
         until_stopped=interface.until_stopped if interface else [],
         control=interface.of_kind("control") if interface else [])
 
@@ -164,7 +174,7 @@ def render_unknown(prop: Property, events: str, into: str) -> str:
     (`{% set judges = [...] %}`, as the mutual types do)."""
     _table_name(events, "events source")
     _table_name(into, "verdicts table")
-    roles = getattr(ENV.get_template(_template(prop)).module, "judges", ["x"])
+    roles = _declares(prop, "judges", ["x"])
     judged = sorted({s for role in roles for s in getattr(prop, role) or ()})
     return ENV.get_template("oracles/_unknown.sql").render(into=into, id=prop.id, family=prop.family,
                                                           events=events, judged=judged)

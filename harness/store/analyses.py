@@ -44,7 +44,8 @@ def try_statement(con, statement: str) -> duckdb.Error | None:
 
 
 def publish(con, target: str) -> None:
-    """The verdicts table `target` with its staged rows; the caller owns the transaction."""
+    """The verdicts table `target` with its staged rows, shared codes applied (sql/views/shared_codes.sql);
+    the caller owns the transaction."""
     con.execute(render_view("verdicts", target=target, source=staged(target)))
 
 

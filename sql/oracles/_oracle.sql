@@ -3,8 +3,9 @@
     `template`, and its verdict rows with the contract columns; with `explain`, the pairs that
     decided the condition of some requests instead (explain.requests: (trace_id, rqst_id) pairs);
     with `into`, the statement inserting the verdict rows into that table; with `shared`, the
-    table of _requests.sql that holds `events`'s requests, read instead of aggregating them again
-    (a type that reads arguments, VAL, still aggregates the few requests it needs). Rendered by
+    table of _requests.sql that holds `events`'s requests (with their arguments when some type
+    reads them, as VAL does), read instead of aggregating them again, and the table of each
+    trace's epsilon (`shared_epsilons`). Rendered by
     harness/analysis/oracles.py. -#}
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/_epsilon.sql' as eps %}
@@ -13,13 +14,17 @@
 {% if into %}
 insert into {{ into }} by name
 {% endif %}
-{% if shared and oracle.needs_args is not defined %}
+{% if shared %}
 -- the analysis's requests, aggregated once for every oracle (_requests.sql)
 with requests as (select * from {{ shared }} where {{ where }}),
 {% else %}
 with {{ base.requests(events, where, explain.traces if explain else none, oracle.needs_args is defined, taken) }},
 {% endif %}
+{% if shared %}
+epsilons as (from {{ shared_epsilons }}),
+{% else %}
 {{ eps.per_trace(runs, taken) }},
+{% endif %}
 {{ oracle.ctes('p', **parameters) }}
 {% if explain %}
 select * from p_pairs where (trace_id, rqst_id) in ({{ explain.requests | join(', ') }})

@@ -1,7 +1,8 @@
 {#- The verdicts table (docs/reference/verdicts.md), filled by the analyzer with every property's oracle query
     in the order of the properties file, then corrected by shared_codes.sql. `target` is
     verdicts (observed events) or verdicts_internal (the ground truth); `temp`: a temporary table
-    (where the analyzer stages each oracle's rows); `source`: a table whose rows it gets. -#}
+    (where the analyzer stages each oracle's rows); `source`: a table of staged rows, which it
+    gets with the shared codes applied. -#}
 create or replace {{ 'temp ' if temp | default(false) }}table {{ target }} (
     trace_id     integer not null,
     property_id  varchar not null,
@@ -17,5 +18,6 @@ create or replace {{ 'temp ' if temp | default(false) }}table {{ target }} (
     alternatives varchar[] not null  -- the other verdicts those orderings give, sorted; [] when certain
 );
 {% if source | default(none) %}
-insert into {{ target }} from {{ source }}
+insert into {{ target }}
+{% include 'views/shared_codes.sql' %}
 {% endif %}
