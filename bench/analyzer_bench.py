@@ -37,6 +37,7 @@ from harness import DEFAULT_MISSION_DIR  # noqa: E402
 from harness.analysis.analyzer import materialise  # noqa: E402
 from harness.target.interface import load_interface, load_properties  # noqa: E402
 from harness.store.database import add_campaign, add_reply_codes, connect, place  # noqa: E402
+from harness.store.record import ImportRecord  # noqa: E402
 from harness.store.sql import render_bench  # noqa: E402
 
 BASELINE = Path(__file__).resolve().parent / "baseline.toml"
@@ -50,7 +51,8 @@ REPLIES = [(70, "ok"), (78, "interrupted"), (82, "interrupted_excl"), (87, "wait
 
 def synthesise(con, interface, traces: int, requests: int, seed: int) -> int:
     """`traces` traces of `requests` requests each over the interface's services; returns the event count."""
-    add_campaign(con, 1, "synthetic", seed, {"traces": traces, "requests": requests})
+    add_campaign(con, 1, "synthetic", seed, ImportRecord(imported=f"synthetic: {traces} traces of {requests} requests",
+                                                          sha256="none: synthetic"))
     add_reply_codes(con, interface)
     con.execute(render_bench("synthetic_traces", seed=seed, traces=traces, requests=requests, replies=REPLIES,
                              services=[(s.module, s.name) for s in interface.services.values()]))

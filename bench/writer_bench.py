@@ -22,6 +22,7 @@ from harness.campaign.runs import BATCH_RUNS  # noqa: E402
 from harness.sut.executive import run_script  # noqa: E402
 from harness.store.appends import transaction  # noqa: E402
 from harness.store.database import add_campaign, add_reply_codes, connect, insert_traces  # noqa: E402
+from harness.store.record import ImportRecord  # noqa: E402
 from harness.target.interface import load_interface  # noqa: E402
 from harness.target.script import load_script  # noqa: E402
 
@@ -38,7 +39,7 @@ def main() -> int:
     traces = [run_script(script, sut, 7, interface, DEFAULT_MISSION_DIR / "world.toml") for sut in VARIANTS]
     with tempfile.TemporaryDirectory() as tmp:
         con = connect(Path(tmp) / "writer.duckdb")
-        add_campaign(con, 1, "writer", 7, {"runs": args.runs})
+        add_campaign(con, 1, "writer", 7, ImportRecord(imported=f"writer: {args.runs} runs", sha256="none: synthetic"))
         add_reply_codes(con, interface)
         started, cpu = time.perf_counter(), time.process_time()
         for first in range(1, args.runs + 1, BATCH_RUNS):

@@ -24,6 +24,7 @@ from harness.store.analyses import (OracleFailure, drop_staged, keep_previous, p
 from harness.store.appends import transaction
 from harness.store.database import connect
 from harness.store.reads import ordered, relations
+from harness.store.record import CampaignRecord, records
 from harness.store.sql import render_query, render_view, view_order
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.target.mission import INTERFACE_FILE
@@ -263,7 +264,7 @@ def least_covered(con: duckdb.DuckDBPyConnection, shown: int = 5) -> str:
         from coverage left join property_positions using (property_id) group by property_id
         order by c_false, min(position) limit {int(shown)}""").fetchall()
     listed = ", ".join(f"{p} {n} ({sut})" for p, n, sut in found)
-    targeted = con.execute("select count(*) from campaigns where config->>'strategy' = 'targeted'").fetchone()[0]
+    targeted = any(r.strategy == "targeted" for _, _, r in records(con, CampaignRecord))
     more = ("More cases: more --mutants, or another --seed, of the targeted campaign" if targeted
             else "More cases: python -m harness campaign --strategy targeted")
     return f"Least covered (requests with C false, on the variant with fewest; view coverage): {listed}. {more}"

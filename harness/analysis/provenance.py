@@ -9,11 +9,11 @@ are the ones of the mission the campaign was made from.
 from __future__ import annotations
 
 import hashlib
-import json
 from pathlib import Path
 
 from harness import DEFAULT_EPSILON_S, SQL_DIR
 from harness.errors import StoreError
+from harness.store.record import records
 from harness.target.mission import INTERFACE_FILE, PROPERTIES_FILE
 
 
@@ -67,23 +67,11 @@ def last_epsilon(con) -> float:
     return found[0] if found else DEFAULT_EPSILON_S
 
 
-def campaign_target(mission: str, config: dict) -> Path:
-    """The target folder a stored campaign was made from: a campaign's mission folder, the folder a
-    `run` recorded (a run stored before it did so: its script's), an import's interface's folder."""
-    if config.get("target"):
-        return Path(config["target"])
-    if config.get("kind") == "campaign" or Path(mission).is_dir():
-        return Path(mission)
-    if config.get("kind") == "import" and config.get("interface"):
-        return Path(config["interface"]).parent
-    return Path(mission).parent
-
-
 def default_properties(con) -> Path:
     """The properties file of the target the last campaign, run or import was made from."""
     tried = []
-    for mission, config in con.execute("select mission, config from campaigns order by campaign_id desc").fetchall():
-        candidate = campaign_target(mission, json.loads(config or "{}")) / PROPERTIES_FILE
+    for _, mission, record in reversed(records(con)):
+        candidate = record.target(mission) / PROPERTIES_FILE
         if candidate.is_file():
             return candidate
         tried.append(str(candidate))

@@ -19,6 +19,7 @@ from harness.target.interface import load_interface
 from harness.target.mission import INTERFACE_FILE, WORLD_FILE
 from harness.target.script import load_script
 from harness.sut.definitions import resolve
+from harness.store.record import RunRecord
 from harness.trace import Trace
 
 
@@ -70,18 +71,17 @@ def run(args: RunRequest) -> int:
     if len(names) != 1:
         raise UntimelyError(f"--sut {args.sut!r}: run takes one SUT; a campaign takes several")
     sut = names[0]
-    # the target folder: analyze, explain and shrink read its properties and files
-    config = {"kind": "run", "sut": sut, "max_delay": args.max_delay, "target": str(interface_path.resolve().parent)}
     # Opened before the run: a store another process writes is refused before a long real-time
     # run, and an external SUT is told the trace id it is making (its hello's `run`).
     con = store.connect(args.db)
-    if sut in external:
-        config["external"] = {sut: external[sut].config()}
     setup = Setup(run_script, interface_path, world_file, args.max_delay, external)
     trace = transport(sut, setup).run(script, args.seed, interface, 0, store.next_id(con, "traces", "trace_id"))
+    # the target folder: analyze, explain and shrink read its properties and files
+    record = RunRecord(sut=sut, max_delay=args.max_delay, target=str(interface_path.resolve().parent),
+                       **({"external": {sut: external[sut].config()}} if sut in external else {}))
     with store.transaction(con):
         campaign_id = store.next_id(con, "campaigns", "campaign_id")
-        store.add_campaign(con, campaign_id, str(script_path), args.seed, config)
+        store.add_campaign(con, campaign_id, str(script_path), args.seed, record)
         store.add_reply_codes(con, interface)
         script_id = store.next_id(con, "scripts", "script_id")
         store.add_scripts(con, [store.ScriptRow(script_id, campaign_id, "golden", script.render())])

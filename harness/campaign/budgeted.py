@@ -26,6 +26,7 @@ from harness.campaign.budget import RULE, Budget, VariantState
 from harness.campaign.context import CampaignContext
 from harness.campaign.slots import Slots
 from harness.store.budgets import record_budget
+from harness.store.record import ShrinkRecord, records
 from harness.store.scripts import ScriptRow, add_scripts
 from harness.store.sql import render_query
 from harness.analysis.judge import Judge
@@ -81,10 +82,10 @@ class FocusedRun:
         self.judge = Judge(ctx.interface, ctx.properties)
         self.account = threading.Lock()  # the budget's, shared with shrinks running in the background
         self.shrinking: list[tuple[shrink.Behaviour, MeteredOriginal, Future]] = []
-        self.state = {sut: VariantState() for sut in config["sut"]}
+        self.state = {sut: VariantState() for sut in config.sut}
         (self.stopped,) = con.execute("select stopped from campaign_budgets where campaign_id = ?",
                                       [campaign_id]).fetchone() or (None,)
-        self.budget, self.shrink_s = Budget(config.get("budget_s")), 0.0
+        self.budget, self.shrink_s = Budget(config.budget_s), 0.0
         self.account_from_store()
         self.scripts = {json.loads(m)[0]["test"]: (script_id, body) for script_id, m, body in con.execute(
             "select script_id, mutations, body from scripts where campaign_id = ? and kind = 'mutant'",
@@ -98,8 +99,7 @@ class FocusedRun:
                                                  [campaign_id]).fetchall()}
         # what was shrunk, or tried (its runs are stored): a resumed campaign does not try again, unless
         # the campaign was stopped while it ran
-        self.shrunk = {(c["sut"], c["verdict"], c["property"]) for c in (json.loads(text) for (text,) in con.execute(
-            "select config from campaigns where config->>'kind' = 'shrink'").fetchall()) if not c.get("interrupted")}
+        self.shrunk = {(s.sut, s.verdict, s.property) for _, _, s in records(con, ShrinkRecord) if not s.interrupted}
 
     def account_from_store(self) -> None:
         """What the campaign has spent: the mission seconds of its stored traces and shrink runs
@@ -113,7 +113,7 @@ class FocusedRun:
         """Test n's (script_id, body), made and stored the first time (shrunk scripts and the
         trace ids of shrink runs shift later tests' script ids)."""
         if n not in self.scripts:
-            script_id = store.next_script_id(self.con, len(self.config["sut"]))
+            script_id = store.next_script_id(self.con, len(self.config.sut))
             test = self.plan.test(n, f"script {script_id}")
             if not test.valid:
                 raise UntimelyError(f"focused test {n} is not a valid script ({test.invalid_reason}); "
@@ -129,9 +129,9 @@ class FocusedRun:
         if self.stopped:
             print(f"campaign {self.campaign_id} is complete; nothing to run")
             return self.stopped
-        n, cap = 0, self.config["mutants"]
+        n, cap = 0, self.config.mutants
         while True:
-            active = [s for s in self.config["sut"] if not self.state[s].done]
+            active = [s for s in self.config.sut if not self.state[s].done]
             if not active:
                 return self._stop("rule", n)
             if n >= cap:
@@ -240,7 +240,7 @@ def stopped_line(run: FocusedRun, reason: str) -> str:
     why = {"rule": "its stopping rule says nothing new is expected: "
                    + RULE.format(patience=PATIENCE),
            "budget": "the next test does not fit in the budget",
-           "tests": f"it made --mutants {run.config['mutants']} tests"}[reason]
+           "tests": f"it made --mutants {run.config.mutants} tests"}[reason]
     limit = "no budget" if run.budget.limit_s is None else f"budget {run.budget.limit_s:,.0f}"
     # every other run is admitted only if its bound fits: only the golden runs, made first, overrun it
     over = ("; the golden runs alone took more than the budget: give a larger --budget to a new --db"

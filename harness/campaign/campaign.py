@@ -53,12 +53,12 @@ def _create(ctx: CampaignContext, golden_id: int, mutants: list[Mutant], session
     def keep(task, trace):
         golden_runs.append((task, trace))
         session.count(trace)
-    ctx.executor.run_all(sharding.part(tasks([(golden_id, golden_text)], golden_id, config), config["shard"]), keep)
+    ctx.executor.run_all(sharding.part(tasks([(golden_id, golden_text)], golden_id, config), config.shard), keep)
     with store.transaction(ctx.con):
         campaign_id = store.next_id(ctx.con, "campaigns", "campaign_id")
-        store.add_campaign(ctx.con, campaign_id, config["mission"], config["seed"], config)
+        store.add_campaign(ctx.con, campaign_id, config.mission, config.seed, config)
         store.add_reply_codes(ctx.con, ctx.interface)
-        store.place(ctx.con, "variant_positions", "sut", config["sut"])
+        store.place(ctx.con, "variant_positions", "sut", config.sut)
         store.add_scripts(ctx.con, [store.ScriptRow(golden_id, campaign_id, "golden", golden_text)] + [
             store.ScriptRow(golden_id + n, campaign_id, "mutant", m.body, golden_id, m.operations, m.valid,
                             m.invalid_reason) for n, m in enumerate(mutants, 1)])
@@ -74,7 +74,7 @@ def _generate(ctx: CampaignContext, golden_id: int) -> list[Mutant]:
 
     def run_golden() -> Trace:  # on the first variant
         return ctx.setup.run(tasks([(golden_id, ctx.golden.render())], golden_id, config)[0], ctx.interface, 0)
-    progress = Progress(config["mutants"], unit="mutants") if config["mutants"] >= SHOW_GENERATION else None
+    progress = Progress(config.mutants, unit="mutants") if config.mutants >= SHOW_GENERATION else None
     mutants = strategies.generate(config, ctx.golden, ctx.interface, ctx.properties, run_golden=run_golden,
                                   name=lambda n: script_label(golden_id + n),
                                   on_mutant=progress.advance if progress else lambda: None)
@@ -118,17 +118,17 @@ def _focused(ctx: CampaignContext, start: float) -> None:
     """A focused campaign: the golden on every variant, then tests until it stops (harness.campaign.budgeted)."""
     con, config = ctx.con, ctx.config
     if ctx.campaign_id is None:
-        session = Session(Progress(len(config["sut"])), start)
+        session = Session(Progress(len(config.sut)), start)
         _create(ctx, store.next_id(con, "scripts", "script_id"), [], session)
         session.progress.close()
     golden_id = con.execute("select min(script_id) from scripts where campaign_id = ?",
                             [ctx.campaign_id]).fetchone()[0]
-    golden_trace = Trace(config["sut"][0], 0, events=observed_events(con, tasks([(golden_id, "")], golden_id,
+    golden_trace = Trace(config.sut[0], 0, events=observed_events(con, tasks([(golden_id, "")], golden_id,
                                                                                config)[0].trace_id))
     plan = strategies.plan(config, ctx.golden, ctx.interface, ctx.properties, golden_trace)
     _judged(ctx, show=False)  # what the stored traces found
-    session = Session(Progress(len(config["sut"]) * len(plan.aims), unit="runs"), start)
-    with Batches(con, ctx.campaign_id, session, set(config["external"])) as batches, \
+    session = Session(Progress(len(config.sut) * len(plan.aims), unit="runs"), start)
+    with Batches(con, ctx.campaign_id, session, set(config.external)) as batches, \
             campaign_slots(ctx) as slots:
         focused_run = budgeted.FocusedRun(ctx, plan, golden_id, batches, slots)
         try:
@@ -148,7 +148,7 @@ def main(request: CampaignRequest, runner=None) -> int:
     config = campaign_config(request)
     target = load_mission(request.mission)
     golden, properties = target.golden(), target.properties()  # refused before anything starts
-    external = {name: ExternalSut(**spec) for name, spec in config["external"].items()}
+    external = {name: ExternalSut(**spec) for name, spec in config.external.items()}
     setup = Setup(runner or run_script, target.interface_file, target.world_file, request.max_delay,
                   external, REALTIME_WALL_LIMIT_S if external else RUN_WALL_LIMIT_S)
     # A real-time run mostly waits: its slots may outnumber the cores.
@@ -159,7 +159,8 @@ def main(request: CampaignRequest, runner=None) -> int:
         ctx = CampaignContext(con=store.connect(request.db), db=request.db, target=target, golden=golden,
                               properties=properties, config=config, setup=setup, executor=executor, jobs=jobs,
                               cluster=request.cluster,
-                              shrink_to=shrink.default_out(request.db) if request.shrink else None)
+                              shrink_to=shrink.default_out(request.db) if request.shrink else None,
+                              allow_code_change=request.allow_code_change)
         return _run(ctx)
 
 
@@ -171,7 +172,7 @@ def _warn_of_a_default_target(ctx: CampaignContext) -> None:
     for sut, error in ctx.con.execute("""select sut, arg_min(error, trace_id) from traces where campaign_id = ?
                                          group by sut having bool_and(outcome = 'crashed')""",
                                       [ctx.campaign_id]).fetchall():
-        if sut in ctx.config["external"]:
+        if sut in ctx.config.external:
             print(f"every run of {sut} crashed on the default target {DEFAULT_MISSION_DIR} (first: "
                   f"{cut(error or 'no reason given')}); if {sut} is made for another target, pass --mission "
                   "FOLDER with its interface.toml and golden.mission", file=sys.stderr)
@@ -179,17 +180,17 @@ def _warn_of_a_default_target(ctx: CampaignContext) -> None:
 
 def _session(ctx: CampaignContext, start: float) -> tuple[Session, list]:
     """This session's runs: a new campaign's (its golden runs made and stored), or a resumed one's."""
-    con, config, variants = ctx.con, ctx.config, len(ctx.config["sut"])
+    con, config, variants = ctx.con, ctx.config, len(ctx.config.sut)
     if ctx.campaign_id is None:
         golden_id = store.next_id(con, "scripts", "script_id")
         mutants = _generate(ctx, golden_id)
         runs = variants * (1 + sum(m.valid for m in mutants))
-        session = Session(Progress(sharding.share(runs, config["shard"])), start)
+        session = Session(Progress(sharding.share(runs, config.shard)), start)
         _create(ctx, golden_id, mutants, session)
         return session, pending_tasks(con, ctx.campaign_id, config)
     pending = pending_tasks(con, ctx.campaign_id, config)
     total = sharding.share(variants * con.execute("select count(*) from scripts where campaign_id = ? and valid",
-                                                  [ctx.campaign_id]).fetchone()[0], config["shard"])
+                                                  [ctx.campaign_id]).fetchone()[0], config.shard)
     if pending:
         print(f"resuming campaign {ctx.campaign_id} in {ctx.db}: {total - len(pending)} of {total} runs "
               f"stored, {len(pending)} to go", file=sys.stderr)
@@ -199,14 +200,14 @@ def _session(ctx: CampaignContext, start: float) -> tuple[Session, list]:
 
 
 def _run(ctx: CampaignContext) -> int:
-    ctx.campaign_id = find_campaign(ctx.con, ctx.config, ctx.db)
+    ctx.campaign_id = find_campaign(ctx.con, ctx.config, ctx.db, ctx.allow_code_change)
     start = time.monotonic()
-    if ctx.config["strategy"] == "focused":
+    if ctx.config.strategy == "focused":
         _focused(ctx, start)
         return 0
     session, pending = _session(ctx, start)
     if pending:
-        with Batches(ctx.con, ctx.campaign_id, session, set(ctx.config["external"])) as batches:
+        with Batches(ctx.con, ctx.campaign_id, session, set(ctx.config.external)) as batches:
             ctx.executor.run_all(pending, batches.add)
     if session.runs:
         session.progress.close()

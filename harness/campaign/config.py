@@ -2,7 +2,7 @@
 before anything runs, and the stored campaign that a rerun with the same arguments resumes."""
 from __future__ import annotations
 
-import json
+import sys
 
 from harness.campaign import sharding
 from harness.campaign.budget import parse_duration
@@ -11,20 +11,19 @@ from harness.errors import StoreError, UntimelyError
 from harness.mutator import strategies
 from harness.mutator.focused import least_s
 from harness.mutator.operators import chosen as chosen_operators
+from harness.run import cluster
+from harness.store.record import CampaignRecord, records
 from harness.sut.definitions import resolve
 from harness.target.mission import load_mission
 
 # Arguments that decide what is run; --jobs, --cluster and --db do not.
 COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "operators",
             "value_mutations", "max_delay", "budget_s", "files", "shard")
-# What a config stored before a key existed means by its absence.
-ABSENT = {"external": {}, "strategy": "random", "shard": None, "operators": None, "budget_s": None,
-          "value_mutations": False}
 # A store of ~300,000 traces, judged in a few GB of memory; generating them takes minutes.
 MAX_MUTANTS = 100_000
 
 
-def campaign_config(args: CampaignRequest) -> dict:
+def campaign_config(args: CampaignRequest) -> CampaignRecord:
     """The campaign's identity (stored in campaigns.config); refuses arguments that make no sense
     together (each flag's own range is checked once, by the command line)."""
     if not 0 <= args.mutants <= MAX_MUTANTS:
@@ -48,13 +47,13 @@ def campaign_config(args: CampaignRequest) -> dict:
                             "before they start; a focused campaign chooses its next tests from what the last ones "
                             "found: run it whole, without --shard")
     budget = {} if given is None else {"budget_s": _budget(given, mission.golden(), len(suts))}
-    return {**budget, "kind": "campaign", "mission": str(mission.folder.resolve()), "mutants": args.mutants, "sut": suts,
-            "external": {name: sut.config() for name, sut in external.items()},
-            "strategy": args.strategy, "seed": args.seed, "ops_per_mutant": ops_per_mutant,
-            "time_mutations": args.time_mutations, "operators": named,
-            "value_mutations": args.value_mutations,
-            "max_delay": args.max_delay, "jobs": args.jobs,
-            "files": mission.hashes(), "shard": sharding.parse(args.shard)}
+    return CampaignRecord(**budget, mission=str(mission.folder.resolve()), mutants=args.mutants, sut=suts,
+                          external={name: sut.config() for name, sut in external.items()},
+                          strategy=args.strategy, seed=args.seed, ops_per_mutant=ops_per_mutant,
+                          time_mutations=args.time_mutations, operators=named,
+                          value_mutations=args.value_mutations,
+                          max_delay=args.max_delay, jobs=args.jobs, files=mission.hashes(),
+                          shard=sharding.parse(args.shard), code_identity=cluster.code_identity())
 
 
 def _budget(given: str, golden, variants: int) -> float:
@@ -67,15 +66,14 @@ def _budget(given: str, golden, variants: int) -> float:
     return seconds
 
 
-def _difference(stored: dict, wanted: dict) -> str | None:
+def _difference(stored: CampaignRecord, wanted: CampaignRecord) -> str | None:
     for key in COMPARED:
         if key == "files":  # a campaign stored before a file was hashed compares those it hashed
-            changed = [n for n in stored["files"] if stored["files"][n] != wanted["files"].get(n)]
+            changed = [n for n in stored.files if stored.files[n] != wanted.files.get(n)]
             if not changed:
                 continue
-            return (f"--mission {stored['mission']} had other contents: {', '.join(changed)} "
-                    f"differ from {wanted['mission']}")
-        theirs, ours = stored.get(key, ABSENT.get(key)), wanted.get(key, ABSENT.get(key))
+            return f"--mission {stored.mission} had other contents: {', '.join(changed)} differ from {wanted.mission}"
+        theirs, ours = stored[key], wanted[key]
         if theirs == ours:
             continue
         if key == "external":
@@ -87,15 +85,30 @@ def _difference(stored: dict, wanted: dict) -> str | None:
     return None
 
 
-def find_campaign(con, config: dict, db) -> int | None:
-    """The store's campaign if it is this one; a campaign with other arguments is refused."""
-    for campaign_id, text in con.execute("select campaign_id, config from campaigns order by campaign_id").fetchall():
-        stored = json.loads(text)
-        if stored.get("kind") != "campaign":
-            continue  # an ad-hoc `run` sharing the store
+def _code_change(campaign_id: int, stored: CampaignRecord, wanted: CampaignRecord, db, allowed: bool) -> None:
+    """A campaign resumed by other code than made it would mix the traces of two benches (of two
+    simulators, say): refused unless `allowed`, and then said. A campaign stored before code
+    identities were recorded has none to compare."""
+    if stored.code_identity is None or stored.code_identity == wanted.code_identity:
+        return
+    shown = lambda c: f"version {c.get('version')}, code {c.get('code')}"  # noqa: E731
+    change = (f"{db} holds campaign {campaign_id}, made by the bench at {shown(stored.code_identity)}; "
+              f"this bench is at {shown(wanted.code_identity)}")
+    if not allowed:
+        raise StoreError(f"{change}: its traces would mix runs of two codes. Run the code that made it to "
+                         "resume it, or pass another --db for a new campaign, or --allow-code-change to resume "
+                         "it anyway")
+    print(f"{change}; resuming it anyway (--allow-code-change): its traces mix runs of both", file=sys.stderr)
+
+
+def find_campaign(con, config: CampaignRecord, db, allow_code_change: bool = False) -> int | None:
+    """The store's campaign if it is this one; a campaign with other arguments, or made by other
+    code (unless `allow_code_change`), is refused."""
+    for campaign_id, _, stored in records(con, CampaignRecord):  # not an ad-hoc `run` sharing the store
         difference = _difference(stored, config)
         if difference:
             raise StoreError(f"{db} holds campaign {campaign_id}, made with {difference}; rerun with its "
                              "arguments to resume it, or pass another --db for a new campaign")
+        _code_change(campaign_id, stored, config, db, allow_code_change)
         return campaign_id
     return None

@@ -9,6 +9,7 @@ from pathlib import Path
 
 from harness.run.executor import Executor
 from harness.run.workers import Setup
+from harness.store.record import CampaignRecord
 from harness.target.interface import Interface, Property
 from harness.target.mission import Mission
 from harness.target.script import Script
@@ -21,13 +22,14 @@ class CampaignContext:
     target: Mission
     golden: Script
     properties: list[Property]
-    config: dict  # the campaign's record (campaigns.config)
+    config: CampaignRecord  # the campaign's record (campaigns.config)
     setup: Setup  # how each SUT is reached: the transports' runner, files and external definitions
     executor: Executor
     jobs: int
     cluster: str | None = None  # --cluster: runs on Dask
     shrink_to: Path | None = None  # where shrunk scripts go; None: no shrinking
     campaign_id: int | None = None  # once the campaign is found in the store or created
+    allow_code_change: bool = False  # resume a campaign that other code of the bench made
 
     @property
     def interface(self) -> Interface:

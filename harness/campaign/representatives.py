@@ -4,7 +4,6 @@ the pool that runs the campaign's runs, without their watchdog: a shrink is a ch
 each failure recorded without stopping the others."""
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Callable
@@ -14,6 +13,7 @@ from harness.campaign.context import CampaignContext
 from harness.campaign.shrink import Behaviour, Original, Shrunk, original, shrunk, stored
 from harness.errors import UntimelyError
 from harness.run.workers import Pool, Setup
+from harness.store.record import ShrinkRecord, records
 from harness.target.interface import Interface, Property
 
 
@@ -55,8 +55,7 @@ def representatives(ctx: CampaignContext, say: Callable[[str], None]) -> None:
     this process stores them in the view's order and says one line per behaviour. External SUTs
     run as the campaign's arguments define them, not as the store records them."""
     con = ctx.con
-    done = {(r["sut"], r["verdict"], r["property"]) for (text,) in con.execute(
-        "select mutations from scripts where kind = 'shrunk'").fetchall() for r in json.loads(text)}
+    done = {(s.sut, s.verdict, s.property) for _, _, s in records(con, ShrinkRecord) if s.steps_after is not None}
     mine = {name: sut.config() for name, sut in ctx.setup.external.items()}
     found = [(Behaviour(sut, verdict, property_id), trace_id) for sut, property_id, verdict, trace_id in con.execute(
         "select sut, property_id, verdict, representative from bad_behaviours join variant_positions using (sut) "

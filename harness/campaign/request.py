@@ -41,6 +41,7 @@ class CampaignRequest:
     cluster: str | None = None  # tcp://HOST:PORT or local:N
     max_delay: float = MAX_DELAY_S
     shard: str | None = None  # I/N
+    allow_code_change: bool = False  # resume a campaign another version of the bench's code made
     time_scale: float | None = None
     db: str = str(DEFAULT_DB)
 

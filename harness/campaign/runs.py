@@ -17,6 +17,7 @@ from harness.campaign import sharding
 from harness.errors import StoreError
 from harness.progress import Progress
 from harness.run.workers import Task
+from harness.store.record import CampaignRecord
 from harness.trace import Trace
 
 # A transaction per simulated run cost a quarter of a campaign; a killed campaign re-runs at most
@@ -30,11 +31,11 @@ def run_seed(campaign_seed: int, script_number: int, sut: str) -> int:
     return int.from_bytes(digest[:8], "big") >> 1  # fits a signed BIGINT
 
 
-def tasks(scripts: list[tuple[int, str]], golden_id: int, config: dict) -> list[Task]:
-    n = len(config["sut"])
+def tasks(scripts: list[tuple[int, str]], golden_id: int, config: CampaignRecord) -> list[Task]:
+    n = len(config.sut)
     return [Task(sharding.trace_id(script_id, v, n), script_id, sut,
-                 run_seed(config["seed"], script_id - golden_id, sut), body)
-            for script_id, body in scripts for v, sut in enumerate(config["sut"])]
+                 run_seed(config.seed, script_id - golden_id, sut), body)
+            for script_id, body in scripts for v, sut in enumerate(config.sut)]
 
 
 @dataclass
@@ -51,7 +52,7 @@ class Session:
         self.progress.advance()
 
 
-def pending_tasks(con, campaign_id: int, config: dict) -> list[Task]:
+def pending_tasks(con, campaign_id: int, config: CampaignRecord) -> list[Task]:
     scripts = con.execute("select script_id, body from scripts where campaign_id = ? and valid "
                           "order by script_id", [campaign_id]).fetchall()
     golden_id = scripts[0][0]
@@ -63,7 +64,7 @@ def pending_tasks(con, campaign_id: int, config: dict) -> list[Task]:
             raise StoreError(f"trace id {task.trace_id}, which campaign {campaign_id} needs for script "
                              f"{task.script_id} on {task.sut}, is taken by campaign {owners[task.trace_id]}; "
                              "add ad-hoc runs to another --db while a campaign is unfinished")
-    return [t for t in sharding.part(every, config["shard"]) if t.trace_id not in owners]
+    return [t for t in sharding.part(every, config.shard) if t.trace_id not in owners]
 
 
 class Batches:

@@ -13,7 +13,6 @@ OUT that exists. A shard written before a table existed is read as holding none 
 """
 from __future__ import annotations
 
-import json
 import re
 from pathlib import Path
 
@@ -23,6 +22,7 @@ from harness.analysis.provenance import last_epsilon
 from harness.errors import StoreError, UntimelyError
 from harness.store import merge as store_merge
 from harness.store.database import connect
+from harness.store.record import CampaignRecord, ShrinkRecord, record_of, records
 from harness.target.interface import load_interface, load_properties
 
 SHARD = re.compile(r"\s*(\d+)\s*/\s*(\d+)\s*")
@@ -63,12 +63,11 @@ def share(runs: int, shard: list[int] | None) -> int:
     return runs if shard is None else len(range(shard[0] - 1, runs, shard[1]))
 
 
-def _campaign(con, path: str) -> tuple[dict, int, int]:
-    """The shard's campaign config and id, and how many shrinks (campaign --shrink) its store holds beside it."""
-    rows = [(i, json.loads(c)) for i, c in con.execute("select campaign_id, config from campaigns "
-                                                        "order by campaign_id").fetchall()]
-    sharded = [(i, c) for i, c in rows if c.get("shard")]
-    shrinks = [c for _, c in rows if c.get("kind") == "shrink"]
+def _campaign(con, path: str) -> tuple[CampaignRecord, int, int]:
+    """The shard's campaign record and id, and how many shrinks (campaign --shrink) its store holds beside it."""
+    rows = [(i, r) for i, _, r in records(con)]
+    sharded = [(i, r) for i, r in rows if isinstance(r, CampaignRecord) and r.shard]
+    shrinks = [r for _, r in rows if isinstance(r, ShrinkRecord)]
     if len(sharded) != 1 or len(sharded) + len(shrinks) != len(rows):
         raise StoreError(f"{path} is not the store of one shard of a campaign (campaign --shard I/N, alone in "
                          "its store); merge only the stores the shards wrote")
@@ -76,37 +75,35 @@ def _campaign(con, path: str) -> tuple[dict, int, int]:
     return config, campaign_id, len(shrinks)
 
 
-def _missing(con, path: str, campaign_id: int, config: dict) -> None:
+def _missing(con, path: str, campaign_id: int, config: CampaignRecord) -> None:
     """Refuses a shard that lacks runs of its part (an unfinished or cut-short campaign), naming them."""
-    variants = len(config["sut"])
+    variants = len(config.sut)
     scripts = [s for (s,) in con.execute("select script_id from scripts where campaign_id = ? and valid",
                                          [campaign_id]).fetchall()]
     wanted = [t for t in (trace_id(s, v, variants) for s in scripts for v in range(variants))
-              if owns(config["shard"], t)]
+              if owns(config.shard, t)]
     stored = {t for (t,) in con.execute("select trace_id from traces where campaign_id = ?", [campaign_id]).fetchall()}
     missing = sorted(t for t in wanted if t not in stored)
     if missing:
         shown = ", ".join(map(str, missing[:10])) + (f" and {len(missing) - 10} more" if len(missing) > 10 else "")
-        index, count = config["shard"]
+        index, count = config.shard
         raise StoreError(f"{path} lacks {len(missing)} of the {len(wanted)} traces of shard {index}/{count} "
                          f"(trace ids {shown}): its campaign did not finish; rerun its campaign command, which "
                          "resumes it, then merge")
 
 
-def check(configs: dict[str, dict]) -> None:
+def check(configs: dict[str, CampaignRecord]) -> None:
     """Refuses stores that are not the N distinct parts of one campaign."""
     (first_path, first), *others = configs.items()
-    identity = {k: v for k, v in first.items() if k not in LOCAL}
     for path, config in others:
-        differing = sorted(k for k in set(identity) | set(config)
-                           if k not in LOCAL and config.get(k) != identity.get(k))
+        differing = sorted(k for k in CampaignRecord.model_fields if k not in LOCAL and config[k] != first[k])
         if differing:
             raise StoreError(f"{path} holds another campaign than {first_path} (its {', '.join(differing)} "
                              "differ); merge the shards of one campaign only")
     count = first["shard"][1]
     parts: dict[int, str] = {}
     for path, config in configs.items():
-        index, total = config["shard"]
+        index, total = config.shard
         if total != count:
             raise StoreError(f"{path} is shard {index}/{total}, {first_path} a shard of {count}: merge the "
                              "shards of one split")
@@ -144,7 +141,7 @@ def merge(out: str, stores: list[str], properties: str | None = None) -> int:
     if not properties_file.is_file():
         raise UntimelyError(f"{properties_file}: no such file, and the merged store is judged with the shards' "
                             "properties; pass --properties FILE (the target's properties.toml)")
-    merged = {k: v for k, v in configs[paths[0]].items() if k != "shard"}
+    merged = record_of({k: v for k, v in configs[paths[0]].stored().items() if k != "shard"})
     con = connect(out)
     try:
         store_merge.copy(con, paths, campaign_ids, merged)

@@ -17,7 +17,6 @@ confirms it (--run-stored-command).
 """
 from __future__ import annotations
 
-import json
 import time
 from dataclasses import dataclass, field, replace
 from functools import cached_property
@@ -30,13 +29,13 @@ from harness.sut.executive import run_script
 from harness.target.mission import INTERFACE_FILE, SUTS_FILE, WORLD_FILE
 from harness.target.interface import Interface, Property, load_interface
 from harness.analysis.judge import Judge
-from harness.analysis.provenance import campaign_target
 from harness.mutator.ddmin import ddmin
 from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
 from harness.sut.definitions import ExternalSut, load_suts_file, resolve
 from harness.trace import Trace
 from harness.run.workers import Setup, Task
+from harness.store.record import CampaignRecord, RunRecord, ShrinkRecord, record_of
 
 MIN_SLEEP_S = 0.01  # sleeps are halved down to this
 
@@ -93,13 +92,13 @@ def original(con, trace_id: int, mission: str | None = None) -> Original:
         raise StoreError(f"no trace {trace_id} in the store; pick one from "
                          "python -m harness sql \"select * from bad_behaviours\"")
     trace_id, script_id, sut, seed, outcome, body, campaign_mission, config = found
-    if body is None:
+    record = record_of(config)
+    if body is None or not isinstance(record, (CampaignRecord, RunRecord)):
         raise UntimelyError(f"trace {trace_id} was imported: it has no script to shrink; shrink a trace "
                             "that a campaign or `run` made")
-    config = json.loads(config)
-    folder = campaign_target(campaign_mission, config)
+    folder = record.target(campaign_mission)
     return Original(trace_id, script_id, sut, seed, outcome, body, Path(mission) if mission else folder,
-                    config.get("max_delay", 0.003), config.get("external", {}))
+                    record.max_delay, record.external)
 
 
 def with_trusted_sut(orig: Original, sut_option: str | None, mission_given: bool, confirmed: bool) -> Original:
@@ -214,23 +213,22 @@ def store_shrink(con, orig: Original, behaviour: Behaviour, script: Script | Non
     to the trace it shrinks) and the shrunk script if it came out; returns the script's id. A shrink
     `interrupted` (Ctrl-C, SIGTERM) keeps the runs it made so far, marked so: it is tried again."""
     made = list(orig.made)  # a shrink interrupted in another thread may still add to it
-    record = {"op": "shrink", "trace": orig.trace_id, "sut": orig.sut, "seed": orig.seed,
-              "verdict": behaviour.verdict, "property": behaviour.property_id,
-              "steps_before": len(parse(orig.body).steps),
-              **({"steps_after": len(script.steps)} if script else {}), "runs": runs,
-              **({"interrupted": True} if interrupted else {})}
+    record = ShrinkRecord(op="shrink", max_delay=orig.max_delay, trace=orig.trace_id, sut=orig.sut,
+                          seed=orig.seed, verdict=behaviour.verdict, property=behaviour.property_id,
+                          steps_before=len(parse(orig.body).steps),
+                          **({"steps_after": len(script.steps)} if script else {}), runs=runs,
+                          **({"interrupted": True} if interrupted else {}))
     if script is None and not made:
         return None
     with store.transaction(con):
         campaign_id = store.next_id(con, "campaigns", "campaign_id")
-        store.add_campaign(con, campaign_id, str(orig.mission), orig.seed,
-                           {"kind": "shrink", "max_delay": orig.max_delay, **record})
+        store.add_campaign(con, campaign_id, str(orig.mission), orig.seed, record)
         store.add_shrink_runs(con, campaign_id, orig.trace_id, made)
         if script is None:
             return None
         script_id = store.next_id(con, "scripts", "script_id")
         store.add_scripts(con, [store.ScriptRow(script_id, campaign_id, "shrunk", script.render(),
-                                                orig.script_id, [record])])
+                                                orig.script_id)])
     return script_id
 
 

@@ -94,7 +94,7 @@ class Slots:
 def campaign_slots(ctx: CampaignContext) -> Iterator[Slots | None]:
     """Slots for a focused campaign whose variants are all external and run here (not on a
     cluster); None otherwise."""
-    if ctx.cluster or not set(ctx.config["sut"]) <= set(ctx.config["external"]):
+    if ctx.cluster or not set(ctx.config.sut) <= set(ctx.config.external):
         yield None
         return
     slots = Slots(ctx.setup, ctx.interface, ctx.jobs)

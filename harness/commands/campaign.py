@@ -44,6 +44,9 @@ def arguments(c) -> None:
                    help="largest interface observation delay in seconds (default: %(default)s)")
     c.add_argument("--shard", metavar="I/N", help="run only the I-th of N disjoint parts of the campaign "
                    "(1 <= I <= N) into this store; `merge` combines the N stores (docs/ci.md)")
+    c.add_argument("--allow-code-change", action="store_true",
+                   help="resume a campaign that another version of the bench's code made (its traces then "
+                        "mix runs of both; refused without it)")
     options.time_scale(c)
     options.rosbag(c)
     options.db(c)

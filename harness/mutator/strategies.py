@@ -22,6 +22,7 @@ from harness.analysis.judge import Judge
 from harness.mutator import focused, operators, targeted
 from harness.mutator.operators import Mutant
 from harness.mutator.timeline import Timeline
+from harness.store.record import CampaignRecord
 from harness.target.script import Script
 from harness.trace import Trace
 
@@ -45,36 +46,35 @@ def operations(strategy: str, given: int | None, time_mutations: bool, named_ope
     return DEFAULT_OPERATIONS[strategy] if given is None else given
 
 
-def plan(config: dict, golden: Script, interface: Interface, properties: list[Property],
+def plan(config: CampaignRecord, golden: Script, interface: Interface, properties: list[Property],
          golden_trace: Trace) -> focused.Plan:
     """A focused campaign's tests, made as the campaign goes (harness.campaign.budgeted). Without
     --value-mutations its tests replay golden values: a value-domain property is no aim of theirs."""
     timeline = Timeline(golden, golden_trace, interface.replies)
-    return focused.Plan(golden, timeline, interface, _aimed(config, properties), config["seed"],
-                        str(Path(config["mission"]) / PROPERTIES_FILE))
+    return focused.Plan(golden, timeline, interface, _aimed(config, properties), config.seed,
+                        str(Path(config.mission) / PROPERTIES_FILE))
 
 
-def _aimed(config: dict, properties: list[Property]) -> list[Property]:
+def _aimed(config: CampaignRecord, properties: list[Property]) -> list[Property]:
     """The properties the targeted and focused strategies aim at: value-domain ones only when value
     mutations are asked for, so that a timing campaign's mutants stay as they were."""
-    if config.get("value_mutations", False):
+    if config.value_mutations:
         return properties
     return [p for p in properties if p.type not in targeted.VALUE_TYPES]
 
 
-def generate(config: dict, golden: Script, interface: Interface, properties: list[Property],
+def generate(config: CampaignRecord, golden: Script, interface: Interface, properties: list[Property],
              run_golden: Callable[[], Trace], name: Callable[[int], str],
              on_mutant: Callable[[], None] = lambda: None) -> list[Mutant]:
     """The campaign's mutants; `run_golden` runs the golden on the campaign's first variant with
     that run's seed (targeted generation reads its timeline and verdicts); random generation
     calls `on_mutant()` after each mutant (progress)."""
-    count, seed, ops = config["mutants"], config["seed"], config["ops_per_mutant"]
-    value_mutations = config.get("value_mutations", False)
-    if config["strategy"] == "random":
-        named = config.get("operators")
-        return operators.generate(golden, interface, count, seed, ops, config["time_mutations"], name=name,
+    count, seed, ops = config.mutants, config.seed, config.ops_per_mutant
+    if config.strategy == "random":
+        named = config.operators
+        return operators.generate(golden, interface, count, seed, ops, config.time_mutations, name=name,
                                   on_mutant=on_mutant, operators=tuple(named) if named else
-                                  operators.chosen(None, config["time_mutations"], value_mutations))
+                                  operators.chosen(None, config.time_mutations, config.value_mutations))
     properties = _aimed(config, properties)
     trace = run_golden()
     verdicts = Judge(interface, properties).verdicts([trace])[0]

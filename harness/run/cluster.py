@@ -50,6 +50,7 @@ def _import_distributed():
     return distributed
 
 
+@lru_cache(maxsize=1)  # once a process: a file edited while it runs does not change the code it loaded
 def code_identity() -> dict:
     """What a worker must share with the coordinator: the version and the code itself (named
     alike in a checkout and in an installed wheel, where sql/ and missions/ are in harness/)."""

@@ -1,7 +1,6 @@
 """The DuckDB trace store (docs/reference/store.md): schema, and loading traces through Arrow."""
 from __future__ import annotations
 
-import json
 import os
 import re
 import sys
@@ -17,6 +16,7 @@ from harness.errors import StoreError
 from harness.files import make_folder
 from harness.target.interface import Interface
 from harness.store.appends import append, schema
+from harness.store.record import Record, stored_json
 from harness.store.sql import ENV
 from harness.trace import EVENT_COLUMNS, TAKEN_EVENT_COLUMNS, WORLD_EVENT_COLUMNS, Trace
 
@@ -196,10 +196,9 @@ def next_script_id(con, variants: int) -> int:
     return max(next_id(con, "scripts", "script_id"), -(-traces // variants) + 1)
 
 
-def add_campaign(con, campaign_id: int, mission: str, seed: int, config: dict) -> None:
+def add_campaign(con, campaign_id: int, mission: str, seed: int, record: Record) -> None:
     con.execute("insert into campaigns (campaign_id, created_at, mission, seed, config) values (?, ?, ?, ?, ?)",
-                [campaign_id, datetime.now(timezone.utc).replace(tzinfo=None), mission, seed,
-                 json.dumps(config, sort_keys=True)])
+                [campaign_id, datetime.now(timezone.utc).replace(tzinfo=None), mission, seed, stored_json(record)])
 
 
 def add_reply_codes(con, interface: Interface) -> None:

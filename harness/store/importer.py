@@ -30,6 +30,7 @@ from harness.schema import cut
 from harness.target.interface import Interface
 from harness.store.appends import append, transaction
 from harness.store.database import add_campaign, add_reply_codes, next_id, place
+from harness.store.record import ImportRecord, records
 from harness.trace import OUTCOMES
 
 REQUIRED = ("trace_id", "seq", "t", "kind", "rqst_id", "module", "service")
@@ -215,9 +216,10 @@ def _refuse(path: Path, unit: str, found: list[tuple[int, str]], interface: Inte
 
 
 def _refuse_a_second_import(con, path: Path, digest: str) -> None:
+    same = [i for i, _, r in records(con, ImportRecord) if r.sha256 == digest]
     earlier = con.execute("""select c.campaign_id, c.created_at, min(t.trace_id), max(t.trace_id)
                              from campaigns c join traces t using (campaign_id)
-                             where c.config->>'sha256' = ? group by all order by 1 limit 1""", [digest]).fetchone()
+                             where c.campaign_id = ? group by all""", [same[0]]).fetchone() if same else None
     if earlier:
         campaign_id, created, first, last = earlier
         raise InputFileError(path, "", f"these events were already imported on {created:%Y-%m-%d %H:%M} as "
@@ -242,8 +244,8 @@ def load(con, path: Path, interface: Interface, sut_clock: bool = False) -> tupl
     with transaction(con):
         _refuse_a_second_import(con, path, digest)
         campaign_id = next_id(con, "campaigns", "campaign_id")
-        add_campaign(con, campaign_id, str(path), 0, {"kind": "import", "imported": str(path),
-                                                      "interface": interface.path, "sha256": digest})
+        add_campaign(con, campaign_id, str(path), 0, ImportRecord(imported=str(path), interface=interface.path,
+                                                                  sha256=digest))
         add_reply_codes(con, interface)
         first = next_id(con, "traces", "trace_id")
         con.execute("""create temporary table imported_ids as

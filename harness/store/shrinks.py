@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from harness.store.appends import append
 from harness.store.database import insert_traces, next_id
+from harness.store.record import CampaignRecord, records
 from harness.trace import Trace
 
 
@@ -21,7 +22,7 @@ def _first_free(con) -> int:
     """The first trace id past every stored trace and every id a stored test script owns (script s of
     a campaign of V variants owns (s - 1) * V + 1 .. s * V): a campaign stopped after storing a
     round's scripts, before their runs, runs them under those ids when it resumes."""
-    owned = con.execute("""select coalesce(max(s.script_id * json_array_length(c.config->'sut')), 0)
-                           from scripts s join campaigns c using (campaign_id)
-                           where s.kind in ('golden', 'mutant') and c.config->>'kind' = 'campaign'""").fetchall()[0][0]
-    return max(next_id(con, "traces", "trace_id"), owned + 1)
+    owned = [(con.execute("""select coalesce(max(script_id), 0) from scripts
+                             where campaign_id = ? and kind in ('golden', 'mutant')""", [i]).fetchone()[0], len(r.sut))
+             for i, _, r in records(con, CampaignRecord)]
+    return max([next_id(con, "traces", "trace_id")] + [last * variants + 1 for last, variants in owned])

@@ -1,11 +1,8 @@
 -- Every shrunk reproducer: the behaviour, the trace it was shrunk from, steps before and after.
+{% import 'report/_shrinks.sql' as shrinks %}
 with records as (
-    select script_id, body, unnest(from_json(mutations, '["json"]')) as r
-    from scripts
-    where kind = 'shrunk'
+    {{ shrinks.shrunk_scripts() }}
 )
-select script_id, r->>'sut' as sut, r->>'verdict' as verdict, r->>'property' as property_id,
-       (r->>'trace')::integer as trace_id, (r->>'steps_before')::integer as steps_before,
-       (r->>'steps_after')::integer as steps_after, (r->>'runs')::integer as runs, body
+select script_id, sut, verdict, property_id, trace_id, steps_before, steps_after, runs, body
 from records
 order by script_id

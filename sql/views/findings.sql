@@ -1,6 +1,7 @@
 -- What was found, per variant (issue 21): each (property, kind) that went wrong -- FN, FP, hung,
 -- crashed (property null) -- with the first trace that showed it, how many traces show it, and
 -- its shrunk reproducer if one was made (the first shrunk script recorded for it).
+{% import 'report/_shrinks.sql' as shrinks %}
 create or replace {{ 'temp ' if temp | default(false) }}view findings as
 with found as (
     select sut, property_id, kind, min(trace_id) as first_trace, count(distinct trace_id) as traces
@@ -8,14 +9,11 @@ with found as (
     group by sut, property_id, kind
 ),
 shrink_records as (
-    select s.script_id, unnest(cast(s.mutations as json[])) as record
-    from scripts s
-    where s.kind = 'shrunk'
+    {{ shrinks.shrunk_scripts() }}
 ),
 shrunk as (
-    select record ->> 'sut' as sut, record ->> 'property' as property_id, record ->> 'verdict' as kind,
-           min(script_id) as reproducer,
-           arg_min(cast(record ->> 'steps_after' as integer), script_id) as reproducer_steps
+    select sut, property_id, verdict as kind, min(script_id) as reproducer,
+           arg_min(steps_after, script_id) as reproducer_steps
     from shrink_records
     group by all
 )

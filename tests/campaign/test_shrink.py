@@ -5,6 +5,7 @@ import re
 import shlex
 from pathlib import Path
 
+import duckdb
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, store
@@ -18,6 +19,7 @@ from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, shorter_sl
 from harness.sut.executive import run_script
 from harness.run.workers import Setup
 from harness.target.mission import load_mission
+from harness.store.sql import render_query
 
 MAX_STEPS = 10
 
@@ -47,6 +49,18 @@ def campaign(tmp_path_factory):
     assert main(["campaign", "--strategy", "targeted", "--mutants", "60", "--sut", "genom,bip-a,bip-b,bare",
                  "--db", str(db), "--jobs", "2"]) == 0
     return db
+
+
+def _shrunk(db_or_con) -> list[dict]:
+    """Every shrunk reproducer, as the report reads them (sql/report/shrunk_reproducers.sql)."""
+    con = db_or_con if isinstance(db_or_con, duckdb.DuckDBPyConnection) else store.connect(db_or_con, read_only=True)
+    try:
+        cursor = con.execute(render_query("shrunk_reproducers"))
+        names = [d[0] for d in cursor.description]
+        return [dict(zip(names, row)) for row in cursor.fetchall()]
+    finally:
+        if con is not db_or_con:
+            con.close()
 
 
 def _query(db, sql, params=()):
@@ -83,10 +97,11 @@ def test_each_variants_defect_shrinks_to_a_replayable_reproducer(campaign, tmp_p
     path = tmp_path / re.search(r"(script-\d+\.mission)", out).group(1)
     script_id, parent, kind, mutations, body = _query(
         campaign, "select script_id, parent, kind, mutations, body from scripts order by script_id desc limit 1")[0]
-    assert kind == "shrunk" and path.name == f"script-{script_id}.mission"
+    assert kind == "shrunk" and path.name == f"script-{script_id}.mission" and json.loads(mutations) == []
     assert parent == _query(campaign, "select script_id from traces where trace_id = ?", [trace_id])[0][0]
-    record = json.loads(mutations)[0]
-    assert (record["trace"], record["sut"], record["verdict"], record["property"]) == (trace_id, sut, verdict, prop)
+    # what was shrunk: the shrink's record (campaigns.config), read by the report's query
+    (record,) = [r for r in _shrunk(campaign) if r["script_id"] == script_id]
+    assert (record["trace_id"], record["sut"], record["verdict"], record["property_id"]) == (trace_id, sut, verdict, prop)
     assert len(parse(body).steps) == record["steps_after"] <= MAX_STEPS < record["steps_before"]
     # every run it made (the re-run that named the behaviour, then the shrink's) is a stored trace of the
     # shrink's campaign, linked to the trace, left out of Tables II-IV and the findings
@@ -149,8 +164,7 @@ def test_campaign_shrink_does_every_distinct_behaviour_once(tmp_path, capsys):
     assert main(args) == 0
     out = capsys.readouterr().out
     behaviours = _query(db, "select sut, verdict, property_id from bad_behaviours order by all")
-    shrunk = [tuple(r[k] for k in ("sut", "verdict", "property")) for (text,) in
-              _query(db, "select mutations from scripts where kind = 'shrunk'") for r in json.loads(text)]
+    shrunk = [(r["sut"], r["verdict"], r["property_id"]) for r in _shrunk(db)]
     assert behaviours and sorted(shrunk, key=str) == sorted(behaviours, key=str)
     assert out.count(" shrunk from ") == len(behaviours)
     assert all((tmp_path / "shrunk" / f"script-{i}.mission").exists()
@@ -190,8 +204,7 @@ def test_a_shrink_that_fails_is_recorded_and_shown_and_the_others_go_on(tmp_path
     assert len(failed) == sum(sut == "genom" for sut, *_ in behaviours)
     assert con.execute("select sut, verdict, property_id from shrink_failures order by all").fetchall() == [
         b for b in behaviours if b[0] == "genom"]
-    shrunk = [tuple(r[k] for k in ("sut", "verdict", "property")) for (text,) in
-              con.execute("select mutations from scripts where kind = 'shrunk'").fetchall() for r in json.loads(text)]
+    shrunk = [(r["sut"], r["verdict"], r["property_id"]) for r in _shrunk(con)]
     assert sorted(shrunk, key=str) == sorted((b for b in behaviours if b[0] == "bip-a"), key=str)
 
 

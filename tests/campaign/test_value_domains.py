@@ -10,6 +10,7 @@ from harness.analysis.judge import Judge
 from harness.sut.definitions import ExternalSut
 from harness.mutator import strategies
 from harness.sut.executive import run_script
+from harness.store.record import CampaignRecord
 from harness.sut.external.runner import run_external
 from harness.target.domains import violation
 from harness.target.mission import load_mission
@@ -150,7 +151,9 @@ def test_focused_tests_send_the_manipulators_fast_moves_while_the_arm_is_deploye
     target = load_mission(folder)
     golden, interface, properties = target.golden(), target.interface, target.properties()
     trace = run_script(golden, "safe", 1, interface, target.world_file)
-    plans = {flag: strategies.plan({"seed": 7, "value_mutations": flag, "mission": str(folder)}, golden, interface, properties, trace)
+    plans = {flag: strategies.plan(CampaignRecord(mission=str(folder), mutants=0, sut=["safe"], seed=7,
+                                                  ops_per_mutant=1, strategy="focused", value_mutations=flag),
+                                   golden, interface, properties, trace)
              for flag in (False, True)}
     assert not [a for a in plans[False].aims if a.value]
     slow = [(n, a) for n, a in enumerate(plans[True].aims) if a.properties == ("SLOW(base.Move)",)]

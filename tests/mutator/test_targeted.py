@@ -5,6 +5,7 @@ import json
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, store
+from harness.store.record import record_of
 from harness.campaign.config import campaign_config, find_campaign
 from harness.campaign.request import CampaignRequest
 from harness.cli import main
@@ -163,8 +164,8 @@ def test_strategy_is_part_of_the_campaign_and_time_mutations_stay_random():
     with pytest.raises(UntimelyError, match="--time-mutations applies to --strategy random only"):
         campaign_config(_args(strategy="targeted", time_mutations=True))
     con = store.connect()
-    old = {k: v for k, v in campaign_config(_args()).items() if k != "strategy"}  # made before --strategy
-    store.add_campaign(con, 1, "m", 1, old)
+    old = {k: v for k, v in campaign_config(_args()).stored().items() if k != "strategy"}  # made before --strategy
+    store.add_campaign(con, 1, "m", 1, record_of(old))
     assert find_campaign(con, campaign_config(_args()), "db") == 1
     with pytest.raises(StoreError, match="made with --strategy random, not targeted"):
         find_campaign(con, campaign_config(_args(strategy="targeted")), "db")
@@ -177,8 +178,8 @@ def test_operators_are_part_of_the_campaign_and_stay_random():
     with pytest.raises(UntimelyError, match="--operators applies to --strategy random only"):
         campaign_config(_args(strategy="targeted", operators="swap_requests"))
     con = store.connect()
-    store.add_campaign(con, 1, "m", 1, {k: v for k, v in campaign_config(_args()).items()
-                                        if k != "operators"})  # made before --operators
+    store.add_campaign(con, 1, "m", 1, record_of({k: v for k, v in campaign_config(_args()).stored().items()
+                                                  if k != "operators"}))  # made before --operators
     assert find_campaign(con, campaign_config(_args()), "db") == 1
     with pytest.raises(StoreError, match=r"made with --operators \(the default\), not delete_request,swap_requests"):
         find_campaign(con, config, "db")

@@ -182,9 +182,10 @@ def test_a_huge_mutant_count_is_refused_at_once(tmp_path, capsys):
 def test_a_long_mutant_generation_shows_its_progress(monkeypatch, capsys):
     from harness.campaign import campaign
     from harness.campaign.context import CampaignContext
+    from harness.store.record import CampaignRecord
     from harness.target.mission import load_mission
     target = load_mission(DEFAULT_MISSION_DIR)
-    config = {"mutants": 20, "seed": 1, "ops_per_mutant": 1, "time_mutations": False, "strategy": "random"}
+    config = CampaignRecord(mission=str(DEFAULT_MISSION_DIR), mutants=20, sut=["genom"], seed=1, ops_per_mutant=1)
     ctx = CampaignContext(con=None, db="", target=target, golden=target.golden(), properties=[], config=config,
                           setup=None, executor=None, jobs=1)
     monkeypatch.setattr(campaign, "SHOW_GENERATION", 10)

@@ -15,6 +15,7 @@ from harness.analysis.analyzer import materialise, summary
 from harness.target.interface import load_interface, load_properties
 from harness.report import charts, html, trace_pages
 from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
+from harness.store.record import RunRecord
 from harness.trace import Trace
 from tests.support.report import TRACES, Page, _events, analysed_store, make_store, write_report
 
@@ -159,7 +160,7 @@ def test_tables_count_judged_traces_and_keep_ad_hoc_runs_apart(tmp_path):
     properties = load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface)
     materialise(con, properties, 0.01, interface)
     before = con.execute("select * from trace_robustness order by sut").fetchall()
-    add_campaign(con, 2, "golden.mission", 0, {"kind": "run", "sut": "genom"})
+    add_campaign(con, 2, "golden.mission", 0, RunRecord(sut="genom"))
     _add_trace(con, 20, 2, TRACES[2][3])  # an ad-hoc run with an FN, on a campaign's variant
     materialise(con, properties, 0.01, interface)
     assert con.execute("select count(*) from verdicts where trace_id = 20 and verdict = 'FN'").fetchone()[0] == 1
@@ -181,7 +182,7 @@ def test_tables_count_judged_traces_and_keep_ad_hoc_runs_apart(tmp_path):
 def test_a_store_of_ad_hoc_runs_alone_counts_them(tmp_path):
     con = connect(tmp_path / "runs.duckdb")
     interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
-    add_campaign(con, 1, "golden.mission", 0, {"kind": "run", "sut": "genom"})
+    add_campaign(con, 1, "golden.mission", 0, RunRecord(sut="genom"))
     add_reply_codes(con, interface)
     _add_trace(con, 1, 1, TRACES[2][3])
     materialise(con, load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface), 0.01, interface)

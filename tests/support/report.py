@@ -10,6 +10,7 @@ from harness import DEFAULT_MISSION_DIR
 from harness.analysis.analyzer import materialise
 from harness.report import build as report
 from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
+from harness.store.record import CampaignRecord
 from harness.target.interface import load_interface, load_properties
 from harness.trace import Trace
 
@@ -85,7 +86,8 @@ def make_store(path) -> None:
     """A small campaign: a golden script, two mutants and an invalid one, five traces on two variants
     (an FN, an FP, a hang, suspicious TPs, world events) and an imported trace without verdicts."""
     con = connect(path)
-    add_campaign(con, 1, "missions/dala", 7, {"sut": ["genom", "bip-a"], "mutants": 3})
+    add_campaign(con, 1, "missions/dala", 7, CampaignRecord(mission="missions/dala", sut=["genom", "bip-a"], mutants=3,
+                                                             seed=7, ops_per_mutant=1))
     add_reply_codes(con, load_interface(DEFAULT_MISSION_DIR / "interface.toml"))
     scripts = [(1, "golden", None, [], GOLDEN, True, None),
                (2, "mutant", 1, [{"op": "swap", "lines": [5, 9]}], SWAPPED, True, None),

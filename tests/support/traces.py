@@ -28,6 +28,7 @@ from harness.analysis.analyzer import materialise
 from harness.target.interface import Interface, load_interface, load_properties
 from harness.target.mission import load_mission
 from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
+from harness.store.record import ImportRecord
 from harness.trace import Trace
 from tests.support.paths import TRACES
 
@@ -108,7 +109,7 @@ def judged_traces(mission: str, traces: list[tuple[Trace, str | None]], properti
     """A store of one campaign holding `traces`, (trace, label) pairs given ids 1, 2, ... in order,
     judged with `properties`."""
     con = connect(path)
-    add_campaign(con, 1, mission, 0, {})
+    add_campaign(con, 1, mission, 0, ImportRecord(imported=mission, sha256="none: traces written by a test"))
     add_reply_codes(con, interface)
     for trace_id, (trace, label) in enumerate(traces, 1):
         insert_trace(con, trace_id, 1, None, trace, label=label)
