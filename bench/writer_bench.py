@@ -18,7 +18,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from harness import DEFAULT_MISSION_DIR  # noqa: E402
-from harness.campaign.campaign import BATCH_RUNS  # noqa: E402
+from harness.campaign.runs import BATCH_RUNS  # noqa: E402
 from harness.sut.executive import run_script  # noqa: E402
 from harness.store.appends import transaction  # noqa: E402
 from harness.store.database import add_campaign, add_reply_codes, connect, insert_traces  # noqa: E402

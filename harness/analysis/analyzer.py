@@ -272,11 +272,13 @@ def least_covered(con: duckdb.DuckDBPyConnection, shown: int = 5) -> str:
     return f"Least covered (requests with C false, on the variant with fewest; view coverage): {listed}. {more}"
 
 
-def main(args) -> int:
-    con = connect(args.db, create=False)
-    properties_path = Path(args.properties) if args.properties else default_properties(con)
-    epsilon = last_epsilon(con) if args.epsilon is None else args.epsilon
-    interface_path = Path(args.interface) if args.interface else properties_path.parent / INTERFACE_FILE
+def main(db: str, properties: str | None = None, interface: str | None = None,
+         epsilon: float | None = None) -> int:
+    """`analyze`: the verdicts of every stored trace, and Tables II-IV."""
+    con = connect(db, create=False)
+    properties_path = Path(properties) if properties else default_properties(con)
+    epsilon = last_epsilon(con) if epsilon is None else epsilon
+    interface_path = Path(interface) if interface else properties_path.parent / INTERFACE_FILE
     if not interface_path.exists():
         raise InputFileError(interface_path, "", f"file not found; the properties {properties_path} name services "
                              "of an interface description: pass --interface FILE (default: beside the properties)")

@@ -44,8 +44,8 @@ def changes(con) -> str:
     return "\n\n".join(parts)
 
 
-def main(args) -> int:
-    con = connect(args.db, read_only=True)
-    require_analysis(con, args.db, ("verdict_transitions", "table_changes"), "analysis to compare")
+def main(db: str) -> int:
+    con = connect(db, read_only=True)
+    require_analysis(con, db, ("verdict_transitions", "table_changes"), "analysis to compare")
     print(changes(con))
     return 0

@@ -192,24 +192,24 @@ def explanations(con, verdicts: list[dict]) -> dict[Key, str]:
     return explainer.explain([(v["trace_id"], v["property_id"], v["rqst_id"]) for v in verdicts])
 
 
-def main(args) -> int:
-    con = connect(args.db, read_only=True)
-    require_analysis(con, args.db, ("verdicts",), "verdicts to explain")
+def main(db: str, trace_id: int, property: str, rqst_id: int | None = None) -> int:
+    con = connect(db, read_only=True)
+    require_analysis(con, db, ("verdicts",), "verdicts to explain")
     interface, properties = judged_properties(con)
-    if args.property not in properties:
-        raise StoreError(f"no property {args.property!r} in the properties the verdicts were made from; "
+    if property not in properties:
+        raise StoreError(f"no property {property!r} in the properties the verdicts were made from; "
                          f"use one of: {', '.join(properties)}")
     requests = [r for r, in con.execute(
         "select rqst_id from verdicts where trace_id = ? and property_id = ? order by rqst_id",
-        [args.trace_id, args.property]).fetchall()]
-    if args.rqst_id is not None:
-        if args.rqst_id not in requests:
-            raise StoreError(f"trace {args.trace_id} has no verdict of {args.property} on request {args.rqst_id}; "
+        [trace_id, property]).fetchall()]
+    if rqst_id is not None:
+        if rqst_id not in requests:
+            raise StoreError(f"trace {trace_id} has no verdict of {property} on request {rqst_id}; "
                              f"it has verdicts on requests {requests or 'none'}")
-        requests = [args.rqst_id]
+        requests = [rqst_id]
     if not requests:
-        raise StoreError(f"trace {args.trace_id} has no verdict of {args.property}; list its verdicts with "
-                         f"python -m harness sql \"select * from verdicts where trace_id = {args.trace_id}\"")
-    texts = Explainer(con, interface, properties).explain([(args.trace_id, args.property, r) for r in requests])
+        raise StoreError(f"trace {trace_id} has no verdict of {property}; list its verdicts with "
+                         f"python -m harness sql \"select * from verdicts where trace_id = {trace_id}\"")
+    texts = Explainer(con, interface, properties).explain([(trace_id, property, r) for r in requests])
     print("\n\n".join(texts.values()))
     return 0

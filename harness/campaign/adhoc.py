@@ -9,10 +9,12 @@ from collections import Counter
 from pathlib import Path
 
 from harness import store
+from harness.campaign.request import RunRequest
 from harness.errors import UntimelyError
 from harness.sut.executive import run_script
 from harness.files import existing_file
-from harness.sut.external.runner import run_external
+from harness.run.transport import transport
+from harness.run.workers import Setup
 from harness.target.interface import load_interface
 from harness.target.mission import INTERFACE_FILE, WORLD_FILE
 from harness.target.script import load_script
@@ -59,7 +61,7 @@ def summary(trace: Trace, replies: dict[str, str]) -> str:
     return "\n".join(lines)
 
 
-def main(args) -> int:
+def run(args: RunRequest) -> int:
     script_path = existing_file(args.mission, "file not found; run takes a mission script such as "
                                               "missions/dala/golden.mission")
     interface_path, world_file = mission_files(script_path, args.interface, args.world)
@@ -72,11 +74,8 @@ def main(args) -> int:
     # Opened before the run: a store another process writes is refused before a long real-time
     # run, and an external SUT is told the trace id it is making (its hello's `run`).
     con = store.connect(args.db)
-    if sut in external:
-        trace_id = store.next_id(con, "traces", "trace_id")
-        trace = run_external(script, external[sut], args.seed, interface, run=trace_id)
-    else:
-        trace = run_script(script, sut, args.seed, interface, world_file, max_delay=args.max_delay)
+    setup = Setup(run_script, interface_path, world_file, args.max_delay, external)
+    trace = transport(sut, setup).run(script, args.seed, interface, 0, store.next_id(con, "traces", "trace_id"))
     # the target folder: analyze, explain and shrink read its properties and files
     record = RunRecord(sut=sut, max_delay=args.max_delay, target=str(interface_path.resolve().parent),
                        **({"external": {sut: external[sut].config()}} if sut in external else {}))

@@ -19,14 +19,14 @@ import threading
 from concurrent.futures import Future
 from contextlib import nullcontext
 from dataclasses import dataclass, field, fields
-from pathlib import Path
 
 from harness import store
-from harness.campaign import shrink
+from harness.campaign import runs, shrink
 from harness.campaign.budget import RULE, Budget, VariantState
+from harness.campaign.context import CampaignContext
 from harness.campaign.slots import Slots
 from harness.store.budgets import BudgetRow, record_budget
-from harness.store.record import CampaignRecord, ShrinkRecord, records
+from harness.store.record import ShrinkRecord, records
 from harness.store.scripts import ScriptRow, add_scripts
 from harness.store.sql import render_query
 from harness.analysis.judge import Judge
@@ -73,13 +73,13 @@ def record(con, campaign_id: int, budget: Budget, shrink_s: float, tests: int, s
 
 
 class FocusedRun:
-    def __init__(self, con, campaign_id: int, config: CampaignRecord, plan: Plan, golden_id: int, tasks_of,
-                 run_tasks, batches, properties, interface, shrink_to: Path | None, say, slots: Slots | None = None):
+    def __init__(self, ctx: CampaignContext, plan: Plan, golden_id: int, batches, slots: Slots | None = None):
+        con, campaign_id, config = ctx.con, ctx.campaign_id, ctx.config
         self.con, self.campaign_id, self.config, self.plan = con, campaign_id, config, plan
         self.golden_id, self.batches, self.slots = golden_id, batches, slots
-        self.tasks_of, self.run_tasks = tasks_of, (slots.run_tasks if slots else run_tasks)
-        self.properties, self.interface, self.shrink_to, self.say = properties, interface, shrink_to, say
-        self.judge = Judge(interface, properties)
+        self.run_tasks = slots.run_all if slots else ctx.executor.run_all
+        self.properties, self.interface, self.shrink_to = ctx.properties, ctx.interface, ctx.shrink_to
+        self.judge = Judge(ctx.interface, ctx.properties)
         self.account = threading.Lock()  # the budget's, shared with shrinks running in the background
         self.shrinking: list[tuple[shrink.Behaviour, MeteredOriginal, Future]] = []
         self.state = {sut: VariantState() for sut in config.sut}
@@ -127,7 +127,7 @@ class FocusedRun:
     def run(self) -> str:
         """Runs rounds until the campaign stops; returns why (rule, budget or tests)."""
         if self.stopped:
-            self.say(f"campaign {self.campaign_id} is complete; nothing to run")
+            print(f"campaign {self.campaign_id} is complete; nothing to run")
             return self.stopped
         n, cap = 0, self.config.mutants
         while True:
@@ -136,7 +136,7 @@ class FocusedRun:
                 return self._stop("rule", n)
             if n >= cap:
                 return self._stop("tests", n)
-            tests = [(k, [t for t in self.tasks_of(*self.script(k)) if t.sut in active])
+            tests = [(k, [t for t in runs.tasks([self.script(k)], self.golden_id, self.config) if t.sut in active])
                      for k in range(n, min(n + ROUND_TESTS, cap))]
             admitted, reserved, cut = [], 0.0, None
             for k, tasks in tests:
@@ -183,7 +183,7 @@ class FocusedRun:
         in process, in the background on external SUTs; stores the shrinks done, in order."""
         for task, property_id, kind in found:
             what = f"{kind} on {property_id}" if property_id else kind
-            self.say(f"found     {task.sut}: {what} (trace {task.trace_id}, script {task.script_id})")
+            print(f"found     {task.sut}: {what} (trace {task.trace_id}, script {task.script_id})")
             if self.shrink_to is None or kind == "crashed" or (task.sut, kind, property_id) in self.shrunk:
                 continue
             orig = shrink.original(self.con, task.trace_id)
@@ -217,10 +217,10 @@ class FocusedRun:
             result = future.result()
             line = shrink.stored(self.con, behaviour, result, self.shrink_to)
             if result.error:
-                self.say(f"          {line}")
+                print(f"          {line}")
                 continue
             spent = sum(trace.sim_s for _, trace in result.orig.made)
-            self.say(f"          shrunk in {spent:,.0f} mission s: " + line.split(": ", 1)[1])
+            print(f"          shrunk in {spent:,.0f} mission s: " + line.split(": ", 1)[1])
 
     def _stop(self, reason: str, tests: int) -> str:
         self._store_shrunk(wait=True)

@@ -6,6 +6,7 @@ import sys
 
 from harness.campaign import sharding
 from harness.campaign.budget import parse_duration
+from harness.campaign.request import CampaignRequest
 from harness.errors import StoreError, UntimelyError
 from harness.mutator import strategies
 from harness.mutator.focused import least_s
@@ -22,29 +23,26 @@ COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", 
 MAX_MUTANTS = 100_000
 
 
-def campaign_config(args) -> CampaignRecord:
-    """The campaign's identity (stored in campaigns.config); refuses arguments that make no sense."""
+def campaign_config(args: CampaignRequest) -> CampaignRecord:
+    """The campaign's identity (stored in campaigns.config); refuses arguments that make no sense
+    together (each flag's own range is checked once, by the command line)."""
     if not 0 <= args.mutants <= MAX_MUTANTS:
         raise UntimelyError(f"--mutants {args.mutants}: give a number of mutants from 0 to {MAX_MUTANTS:,}; "
                             "split a larger study into campaigns of other --seed values")
     ops_per_mutant = strategies.operations(args.strategy, args.ops_per_mutant, args.time_mutations, args.operators)
     named = None if args.operators is None else list(chosen_operators(args.operators, args.time_mutations,
-                                                                          getattr(args, "value_mutations", False)))
+                                                                          args.value_mutations))
     if ops_per_mutant < 1:
         raise UntimelyError(f"--ops-per-mutant {ops_per_mutant}: give at least 1 operation per mutant")
-    if args.jobs < 0:
-        raise UntimelyError(f"--jobs {args.jobs}: give a number of worker processes, or 0 for all cores")
-    if not args.max_delay >= 0:
-        raise UntimelyError(f"--max-delay {args.max_delay}: give a delay in seconds >= 0")
     mission = load_mission(args.mission)
     suts, external = resolve(args.sut or mission.default_suts(), mission.folder, args.time_scale)
     if mission.simulated and set(suts) - set(external):  # variants: a bad behaviour fails here, not in every run
         mission.layer.behaviour_module()
-    given = getattr(args, "budget", None)  # callers that build their own arguments may leave it out
+    given = args.budget
     if given is not None and args.strategy != "focused":
         raise UntimelyError(f"--budget {given} applies to --strategy focused, whose tests are made as "
                             f"the campaign goes; a {args.strategy} campaign runs its --mutants")
-    if getattr(args, "shard", None) is not None and args.strategy == "focused":
+    if args.shard is not None and args.strategy == "focused":
         raise UntimelyError(f"--shard {args.shard} applies to random and targeted campaigns, whose runs are known "
                             "before they start; a focused campaign chooses its next tests from what the last ones "
                             "found: run it whole, without --shard")
@@ -53,9 +51,9 @@ def campaign_config(args) -> CampaignRecord:
                           external={name: sut.config() for name, sut in external.items()},
                           strategy=args.strategy, seed=args.seed, ops_per_mutant=ops_per_mutant,
                           time_mutations=args.time_mutations, operators=named,
-                          value_mutations=getattr(args, "value_mutations", False),
+                          value_mutations=args.value_mutations,
                           max_delay=args.max_delay, jobs=args.jobs, files=mission.hashes(),
-                          shard=sharding.parse(getattr(args, "shard", None)), code_identity=cluster.code_identity())
+                          shard=sharding.parse(args.shard), code_identity=cluster.code_identity())
 
 
 def _budget(given: str, golden, variants: int) -> float:

@@ -16,7 +16,7 @@ import re
 import sys
 from pathlib import Path
 
-from harness.errors import InputFileError, UntimelyError
+from harness.errors import InputFileError
 from harness.sut.bags import _rosbag2_folder, bags, read_bags
 from harness.sut.ros2 import init
 from harness.target.interface import load_interface
@@ -31,16 +31,10 @@ RECORD_HOW = ("record the session with introspection on (configure_introspection
               "records a run so) and the _service_event topics in the bag")
 
 
-def init_main(args) -> int:
-    """`untimely init`: with --from-bag, the target of --from-ros2 with the bag's golden mission."""
-    bag = getattr(args, "from_bag", None)
-    if not bag:
-        return init.main(args)
-    if not getattr(args, "from_ros2", None):
-        raise UntimelyError(f"--from-bag {bag}: give --from-ros2 'COMMAND' too, the node(s) the bag was recorded "
-                            "from (their graph gives the interface the bag's requests are read with)")
-    folder = rosbag2(Path(bag))
-    return init.main(args, lambda draft, target: golden_of(folder, draft, target))
+def from_bag(folder: Path, command: str, bag: str) -> int:
+    """`untimely init FOLDER --from-ros2 COMMAND --from-bag BAG`: the graph's target with the bag's golden mission."""
+    recorded = rosbag2(Path(bag))
+    return init.from_ros2(folder, command, lambda draft, target: golden_of(recorded, draft, target))
 
 
 def rosbag2(path: Path) -> Path:

@@ -22,13 +22,14 @@ def import_path(con, path: str | Path, interface: Interface, ros: str | None = N
     return import_file(con, path, interface)
 
 
-def main(args) -> int:
-    interface = load_interface(args.interface)
-    con = connect(args.db)
-    path = Path(args.file)
-    campaign_id, first, count = import_path(con, path, interface, args.ros)
+def main(db: str, file: str, interface: str, ros: str | None = None) -> int:
+    """`import FILE --interface FILE [--ros FILE]`."""
+    interface = load_interface(interface)
+    con = connect(db)
+    path = Path(file)
+    campaign_id, first, count = import_path(con, path, interface, ros)
     events = con.execute("select count(*) from events where trace_id between ? and ?",
                          [first, first + count - 1]).fetchone()[0]
     print(f"Imported {counted(count, 'trace')} ({counted(events, 'event')}) from {path} as campaign {campaign_id}, "
-          f"trace ids {first}-{first + count - 1}. Run python -m harness analyze --db {args.db} to judge them.")
+          f"trace ids {first}-{first + count - 1}. Run python -m harness analyze --db {db} to judge them.")
     return 0

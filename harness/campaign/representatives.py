@@ -1,50 +1,76 @@
 """`campaign --shrink`: shrink the representative trace of every distinct bad behaviour of a
-campaign (view bad_behaviours), in worker processes, each failure recorded without stopping the others."""
+campaign (view bad_behaviours), a task each on a worker pool of its own (harness.run.executor:
+the pool that runs the campaign's runs, without their watchdog: a shrink is a chain of runs),
+each failure recorded without stopping the others."""
 from __future__ import annotations
 
-import multiprocessing
-from concurrent.futures import ProcessPoolExecutor
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Iterator
+from typing import Callable
 
 from harness import store
-from harness.campaign.shrink import Behaviour, Shrunk, original, shrunk, stored
+from harness.campaign.context import CampaignContext
+from harness.campaign.shrink import Behaviour, Original, Shrunk, original, shrunk, stored
 from harness.errors import UntimelyError
-from harness.sut.executive import run_script
-from harness.sut.definitions import ExternalSut
+from harness.run.workers import Pool, Setup
 from harness.store.record import ShrinkRecord, records
-from harness.target.interface import Property
+from harness.target.interface import Interface, Property
 
 
-def representatives(con, properties: list[Property], out: Path, external: dict[str, ExternalSut],
-                    runner=run_script, jobs: int = 1) -> Iterator[str]:
+@dataclass(frozen=True)
+class ShrinkTask:
+    """One behaviour's shrink, which a pool worker performs as it performs a run."""
+    index: int  # its place in the view's order, in which the shrinks are stored
+    behaviour: Behaviour
+    orig: Original
+    properties: list[Property]
+
+    def perform(self, setup: Setup, interface: Interface, slot: int) -> Shrunk:
+        try:
+            return shrunk(replace(self.orig, slot=slot), self.behaviour, self.properties, setup.runner)
+        except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
+            return self.crashed(str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}")
+
+    def crashed(self, error: str, wall_s: float = 0.0) -> Shrunk:
+        return Shrunk(self.orig, None, 0, wall_s, error)
+
+
+def _stored(con, task: ShrinkTask, result: Shrunk, out: Path) -> str:
+    """Store a shrink (its runs, its script; a failure in table shrink_failures); its line."""
+    try:
+        line = stored(con, task.behaviour, result, out)
+    except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
+        result = task.crashed(str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}")
+    if result.error:
+        behaviour = task.behaviour
+        store.record_shrink_failure(con, task.orig.trace_id, behaviour.sut, behaviour.verdict, behaviour.property_id,
+                                    result.error)
+        line = f"{behaviour}: not shrunk (table shrink_failures): {result.error}"
+    return line
+
+
+def representatives(ctx: CampaignContext, say: Callable[[str], None]) -> None:
     """`campaign --shrink`: shrink the representative trace of every distinct bad behaviour
-    (view bad_behaviours) not shrunk yet, `jobs` at a time in worker processes; this process
-    stores them in the view's order, one line per behaviour. External SUTs run as the campaign's
-    arguments define them (`external`), not as the store records them."""
+    (view bad_behaviours) not shrunk yet, `ctx.jobs` at a time (external SUTs: one at a time);
+    this process stores them in the view's order and says one line per behaviour. External SUTs
+    run as the campaign's arguments define them, not as the store records them."""
+    con = ctx.con
     done = {(s.sut, s.verdict, s.property) for _, _, s in records(con, ShrinkRecord) if s.steps_after is not None}
-    mine = {name: sut.config() for name, sut in external.items()}
-    todo = [(Behaviour(sut, verdict, property_id), replace(original(con, trace_id), external=mine))
-            for sut, property_id, verdict, trace_id in con.execute(
-                "select sut, property_id, verdict, representative from bad_behaviours "
-                "join variant_positions using (sut) "
-                "order by position, verdict = 'hung' desc, verdict, property_id").fetchall()
-            if (sut, verdict, property_id) not in done]
-    if not todo:
-        return
-    with ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
-        futures = [(behaviour, orig, pool.submit(shrunk, orig, behaviour, properties, runner))
-                   for behaviour, orig in todo]
-        for behaviour, orig, future in futures:
-            try:
-                result = future.result()
-                line = stored(con, behaviour, result, out)
-            except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
-                why = str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}"
-                result = Shrunk(orig, None, 0, 0.0, why)
-            if result.error:
-                store.record_shrink_failure(con, orig.trace_id, behaviour.sut, behaviour.verdict, behaviour.property_id,
-                                            result.error)
-                line = f"{behaviour}: not shrunk (table shrink_failures): {result.error}"
-            yield line
+    mine = {name: sut.config() for name, sut in ctx.setup.external.items()}
+    found = [(Behaviour(sut, verdict, property_id), trace_id) for sut, property_id, verdict, trace_id in con.execute(
+        "select sut, property_id, verdict, representative from bad_behaviours join variant_positions using (sut) "
+        "order by position, verdict = 'hung' desc, verdict, property_id").fetchall()
+        if (sut, verdict, property_id) not in done]
+    todo = [ShrinkTask(n, behaviour, replace(original(con, trace_id), external=mine), ctx.properties)
+            for n, (behaviour, trace_id) in enumerate(found)]
+    results, next_shown = {}, 0
+
+    def in_order(task: ShrinkTask, result: Shrunk) -> None:
+        nonlocal next_shown
+        results[task.index] = result
+        while next_shown in results:
+            say(_stored(con, todo[next_shown], results.pop(next_shown), ctx.shrink_to))
+            next_shown += 1
+    if todo:
+        with Pool(replace(ctx.setup, watchdog_s=None), 1 if ctx.setup.external else ctx.jobs) as pool:
+            pool.run_all(todo, in_order)

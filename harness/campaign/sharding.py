@@ -117,11 +117,12 @@ def check(configs: dict[str, CampaignRecord]) -> None:
                          "parts, each store once")
 
 
-def merge_main(args) -> int:
-    out = Path(args.out)
+def merge(out: str, stores: list[str], properties: str | None = None) -> int:
+    """`merge`: the shards' stores copied into the new store `out` and judged."""
+    out = Path(out)
     if out.exists():
         raise UntimelyError(f"{out} exists; merge writes a new store: give another OUT or remove it")
-    configs, campaign_ids, shrinks, paths = {}, [], 0, [str(Path(s)) for s in args.stores]
+    configs, campaign_ids, shrinks, paths = {}, [], 0, [str(Path(s)) for s in stores]
     if len({Path(p).resolve() for p in paths}) != len(paths):
         raise StoreError(f"a store is given twice in {' '.join(paths)}; give each part once")
     for path in paths:
@@ -132,7 +133,7 @@ def merge_main(args) -> int:
             campaign_ids.append(campaign_id)
             shrinks += shrunk
             if path == paths[0]:
-                properties_file, interface_file = judged_files(con, args.properties)
+                properties_file, interface_file = judged_files(con, properties)
                 epsilon = last_epsilon(con)
         finally:
             con.close()

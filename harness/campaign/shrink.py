@@ -26,13 +26,12 @@ from harness import DEFAULT_EPSILON_S, store
 from harness.errors import ScriptError, StoreError, UntimelyError
 from harness.files import make_folder
 from harness.sut.executive import run_script
-from harness.target.interface import Interface, Property, load_interface, load_properties
+from harness.target.mission import INTERFACE_FILE, SUTS_FILE, WORLD_FILE
+from harness.target.interface import Interface, Property, load_interface
 from harness.analysis.judge import Judge
 from harness.mutator.ddmin import ddmin
 from harness.mutator.operators import plausible
-from harness.target.mission import INTERFACE_FILE, PROPERTIES_FILE, SUTS_FILE, WORLD_FILE
 from harness.target.script import Script, parse, validate
-from harness.sut.external.kept import kept_adapters
 from harness.sut.definitions import ExternalSut, load_suts_file, resolve
 from harness.trace import Trace
 from harness.run.workers import Setup, Task
@@ -289,25 +288,3 @@ def stored(con, behaviour: Behaviour, result: Shrunk, out: Path) -> str:
 
 def default_out(db: str) -> Path:
     return Path(db).resolve().parent / "shrunk"
-
-
-def main(args) -> int:
-    out = make_folder(Path(args.out) if args.out else default_out(args.db), "the shrunk scripts")  # before the work
-    con = store.connect(args.db, create=False)
-    orig = with_trusted_sut(original(con, args.trace_id, args.mission), args.sut, bool(args.mission),
-                            args.run_stored_command)
-    properties = load_properties(orig.mission / PROPERTIES_FILE, orig.interface)
-    if args.verdict and not args.property:
-        raise UntimelyError(f"--verdict {args.verdict} needs --property: the property whose verdict to keep")
-    behaviour = behaviour_of(orig, properties, args.property, args.verdict)
-    with kept_adapters():
-        try:
-            result = shrunk(orig, behaviour, properties)
-        except KeyboardInterrupt:  # Ctrl-C or a stop signal: the runs made are stored all the same
-            store_interrupted(con, orig, behaviour)
-            raise
-    line = stored(con, behaviour, result, out)  # its runs, even if it failed
-    if result.error:
-        raise UntimelyError(result.error)
-    print(line)
-    return 0

@@ -21,8 +21,8 @@ from contextlib import contextmanager
 from typing import Callable, Iterator
 
 from harness.errors import UntimelyError
+from harness.campaign.context import CampaignContext
 from harness.run.workers import Setup, Task
-from harness.store.record import CampaignRecord
 from harness.trace import Trace
 
 
@@ -57,8 +57,8 @@ class Slots:
                 self.free.append(slot)
                 self.turn.notify_all()
 
-    def run_tasks(self, tasks: list[Task], on_trace: Callable[[Task, Trace], None]) -> None:
-        """The worker pool's run_all on these slots: `on_trace` in this thread, in completion order;
+    def run_all(self, tasks: list[Task], on_trace: Callable[[Task, Trace], None]) -> None:
+        """An executor (harness.run.executor) on these slots: `on_trace` in this thread, in completion order;
         an UntimelyError (an adapter that cannot be started) stops the campaign."""
         futures = {self.background(self._run, task): task for task in tasks}
         for future in as_completed(futures):
@@ -91,13 +91,13 @@ class Slots:
 
 
 @contextmanager
-def campaign_slots(config: CampaignRecord, setup: Setup, interface, jobs: int, cluster: str | None) -> Iterator[Slots | None]:
+def campaign_slots(ctx: CampaignContext) -> Iterator[Slots | None]:
     """Slots for a focused campaign whose variants are all external and run here (not on a
     cluster); None otherwise."""
-    if cluster or not set(config.sut) <= set(config.external):
+    if ctx.cluster or not set(ctx.config.sut) <= set(ctx.config.external):
         yield None
         return
-    slots = Slots(setup, interface, jobs)
+    slots = Slots(ctx.setup, ctx.interface, ctx.jobs)
     try:
         yield slots
     finally:

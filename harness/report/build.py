@@ -38,18 +38,18 @@ PARALLEL_FROM = 400  # trace pages per worker process; fewer are not worth start
 MEMORY_LIMIT, THREADS = "48MB", 1
 
 
-def main(args) -> int:
+def main(db: str, out: str | None = None, traces: list[int] = ()) -> int:
     started = time.perf_counter()
-    out = Path(args.out) if args.out else Path(args.db).resolve().parent
-    con = connect(args.db, read_only=True)
+    out = Path(out) if out else Path(db).resolve().parent
+    con = connect(db, read_only=True)
     spill = tempfile.TemporaryDirectory(prefix="untimely-report-")
     try:
         con.execute(f"set memory_limit = '{MEMORY_LIMIT}'; set threads = {THREADS}; "
                     f"set temp_directory = '{spill.name}'")
-        queries.check_analysed(con, args.db)
+        queries.check_analysed(con, db)
         make_folder(out, "the report")
-        if args.trace:
-            written = _within_memory(con, lambda: write_pages(con, out, args.trace))
+        if traces:
+            written = _within_memory(con, lambda: write_pages(con, out, traces))
             print(f"wrote {', '.join(str(out / html.trace_href(i)) for i in written)} "
                   f"in {time.perf_counter() - started:.1f} s")
             return 0

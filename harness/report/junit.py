@@ -14,7 +14,6 @@ import xml.etree.ElementTree as ET
 from collections import defaultdict
 from pathlib import Path
 
-from harness.analysis import analyzer
 from harness.analysis.explain import explanations
 from harness.errors import UntimelyError
 from harness.files import make_folder
@@ -119,23 +118,20 @@ def _write(tree: ET.ElementTree, path: Path) -> None:
     print(f"\nJUnit results written to {path}")
 
 
-def analyze(args) -> int:
-    """`analyze`, then the JUnit file and the --fail-on gate."""
-    kinds = fail_on_kinds(args.fail_on)
-    if args.junit and Path(args.junit).is_dir():  # refused before the analysis, not after it
-        raise UntimelyError(f"--junit {args.junit!r} is a folder; give the path of the XML file to write, "
-                            f"e.g. {str(Path(args.junit) / 'untimely.xml')!r}")
-    status = analyzer.main(args)
-    con = connect(args.db, read_only=True)
+def check_path(path: Path | None) -> None:
+    if path and path.is_dir():
+        raise UntimelyError(f"--junit {str(path)!r} is a folder; give the path of the XML file to write, "
+                            f"e.g. {str(path / 'untimely.xml')!r}")
+
+
+def gate(db: str, path: Path | None, kinds: list[str]) -> list[str]:
+    """The JUnit file written to `path` (when given); what the judged traces show of `kinds`."""
+    con = connect(db, read_only=True)
     try:
-        if args.junit:
-            _write(junit(con), Path(args.junit))
+        if path:
+            _write(junit(con), path)
         counts = dict(zip(FAIL_ON, con.execute(f"select {', '.join(f'coalesce(sum({c}), 0)' for c in FAIL_ON.values())} "
                                                 "from trace_robustness").fetchone()))
     finally:
         con.close()
-    found = [f"{counts[k]} trace(s) {k}" for k in kinds if counts[k]]
-    if found:
-        print(f"--fail-on {args.fail_on}: {', '.join(found)}")
-        return 1
-    return status
+    return [f"{counts[k]} trace(s) {k}" for k in kinds if counts[k]]

@@ -30,9 +30,9 @@ from pathlib import Path
 from typing import Callable
 
 from harness.errors import UntimelyError
+from harness.run import transport
 from harness.sut import processes
 from harness.sut.external.kept import kept_adapters
-from harness.sut.external.runner import run_external
 from harness.target.interface import load_interface
 from harness.target.script import parse
 from harness.sut.definitions import ExternalSut
@@ -44,11 +44,19 @@ READY = "ready"  # a worker's first message: it has set up and can run
 
 @dataclass(frozen=True)
 class Task:
+    """One run. A pool worker performs any task with `perform` and `crashed` (a shrink is one too:
+    harness.campaign.representatives)."""
     trace_id: int
     script_id: int
     sut: str
     seed: int
     body: str
+
+    def perform(self, setup: "Setup", interface, slot: int) -> "Trace | UntimelyError":
+        return setup.run(self, interface, slot)
+
+    def crashed(self, error: str, wall_s: float = 0.0) -> Trace:
+        return crashed(self, error, wall_s)
 
 
 @dataclass(frozen=True)
@@ -60,15 +68,15 @@ class Setup:
     max_delay: float
     external: dict[str, ExternalSut] = field(default_factory=dict)  # SUTs run over untimely/1
     watchdog_s: float | None = None  # wall seconds a run may take before its worker is killed
+    # the kinds of SUT as this process knows them, sent with the setup to the workers
+    kinds: tuple = field(default_factory=lambda: tuple(transport.REGISTRY))
 
     def run(self, task: Task, interface, slot: int) -> "Trace | UntimelyError":
         """One run, wherever it happens (a pool worker, a Dask worker); never raises."""
         start = time.perf_counter()
         try:
             script = parse(task.body, script_label(task.script_id))
-            if task.sut in self.external:
-                return run_external(script, self.external[task.sut], task.seed, interface, slot, task.trace_id)
-            return self.runner(script, task.sut, task.seed, interface, self.world_file, self.max_delay)
+            return transport.transport(task.sut, self).run(script, task.seed, interface, slot, task.trace_id)
         except UntimelyError as e:  # the user's input (a variant, world or adapter that cannot be used)
             return e
         except Exception:  # noqa: BLE001 - any other failure is this run's crash
@@ -94,7 +102,7 @@ def _serve(conn, setup: Setup, slot: int) -> None:
         conn.send(READY)
         with kept_adapters():
             while (task := conn.recv()) is not None:
-                conn.send(setup.run(task, interface, slot))
+                conn.send(task.perform(setup, interface, slot))
     except (EOFError, OSError, KeyboardInterrupt):  # the parent is gone, or stops this worker
         return
 
@@ -192,10 +200,10 @@ class Pool:
                         if not worker.overdue(setup.watchdog_s):
                             continue
                         worker.kill()
-                        result = crashed(worker.task, f"no result after {setup.watchdog_s:g} s of wall time; "
-                                                      "the worker was killed", setup.watchdog_s)
+                        result = worker.task.crashed(f"no result after {setup.watchdog_s:g} s of wall time; "
+                                                     "the worker was killed", setup.watchdog_s)
                     elif result is None:
-                        result = crashed(worker.task, worker.death())
+                        result = worker.task.crashed(worker.death())
                     if isinstance(result, UntimelyError):
                         raise result
                     task, worker.task = worker.task, None

@@ -135,14 +135,14 @@ def with_exported_traces(path: Path, events: pa.Table) -> pa.Table:
     return events.join(known, "trace_id", join_type="left outer").sort_by("line")
 
 
-def main(args) -> int:
-    out = Path(args.dir)
-    con = connect(args.db, read_only=True)
+def main(db: str, folder: str, format: str = "parquet") -> int:
+    out = Path(folder)
+    con = connect(db, read_only=True)
     try:
-        manifest = export(con, args.db, out, args.format)
+        manifest = export(con, db, out, format)
     finally:
         con.close()
     rows = sum(entry["rows"] for entry in manifest["tables"])
-    print(f"Exported {len(manifest['tables'])} tables and views ({rows} rows) of {args.db} to {out} "
-          f"as {args.format}; {out / MANIFEST} lists them.")
+    print(f"Exported {len(manifest['tables'])} tables and views ({rows} rows) of {db} to {out} "
+          f"as {format}; {out / MANIFEST} lists them.")
     return 0

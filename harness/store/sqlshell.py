@@ -38,6 +38,6 @@ def sealed(con: duckdb.DuckDBPyConnection) -> duckdb.DuckDBPyConnection:
     return con
 
 
-def main(args) -> int:
-    print(run(sealed(connect(args.db, read_only=True)), args.query))
+def main(db: str, query: str) -> int:
+    print(run(sealed(connect(db, read_only=True)), query))
     return 0

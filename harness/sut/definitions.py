@@ -122,8 +122,6 @@ def resolve(option: str, mission: Path, time_scale: float | None = None) -> tupl
         elif name in defined:
             external[name] = defined[name]
         names.append(name)
-    if time_scale is not None:
-        if not time_scale > 0:
-            raise UntimelyError(f"--time-scale {time_scale}: give a factor > 0 (1 = real time)")
+    if time_scale is not None:  # checked > 0 by the command line
         external = {n: s.model_copy(update={"time_scale": time_scale}) for n, s in external.items()}
     return names, external

@@ -80,16 +80,16 @@ def write(folder: Path, draft: Draft) -> list[Path]:
     return write_all_or_none(folder, texts, {name: SKELETON / name for name in ("suts.toml", "adapter.py")})
 
 
-def main(args) -> int:
-    folder = Path(args.dir)
-    if args.from_genom and not Path(args.from_genom).is_file():
-        raise UntimelyError(f"--from-genom {args.from_genom!r}: no such file; give a GenoM3 .gen file")
-    if args.include and not args.from_genom:
+def scaffold(folder: Path, genom: str | None = None, include: list[str] = ()) -> int:
+    """`init FOLDER [--from-genom FILE.gen [--include DIR]...]`."""
+    if genom and not Path(genom).is_file():
+        raise UntimelyError(f"--from-genom {genom!r}: no such file; give a GenoM3 .gen file")
+    if include and not genom:
         raise UntimelyError("--include is for the #include lines of --from-genom FILE.gen; give both or neither")
-    missing = [d for d in args.include if not Path(d).is_dir()]
+    missing = [d for d in include if not Path(d).is_dir()]
     if missing:
         raise UntimelyError(f"--include {missing[0]!r}: no such folder; give the folder #include searches")
-    draft = from_genom(Path(args.from_genom), [Path(d) for d in args.include]) if args.from_genom else example()
+    draft = from_genom(Path(genom), [Path(d) for d in include]) if genom else example()
     write(folder, draft)
     print(f"wrote the target {folder}/ from {draft.source}: {', '.join(WRITTEN)}")
     print(f"  {sum(len(s) for s in draft.modules.values())} services in {len(draft.modules)} modules, "

@@ -11,11 +11,12 @@ import signal
 import subprocess
 import sys
 import time
+from dataclasses import asdict
 
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT, cli, store
-from harness.campaign import campaign
+from harness.campaign import campaign, runs
 from harness.run import workers
 from harness.errors import InputFileError, StoreError, UntimelyError
 from harness.progress import Progress
@@ -54,7 +55,7 @@ def test_campaign_stores_scripts_and_every_run_with_deterministic_ids(mission, t
     assert not all(s[5] for s in scripts), "seed 11 draws an invalid mutant among 8"
     valid_ids = [s[0] for s in scripts if s[5]]
     traces = con.execute("select trace_id, script_id, sut, seed, outcome from traces order by trace_id").fetchall()
-    expected = [((sid - 1) * 2 + v + 1, sid, sut, campaign.run_seed(11, sid - 1, sut), "completed")
+    expected = [((sid - 1) * 2 + v + 1, sid, sut, runs.run_seed(11, sid - 1, sut), "completed")
                 for sid in valid_ids for v, sut in enumerate(["genom", "bip-a"])]
     assert traces == expected
     per_trace = con.execute("select count(distinct trace_id) from events").fetchone()[0]
@@ -88,8 +89,9 @@ def test_results_do_not_depend_on_jobs_and_a_finished_campaign_does_nothing(miss
 def kill_when_script4_starts(args, tmp_path, setup: str = "") -> None:
     """Run a campaign (stalling_runner) in a child process and SIGKILL it once script 4 has started."""
     marker = tmp_path / "script4-started"
-    program = (f"import argparse; from tests.support import campaigns as t; from harness.campaign import campaign; {setup}"
-               f"campaign.main(argparse.Namespace(**{vars(args)!r}), runner=t.stalling_runner)")
+    program = (f"from harness.campaign.request import CampaignRequest; from tests.support import campaigns as t; "
+               f"from harness.campaign import campaign; {setup}"
+               f"campaign.main(CampaignRequest(**{asdict(args)!r}), runner=t.stalling_runner)")
     env = dict(os.environ, PYTHONPATH=str(ROOT), **{MARKER: str(marker)})
     child = subprocess.Popen([sys.executable, "-c", program], env=env, cwd=tmp_path, start_new_session=True,
                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
@@ -121,7 +123,7 @@ def test_a_killed_campaign_loses_at_most_the_batch_it_had_not_committed(mission,
     stored but for the last, incomplete batch, which the resumed campaign runs again."""
     killed, whole = tmp_path / "killed.duckdb", tmp_path / "whole.duckdb"
     kill_when_script4_starts(arguments(mission, killed, jobs=1), tmp_path,
-                             setup="campaign.BATCH_RUNS, campaign.BATCH_S = 3, 3600.0; ")
+                             setup="from harness.campaign import runs; runs.BATCH_RUNS, runs.BATCH_S = 3, 3600.0; ")
     con = store.connect(killed, read_only=True)
     valid = [r[0] for r in con.execute("select script_id from scripts where valid and script_id < 4").fetchall()]
     stored = [r[0] for r in con.execute("select trace_id from traces order by trace_id").fetchall()]

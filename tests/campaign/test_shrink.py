@@ -13,11 +13,13 @@ from harness.cli import main
 from harness.errors import StoreError
 from harness.mutator.ddmin import ddmin
 from harness.target.script import parse
+from harness.campaign.context import CampaignContext
 from harness.campaign.representatives import representatives
 from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, shorter_sleeps, store_shrink
 from harness.sut.executive import run_script
+from harness.run.workers import Setup
+from harness.target.mission import load_mission
 from harness.store.sql import render_query
-from harness.target.interface import load_interface, load_properties
 
 MAX_STEPS = 10
 
@@ -187,9 +189,12 @@ def test_a_shrink_that_fails_is_recorded_and_shown_and_the_others_go_on(tmp_path
     con = store.connect(db)
     behaviours = con.execute("select sut, verdict, property_id from bad_behaviours order by all").fetchall()
     assert {sut for sut, *_ in behaviours} == {"genom", "bip-a"}
-    properties = load_properties(DEFAULT_MISSION_DIR / "properties.toml",
-                                 load_interface(DEFAULT_MISSION_DIR / "interface.toml"))
-    lines = list(representatives(con, properties, tmp_path / "shrunk", {}, _runner_broken_on_genom, 2))
+    target = load_mission(DEFAULT_MISSION_DIR)
+    setup = Setup(_runner_broken_on_genom, target.interface_file, target.world_file, 0.003)
+    ctx = CampaignContext(con=con, db=str(db), target=target, golden=target.golden(), properties=target.properties(),
+                          config={}, setup=setup, executor=None, jobs=2, shrink_to=tmp_path / "shrunk")
+    lines = []
+    representatives(ctx, lines.append)
     assert len(lines) == len(behaviours)
     failed = [line for line in lines if "not shrunk" in line]
     # the broken runs crash, so the script no longer shows its behaviour: the worker's UntimelyError says so

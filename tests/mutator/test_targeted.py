@@ -1,6 +1,5 @@
 """Targeted generation: what falsifies each property type, the golden timeline, reproducibility,
 genericity (a made-up mission), the coverage target on reference, and the campaign's --strategy."""
-import argparse
 import json
 
 import pytest
@@ -8,6 +7,7 @@ import pytest
 from harness import DEFAULT_MISSION_DIR, store
 from harness.store.record import record_of
 from harness.campaign.config import campaign_config, find_campaign
+from harness.campaign.request import CampaignRequest
 from harness.cli import main
 from harness.errors import StoreError, UntimelyError
 from harness.sut.executive import run_script
@@ -162,7 +162,7 @@ def _args(**changes):
     values = dict(mission=str(DEFAULT_MISSION_DIR), mutants=3, sut="genom", seed=1, jobs=1, ops_per_mutant=None,
                   strategy="random", time_mutations=False, value_mutations=False, operators=None, max_delay=0.003,
                   time_scale=None)
-    return argparse.Namespace(**{**values, **changes})
+    return CampaignRequest(**{**values, **changes})
 
 
 def test_strategy_is_part_of_the_campaign_and_time_mutations_stay_random():

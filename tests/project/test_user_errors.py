@@ -181,17 +181,18 @@ def test_a_huge_mutant_count_is_refused_at_once(tmp_path, capsys):
 
 def test_a_long_mutant_generation_shows_its_progress(monkeypatch, capsys):
     from harness.campaign import campaign
-    from harness.target.interface import load_interface
-    from harness.target.script import load_script
+    from harness.campaign.context import CampaignContext
     from harness.store.record import CampaignRecord
-    interface = load_interface(INTERFACE)
-    golden = load_script(DEFAULT_MISSION_DIR / "golden.mission", interface)
+    from harness.target.mission import load_mission
+    target = load_mission(DEFAULT_MISSION_DIR)
     config = CampaignRecord(mission=str(DEFAULT_MISSION_DIR), mutants=20, sut=["genom"], seed=1, ops_per_mutant=1)
+    ctx = CampaignContext(con=None, db="", target=target, golden=target.golden(), properties=[], config=config,
+                          setup=None, executor=None, jobs=1)
     monkeypatch.setattr(campaign, "SHOW_GENERATION", 10)
-    assert len(campaign._generate(config, golden, interface, [], None, 1)) == 20
+    assert len(campaign._generate(ctx, 1)) == 20
     assert "20/20 mutants" in capsys.readouterr().err
     monkeypatch.setattr(campaign, "SHOW_GENERATION", 21)
-    campaign._generate(config, golden, interface, [], None, 1)
+    campaign._generate(ctx, 1)
     assert capsys.readouterr().err == ""
 
 

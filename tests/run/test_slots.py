@@ -10,7 +10,7 @@ import pytest
 from harness.campaign.slots import Slots, SlotsClosed
 from harness.errors import UntimelyError
 from harness.sut.external import channel
-from harness.sut.external.channel import Connection
+from harness.sut.external.channel import StdioChannel
 from harness.sut.definitions import ExternalSut
 from harness.run.workers import Task
 from harness.trace import Trace
@@ -43,7 +43,7 @@ def tasks(count: int) -> list[Task]:
 def test_tests_run_on_distinct_slots_and_every_trace_comes_back():
     setup = FakeSetup()
     done = []
-    Slots(setup, None, 3).run_tasks(tasks(10), lambda task, trace: done.append(task.trace_id))
+    Slots(setup, None, 3).run_all(tasks(10), lambda task, trace: done.append(task.trace_id))
     assert sorted(done) == list(range(1, 11)) and setup.most == 3
 
 
@@ -88,7 +88,7 @@ def test_a_shrink_waiting_for_a_slot_gives_up_when_the_campaign_stops():
 
 def test_an_adapter_that_cannot_start_stops_the_campaign():
     with pytest.raises(UntimelyError, match="could not be started"):
-        Slots(FakeSetup(fail=2), None, 2).run_tasks(tasks(4), lambda task, trace: None)
+        Slots(FakeSetup(fail=2), None, 2).run_all(tasks(4), lambda task, trace: None)
 
 
 class Announced:
@@ -110,7 +110,7 @@ def test_an_adapter_starting_while_another_run_closes_is_no_orphan_of_it(monkeyp
     """A closing channel ends the detached children of the process it does not know: an adapter
     whose start (fork to exec) overlaps that close, in another thread, is not one of them."""
     reader = ExternalSut("reader", command="{python} -c 'import sys; sys.stdin.read()'")
-    first = Connection(reader, 0)
+    first = StdioChannel(reader, 0)
     real_popen, started, go_on = subprocess.Popen, threading.Event(), threading.Event()
 
     def slow_popen(*args, **kwargs):  # the child runs, its Popen has not returned yet
@@ -121,7 +121,7 @@ def test_an_adapter_starting_while_another_run_closes_is_no_orphan_of_it(monkeyp
     monkeypatch.setattr(channel.subprocess, "Popen", slow_popen)
     starting = Announced()
     monkeypatch.setattr(channel, "_starting", starting)
-    second = Slots.background(Connection, reader, 1)
+    second = Slots.background(StdioChannel, reader, 1)
     assert started.wait(10)
     closing = Slots.background(first.close)
     assert starting.contended.wait(20), "the close never came to the lock the start holds"

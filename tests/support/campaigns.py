@@ -1,12 +1,12 @@
 """Campaigns on a small fake layer (every request ends `ok` after half a second) and what they store:
-the runners, the arguments of `campaign`, and a dump of a store to compare two campaigns by."""
-import argparse
+the runners, the typed request of `campaign`, and a dump of a store to compare two campaigns by."""
 import json
 import os
 import time
 from pathlib import Path
 
 from harness import store
+from harness.campaign.request import CampaignRequest
 from harness.sut.executive import Runner
 
 MARKER = "UNTIMELY_TEST_MARKER"
@@ -51,7 +51,7 @@ def arguments(mission, db, **changes):
                   time_mutations=False, value_mutations=False, operators=None, max_delay=0.003, time_scale=None,
                   cluster=None, db=str(db))
     values.update(changes)
-    return argparse.Namespace(**values)
+    return CampaignRequest(**values)
 
 
 def dump(db) -> dict:

@@ -5,7 +5,6 @@ from __future__ import annotations
 import json
 from html.parser import HTMLParser
 from pathlib import Path
-from types import SimpleNamespace
 
 from harness import DEFAULT_MISSION_DIR
 from harness.analysis.analyzer import materialise
@@ -121,7 +120,7 @@ def analysed_store(path, epsilon: float = 0.01, mission: Path = DEFAULT_MISSION_
 
 def write_report(db, out, traces=()) -> Path:
     """The whole report, or with `traces` only their pages (on demand)."""
-    report.main(SimpleNamespace(db=str(db), out=str(out), trace=list(traces)))
+    report.main(str(db), str(out), list(traces))
     return Path(out)
 
 

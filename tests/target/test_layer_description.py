@@ -1,12 +1,12 @@
 """layer.toml: what a simulated layer enforces, read once and checked against the interface;
 a bad entry is refused naming the file, the entry and the bad value."""
 import shutil
-from types import SimpleNamespace
 
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
 from harness.campaign.config import campaign_config
+from harness.campaign.request import CampaignRequest
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.target.mission import load_mission
@@ -79,9 +79,7 @@ def test_a_behaviour_module_that_builds_nothing_is_refused_before_any_run(folder
     with pytest.raises(UntimelyError, match=message):
         load_layer(folder).behaviour_module()
     with pytest.raises(UntimelyError, match=message):  # a campaign checks it before it runs anything
-        campaign_config(SimpleNamespace(mission=str(folder), mutants=1, strategy="random", ops_per_mutant=None, operators=None,
-                                        time_mutations=False, jobs=1, max_delay=0.0, sut=None, time_scale=None,
-                                        seed=1))
+        campaign_config(CampaignRequest(mission=str(folder), mutants=1, jobs=1, max_delay=0.0, seed=1))
 
 
 def test_codes_and_services_must_be_the_interfaces(folder):

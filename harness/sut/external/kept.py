@@ -18,11 +18,11 @@ import threading
 from contextlib import contextmanager
 from typing import Iterator
 
-from harness.sut.external.channel import Connection
+from harness.sut.external.channel import Channel
 from harness.sut.definitions import ExternalSut
 
 _lock = threading.Lock()
-_idle: dict[tuple[str, int], Connection] | None = None  # None: outside a kept_adapters() block
+_idle: dict[tuple[str, int], Channel] | None = None  # None: outside a kept_adapters() block
 
 
 def _key(sut: ExternalSut, slot: int) -> tuple[str, int]:
@@ -52,24 +52,17 @@ def keeping() -> bool:
     return _idle is not None
 
 
-def take(sut: ExternalSut, slot: int) -> Connection | None:
+def take(sut: ExternalSut, slot: int) -> Channel | None:
     """The idle channel of `sut` on `slot`, if one is kept and its adapter still runs."""
     with _lock:
         connection = _idle.pop(_key(sut, slot), None) if _idle is not None else None
-    if connection is not None and (connection.gone() or _exited(connection)):
+    if connection is not None and (connection.gone() or connection.exited()):
         connection.close()
         return None
     return connection
 
 
-def _exited(connection: Connection) -> bool:
-    """Whether a kept adapter's process has ended: its reader may not have seen the end of its
-    output yet (a child that inherited the pipe keeps it open), and a run given it would be
-    blamed for its death."""
-    return connection.process is not None and connection.process.poll() is not None
-
-
-def keep(connection: Connection, sut: ExternalSut, slot: int) -> bool:
+def keep(connection: Channel, sut: ExternalSut, slot: int) -> bool:
     """Keep `connection` for the next run of `sut` on `slot`; False if it cannot be (no block)."""
     with _lock:
         if _idle is None or _key(sut, slot) in _idle:

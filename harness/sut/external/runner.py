@@ -23,7 +23,7 @@ import time
 from datetime import datetime, timezone
 
 from harness.sut.external import kept
-from harness.sut.external.channel import GRACE_S, Connection, Unresponsive, quoted
+from harness.sut.external.channel import GRACE_S, Channel, Unresponsive, open_channel, quoted
 from harness.sut.executive import Executive, LayerMisbehaved, Probe, trace_of
 from harness.target.interface import Interface
 from harness.target.script import Script
@@ -44,7 +44,7 @@ class ProtocolLayer:
 
     def __init__(self, env: RealtimeEnvironment, interface: Interface):
         self.env, self.interface = env, interface
-        self.connection: Connection | None = None
+        self.connection: Channel | None = None
         self.requests: dict[int, tuple] = {}  # id -> (service, args JSON)
         self.on_reply = None
         self.pings: dict[int, tuple] = {}  # id -> (answer, monotonic time sent), until its pong
@@ -216,7 +216,7 @@ def run_external(script: Script, sut: ExternalSut, seed: int, interface: Interfa
     hello = encode("hello", proto=PROTO, run=run, seed=seed, time_scale=sut.time_scale,
                    interface=interface.describe())
     taken = kept.take(sut, slot)
-    layer.connection = taken or Connection(sut, slot)
+    layer.connection = taken or open_channel(sut, slot)
     try:  # from here on, however the run ends (a signal included), the SUT is closed
         try:
             _greet(layer, hello, sut.startup_s)
@@ -226,7 +226,7 @@ def run_external(script: Script, sut: ExternalSut, seed: int, interface: Interfa
             # a kept adapter that died while idle, its end not yet seen: replaced, never blamed, on a
             # fresh layer (what the dead one's reader still delivers reaches the old one)
             layer.connection.close()
-            fresh = Connection(sut, slot)
+            fresh = open_channel(sut, slot)
             env, layer, executive = _session(sut, seed, interface)
             layer.connection = fresh
             _greet(layer, hello, sut.startup_s)

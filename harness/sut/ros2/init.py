@@ -2,8 +2,9 @@
 COMMAND runs in a ROS 2 domain of its own, confined to this machine (environment.py), on the first
 installed distro; graph.py reads the graph under that distro's rclpy once it has settled;
 COMMAND is stopped, and harness.target.ros2_graph derives the target that ros2_texts writes.
-Without --from-ros2, `init` is harness.target.scaffold's. With --from-bag, the golden mission is a
-recorded session's (harness/campaign/from_bag.py, which reads the bag and calls main here).
+Without --from-ros2, `init` is harness.target.scaffold's (harness/commands/init.py chooses). With
+--from-bag, the golden mission is a recorded session's (harness/campaign/from_bag.py, which reads
+the bag and calls from_ros2 here).
 """
 from __future__ import annotations
 
@@ -19,7 +20,6 @@ from typing import Callable
 from harness import ROOT
 from harness.sut.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment, installed
 from harness.errors import UntimelyError
-from harness.target import scaffold
 from harness.target.mission import SUTS_FILE
 from harness.target.ros2_graph import Ros2Target, derive
 from harness.target.ros2_texts import WRITTEN, write
@@ -69,24 +69,21 @@ def _stop(process: subprocess.Popen, group: bool = True) -> None:
             continue
 
 
-def main(args, recorded: Callable[[Path, Ros2Target], str] | None = None) -> int:
-    """`recorded(draft, target)`: the golden mission's text, given the target written to the folder `draft`."""
-    if not getattr(args, "from_ros2", None):
-        return scaffold.main(args)
-    if args.from_genom:
-        raise UntimelyError("give --from-genom or --from-ros2, not both")
+def from_ros2(folder: Path, command: str, recorded: Callable[[Path, Ros2Target], str] | None = None) -> int:
+    """`init FOLDER --from-ros2 COMMAND`; `recorded(draft, target)`: the golden mission's text, given
+    the target written to the folder `draft`."""
     distros = [d for d in DISTROS if installed(ROOT, d) is None]
     if not distros:
         raise UntimelyError(f"--from-ros2 needs ROS 2: {installed(ROOT, DEFAULT_DISTRO)}")
-    folder, cwd = Path(args.dir), Path.cwd()
-    target = derive(args.from_ros2, read_graph(args.from_ros2, distros[0], cwd))
+    cwd = Path.cwd()
+    target = derive(command, read_graph(command, distros[0], cwd))
     golden = None
     if recorded is not None:
         with tempfile.TemporaryDirectory(prefix="untimely-init-") as draft:
             write(Path(draft) / "target", target, distros, cwd)
             golden = recorded(Path(draft) / "target", target)
     write(folder, target, distros, cwd, golden)
-    print(f"wrote the target {folder}/ from the ROS 2 graph of {args.from_ros2!r} (read on {distros[0]}): "
+    print(f"wrote the target {folder}/ from the ROS 2 graph of {command!r} (read on {distros[0]}): "
           f"{', '.join(WRITTEN)}")
     print(f"  {len(target.services)} services in {len(target.nodes)} node(s), {len(target.properties)} properties; "
           f"SUTs: {', '.join(d for d in distros)}")
