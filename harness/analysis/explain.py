@@ -18,7 +18,7 @@ import duckdb
 
 from harness.errors import StoreError, UntimelyError
 from harness.target.interface import Interface, Property, load_interface, load_properties
-from harness.analysis.oracles import render_property
+from harness.analysis.oracles import Judging, render_property
 from harness.store.reads import exists, relations, require_analysis
 from harness.store.sql import sql_id_list
 from harness.analysis.provenance import default_properties
@@ -94,10 +94,9 @@ class Explainer:
         for property_id in dict.fromkeys(p for _, p, _ in keys):
             wanted = [(t, r) for t, p, r in keys if p == property_id]
             try:
-                cursor = self.con.execute(render_property(self.properties[property_id], "events", self.epsilon,
-                                                          self.interface, explain=wanted,
-                                                          peers=list(self.properties.values()), runs=self.runs,
-                                                          taken=self.taken))
+                judging = Judging("events", self.epsilon, self.interface, list(self.properties.values()),
+                                  runs=self.runs, taken=self.taken)
+                cursor = self.con.execute(render_property(self.properties[property_id], judging, explain=wanted))
             except duckdb.Error as e:  # one property's failing oracle must not hide the others' explanations
                 failed[property_id] = str(e).split("\n")[0]
                 continue

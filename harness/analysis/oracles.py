@@ -90,18 +90,29 @@ def _table_name(name: str, role: str) -> None:
         raise PropertyError(f"{role} {name!r} is not a table name; use events or internal_events")
 
 
-def render_property(prop: Property, events: str = "events", epsilon: float = DEFAULT_EPSILON_S,
-                    interface: Interface | None = None, explain: list[tuple[int, int]] = (),
-                    peers: list[Property] = (), runs: bool = True, taken: bool = True,
-                    into: str | None = None, shared: Shared | None = None) -> str:
-    """The oracle query of one property over the events table `events`: the verdicts columns.
-    The interface, when given, says which requests may end an activity, and `peers` (the properties
-    judged with it) on which other modules an interruption may come from (see sql/oracles/ee.sql).
-    `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their conditions.
-    `runs`: whether the store has trace_runs, whose pings give a real-time trace its epsilon;
-    `taken`: whether it has taken_events, where an SUT's `taken` replies place its requests.
-    `into`: a verdicts table; then the statement inserting the rows into it. `shared`: the tables
-    of render_shared, which the query reads instead of aggregating the requests and searching causes."""
+@dataclass(frozen=True)
+class Judging:
+    """What a property is judged over and beside. The interface, when given, says which requests
+    may end an activity, and `peers` (the properties judged with it) on which other modules an
+    interruption may come from (see sql/oracles/ee.sql). `runs`: whether the store has trace_runs,
+    whose pings give a real-time trace its epsilon; `taken`: whether it has taken_events, where an
+    SUT's `taken` replies place its requests. `shared`: the tables of render_shared, which the
+    query reads instead of aggregating the requests and searching causes."""
+    events: str = "events"
+    epsilon: float = DEFAULT_EPSILON_S
+    interface: Interface | None = None
+    peers: tuple[Property, ...] | list[Property] = ()
+    runs: bool = True
+    taken: bool = True
+    shared: Shared | None = None
+
+
+def render_property(prop: Property, judging: Judging = Judging(), explain: list[tuple[int, int]] = (),
+                    into: str | None = None) -> str:
+    """The oracle query of one property over the events table `judging.events`: the verdicts
+    columns. `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their
+    conditions. `into`: a verdicts table; then the statement inserting the rows into it."""
+    events, epsilon, interface, shared = judging.events, judging.epsilon, judging.interface, judging.shared
     _table_name(events, "events source")
     if into is not None:
         _table_name(into, "verdicts table")
@@ -112,7 +123,7 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
     if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
         raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
     parameters = _parameters(prop)
-    enders = [e for e in interrupters([prop, *peers]) if e[0] in prop.x or e[0] in prop.y]
+    enders = [e for e in interrupters([prop, *judging.peers]) if e[0] in prop.x or e[0] in prop.y]
     template = _template(prop)
     try:
         modules, services = _scope(prop, enders)
@@ -120,7 +131,7 @@ def render_property(prop: Property, events: str = "events", epsilon: float = DEF
             template=template, into=into, shared=shared and shared.requests, shared_causes=shared and shared.causes,
             shared_epsilons=shared and shared.epsilons,
             services=services, id=prop.id, family=prop.family, events=events,
-            epsilon=round(float(epsilon), 6), parameters=parameters, enders=enders, runs=runs, taken=taken,
+            epsilon=round(float(epsilon), 6), parameters=parameters, enders=enders, runs=judging.runs, taken=judging.taken,
             modules=modules,
             until_stopped=interface.until_stopped if interface else [],
             control=interface.of_kind("control") if interface else [],
@@ -149,7 +160,7 @@ def oracle_statements(properties: list[Property], epsilon: float, interface: Int
     """Each property's statement inserting its verdicts on `events` into the table `into`, judged
     beside the others (its peers say where an interruption may come from); the analysis and the
     in-memory judge (harness/analysis/judge.py) both fill their verdicts tables with these."""
-    return [render_property(p, events, epsilon, interface, peers=properties, into=into, shared=shared)
+    return [render_property(p, Judging(events, epsilon, interface, properties, shared=shared), into=into)
             for p in properties]
 
 

@@ -130,7 +130,7 @@ def test_explain_report_and_junit_never_crash_on_an_ee_verdict_without_a_y_reque
 
 
 def test_a_crash_exits_with_its_own_status_not_the_finding_status(tmp_path, capsys, monkeypatch):
-    def broken(args):
+    def broken(*args):
         raise AttributeError("'NoneType' object has no attribute 'startswith'")
     monkeypatch.setattr(explain, "main", broken)
     assert main(["explain", "1", "P", "--db", str(tmp_path / "none.duckdb")]) == 3

@@ -5,7 +5,7 @@ import pytest
 
 from harness.errors import PropertyError
 from harness.target.interface import Property
-from harness.analysis.oracles import render_property
+from harness.analysis.oracles import Judging, render_property
 from harness.store.database import connect, insert_trace
 from harness.trace import Trace
 
@@ -19,7 +19,7 @@ ES = Property(id="ES(ndd.GotoPosition)", family="ES", type="ES", x=("ndd.GotoPos
 def test_every_dala_property_renders_to_a_query_with_the_contract_columns(interface, properties, events):
     con = connect(":memory:")
     for prop in properties:
-        sql = render_property(prop, events, 0.01, interface)
+        sql = render_property(prop, Judging(events, 0.01, interface))
         assert f"from {events}\n" in sql
         cursor = con.execute(sql)
         assert [d[0] for d in cursor.description] == CONTRACT, prop.id
@@ -55,9 +55,9 @@ def test_a_malformed_request_type_is_refused():
 
 def test_the_events_source_and_epsilon_are_checked():
     with pytest.raises(PropertyError, match=r"events source 'events; drop table traces'"):
-        render_property(ES, "events; drop table traces")
+        render_property(ES, Judging("events; drop table traces"))
     with pytest.raises(PropertyError, match=r"epsilon = -0.5"):
-        render_property(ES, epsilon=-0.5)
+        render_property(ES, Judging(epsilon=-0.5))
 
 
 def test_text_values_are_quoted_as_sql_literals():
