@@ -41,14 +41,7 @@ def append(con, table: str, rows: list[dict] | pa.Table | duckdb.DuckDBPyRelatio
             raise StoreError(f"{table} has no column {', '.join(unknown)} (its columns: {', '.join(names)})")
         import pyarrow as pa
         rows = pa.Table.from_pylist(rows, schema=schema(con, table))
-    # Registered by name, not found by DuckDB's scan of the Python frame that is current when the
-    # insert runs: a resume test once failed with "Table with name rows does not exist" when a stop
-    # signal arrived during an append.
-    con.register("_appended_rows", rows)
-    try:
-        con.execute(f"insert into {table} by name select * from _appended_rows")
-    finally:
-        con.unregister("_appended_rows")
+    con.execute(f"insert into {table} by name select * from rows")  # DuckDB reads the local `rows` by its name
 
 
 def _write_problem(error: duckdb.Error) -> StoreError:
