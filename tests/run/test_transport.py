@@ -11,7 +11,7 @@ from harness.campaign import campaign
 from harness.campaign.request import CampaignRequest
 from harness.cli import main
 from harness.run import transport
-from harness.sut.executive import run_script
+from harness.sut.executive import Runner, run_script
 from harness.sut.definitions import ExternalSut
 from harness.run.workers import Setup
 
@@ -37,7 +37,7 @@ class Echo:
     name: str
 
     def run(self, script, seed, interface, slot=0, trace_id=0):
-        return run_script(script, self.name, seed, interface, Path("no world"), 0.0, layer_factory=EchoLayer)
+        return Runner(EchoLayer)(script, self.name, seed, interface, Path("no world"), 0.0)
 
 
 def echo(name, setup):
