@@ -27,7 +27,11 @@ def adapters() -> set[int]:
     """This process's child processes (the adapters it started)."""
     children = set()
     for task in os.listdir(f"/proc/{os.getpid()}/task"):
-        children |= {int(pid) for pid in Path(f"/proc/{os.getpid()}/task/{task}/children").read_text().split()}
+        try:
+            listed = Path(f"/proc/{os.getpid()}/task/{task}/children").read_text()
+        except FileNotFoundError:  # a thread that ended since the listing has no children left
+            continue
+        children |= {int(pid) for pid in listed.split()}
     return children
 
 
