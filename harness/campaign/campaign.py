@@ -32,7 +32,7 @@ from harness.mutator.operators import Mutant
 from harness.progress import Progress
 from harness.sut.executive import run_script
 from harness.run.executor import open_executor
-from harness.sut.definitions import ExternalSut
+from harness.sut.definitions import from_configs
 from harness.sut.external.kept import kept_adapters
 from harness.run.workers import Setup, script_label
 from harness.schema import cut
@@ -151,7 +151,7 @@ def main(request: CampaignRequest, runner=None) -> int:
     config = campaign_config(request)
     target = load_mission(request.mission)
     golden, properties = target.golden(), target.properties()  # refused before anything starts
-    external = {name: ExternalSut(**spec) for name, spec in config.external.items()}
+    external = from_configs(config.external)
     setup = Setup(runner or run_script, target.interface_file, target.world_file, request.max_delay,
                   external, REALTIME_WALL_LIMIT_S if external else RUN_WALL_LIMIT_S)
     # A real-time run mostly waits: its slots may outnumber the cores.

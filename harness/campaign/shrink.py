@@ -32,7 +32,7 @@ from harness.analysis.judge import Judge
 from harness.mutator.ddmin import ddmin
 from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
-from harness.sut.definitions import ExternalSut, load_suts_file, resolve
+from harness.sut.definitions import from_configs, load_suts_file, resolve
 from harness.trace import Trace
 from harness.run.workers import Setup, Task
 from harness.store.record import CampaignRecord, RunRecord, ShrinkRecord, record_of
@@ -78,7 +78,7 @@ class Original:
     def run(self, body: str, runner=run_script) -> Trace:
         """Run a script on the trace's variant with its seed, as the campaign's workers do."""
         setup = Setup(runner, self.mission / INTERFACE_FILE, self.mission / WORLD_FILE, self.max_delay,
-                      {name: ExternalSut(**spec) for name, spec in self.external.items()})
+                      from_configs(self.external))
         trace = setup.run(Task(self.trace_id, self.script_id, self.sut, self.seed, body), self.interface, self.slot)
         self.made.append((body, trace))
         return trace

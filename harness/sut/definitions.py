@@ -79,6 +79,11 @@ class ExternalSut(SutTable):
         return {"name": self.name, **fields}
 
 
+def from_configs(configs: dict[str, dict]) -> dict[str, ExternalSut]:
+    """The external SUTs a campaign's record stores, by name (the inverse of ExternalSut.config)."""
+    return {name: ExternalSut(**config) for name, config in configs.items()}
+
+
 KEYS = accepted(SutTable)  # the keys of a SUT's table (docs/reference names every one)
 
 
