@@ -46,10 +46,13 @@ def record(ros: Ros2Environment, bag: Path) -> dict:
         assert client.returncode == 0, client.stderr[-3000:]
         return json.loads(client.stdout)
     finally:
-        for process, signum in ((recorder, signal.SIGINT), (server, signal.SIGTERM)):
-            if process is not None:
-                process.send_signal(signum)
-                assert process.wait(timeout=TIMEOUT_S) == 0
+        stopped = [(process, signum) for process, signum in ((recorder, signal.SIGINT), (server, signal.SIGTERM))
+                   if process is not None]
+        for process, signum in stopped:
+            process.send_signal(signum)
+        # every process is waited for before any exit status is judged: none is left behind
+        codes = [(process.args[2:4], process.wait(timeout=TIMEOUT_S)) for process, _ in stopped]
+        assert all(code == 0 for _, code in codes), codes
 
 
 def imported(bag: Path, interface) -> list[tuple]:
