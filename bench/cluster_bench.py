@@ -14,7 +14,7 @@ from pathlib import Path
 from realtime_bench import golden_runs, timed
 
 from harness import ROOT, store
-from harness.run.cluster import connect
+from harness.dispatch.cluster import connect
 
 MUTANTS = 100
 TIME_SCALE = 20.0

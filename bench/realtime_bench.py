@@ -7,7 +7,7 @@ import time
 
 from harness import DEFAULT_MISSION_DIR
 from harness.sut.definitions import resolve
-from harness.run.workers import Setup, Task, run_all
+from harness.dispatch.workers import Setup, Task, run_all
 
 TIME_SCALE = 10.0
 ROUNDS = 2  # runs per slot

@@ -13,8 +13,8 @@ from harness.campaign.request import RunRequest
 from harness.errors import UntimelyError
 from harness.sut.executive import run_script
 from harness.files import existing_file
-from harness.run.transport import transport
-from harness.run.workers import Setup
+from harness.dispatch.transport import transport
+from harness.dispatch.workers import Setup
 from harness.target.interface import load_interface
 from harness.target.mission import INTERFACE_FILE, WORLD_FILE
 from harness.target.script import load_script

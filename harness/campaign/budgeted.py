@@ -33,7 +33,7 @@ from harness.analysis.judge import Judge
 from harness.errors import UntimelyError
 from harness.mutator.focused import Plan, bound_s
 from harness.target.script import parse
-from harness.run.workers import Task
+from harness.dispatch.workers import Task
 from harness.textable import format_table
 
 ROUND_TESTS = 8

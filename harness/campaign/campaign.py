@@ -31,10 +31,10 @@ from harness.mutator import strategies
 from harness.mutator.operators import Mutant
 from harness.progress import Progress
 from harness.sut.executive import run_script
-from harness.run.executor import open_executor
+from harness.dispatch.executor import open_executor
 from harness.sut.definitions import from_configs
 from harness.sut.external.kept import kept_adapters
-from harness.run.workers import Setup, script_label
+from harness.dispatch.workers import Setup, script_label
 from harness.schema import cut
 from harness.store.reads import observed_events
 from harness.store.sql import render_query

@@ -11,7 +11,7 @@ from harness.errors import StoreError, UntimelyError
 from harness.mutator import strategies
 from harness.mutator.focused import least_s
 from harness.mutator.operators import chosen as chosen_operators
-from harness.run import cluster
+from harness.dispatch import cluster
 from harness.store.record import CampaignRecord, records
 from harness.sut.definitions import resolve
 from harness.target.mission import load_mission

@@ -7,8 +7,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from harness.run.executor import Executor
-from harness.run.workers import Setup
+from harness.dispatch.executor import Executor
+from harness.dispatch.workers import Setup
 from harness.store.record import CampaignRecord
 from harness.target.interface import Interface, Property
 from harness.target.mission import Mission

@@ -1,5 +1,5 @@
 """`campaign --shrink`: shrink the representative trace of every distinct bad behaviour of a
-campaign (view bad_behaviours), a task each on a worker pool of its own (harness.run.executor:
+campaign (view bad_behaviours), a task each on a worker pool of its own (harness.dispatch.executor:
 the pool that runs the campaign's runs, without their watchdog: a shrink is a chain of runs),
 each failure recorded without stopping the others."""
 from __future__ import annotations
@@ -12,7 +12,7 @@ from harness import store
 from harness.campaign.context import CampaignContext
 from harness.campaign.shrink import Behaviour, Original, Shrunk, original, shrunk, stored
 from harness.errors import UntimelyError
-from harness.run.workers import Pool, Setup
+from harness.dispatch.workers import Pool, Setup
 from harness.store.record import ShrinkRecord, records
 from harness.target.interface import Interface, Property
 

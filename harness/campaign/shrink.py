@@ -34,7 +34,7 @@ from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
 from harness.sut.definitions import from_configs, load_suts_file, resolve
 from harness.trace import Trace
-from harness.run.workers import Setup, Task
+from harness.dispatch.workers import Setup, Task
 from harness.store.record import CampaignRecord, RunRecord, ShrinkRecord, record_of
 
 MIN_SLEEP_S = 0.01  # sleeps are halved down to this

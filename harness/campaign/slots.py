@@ -22,7 +22,7 @@ from typing import Callable, Iterator
 
 from harness.errors import UntimelyError
 from harness.campaign.context import CampaignContext
-from harness.run.workers import Setup, Task
+from harness.dispatch.workers import Setup, Task
 from harness.trace import Trace
 
 
@@ -58,7 +58,7 @@ class Slots:
                 self.turn.notify_all()
 
     def run_all(self, tasks: list[Task], on_trace: Callable[[Task, Trace], None]) -> None:
-        """An executor (harness.run.executor) on these slots: `on_trace` in this thread, in completion order;
+        """An executor (harness.dispatch.executor) on these slots: `on_trace` in this thread, in completion order;
         an UntimelyError (an adapter that cannot be started) stops the campaign."""
         futures = {self.background(self._run, task): task for task in tasks}
         for future in as_completed(futures):

@@ -1,6 +1,9 @@
 """What one row of `campaigns` records in its `config` column: a typed record per kind of campaign
 (a campaign, an ad-hoc `run`, a shrink, an import), and the only Python that writes or reads it.
 
+A kind of campaign is a subclass of `Record` with its own `kind` literal: defining it registers
+it (`KINDS`), and `record_of` reads it from then on (tests/store/test_record.py adds a toy kind).
+
 A key that a store written before it existed lacks reads as the field's default (a campaign made
 before --strategy is a random one), so older stores read as they always did; a record is written
 with the keys it was made or read with and no others, so a record read and written back (merge)
@@ -10,8 +13,9 @@ sql/report/_shrinks.sql).
 from __future__ import annotations
 
 import json
+from functools import lru_cache
 from pathlib import Path
-from typing import Annotated, Literal, Union
+from typing import Annotated, ClassVar, Literal, Union
 
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 
@@ -21,9 +25,20 @@ from harness.schema import cut
 DEFAULT_MAX_DELAY_S = 0.003  # of a run stored before the max delay was recorded
 
 
-class _Record(BaseModel):
+class Record(BaseModel):
+    """The base of every kind of record; a subclass with a `kind: Literal[...]` field is a new kind."""
     # extra keys ignored: a store written by a later bench, with a key this one does not know, still reads
     model_config = ConfigDict(frozen=True, extra="ignore")
+    KINDS: ClassVar[dict[str, type[Record]]] = {}
+
+    @classmethod
+    def __pydantic_init_subclass__(cls, **kwargs) -> None:
+        super().__pydantic_init_subclass__(**kwargs)
+        if "kind" not in cls.model_fields:  # a base of kinds, not a kind
+            return
+        kind = cls.model_fields["kind"].default
+        if Record.KINDS.setdefault(kind, cls) is not cls:
+            raise TypeError(f"{cls.__qualname__}: kind {kind!r} is {Record.KINDS[kind].__qualname__}'s already; give it a kind of its own")
 
     def stored(self) -> dict:
         """The JSON object stored in campaigns.config: its kind and the keys it was given."""
@@ -39,7 +54,7 @@ class _Record(BaseModel):
         return Path(mission) if Path(mission).is_dir() else Path(mission).parent
 
 
-class CampaignRecord(_Record):
+class CampaignRecord(Record):
     """`untimely campaign`: the arguments that decide what runs (harness.campaign.config)."""
     kind: Literal["campaign"] = "campaign"
     mission: str
@@ -63,7 +78,7 @@ class CampaignRecord(_Record):
         return Path(mission)
 
 
-class RunRecord(_Record):
+class RunRecord(Record):
     """`untimely run`: one script on one variant."""
     kind: Literal["run"] = "run"
     sut: str
@@ -75,7 +90,7 @@ class RunRecord(_Record):
         return Path(self.target_folder) if self.target_folder else super().target(mission)
 
 
-class ShrinkRecord(_Record):
+class ShrinkRecord(Record):
     """A shrink of one stored trace: the one record of what was shrunk, and how far it came."""
     kind: Literal["shrink"] = "shrink"
     op: Literal["shrink"] = "shrink"
@@ -91,7 +106,7 @@ class ShrinkRecord(_Record):
     interrupted: bool = False  # stopped by Ctrl-C or a signal: a resumed campaign tries it again
 
 
-class ImportRecord(_Record):
+class ImportRecord(Record):
     """`untimely import`: traces read from a file or bag."""
     kind: Literal["import"] = "import"
     imported: str
@@ -102,18 +117,22 @@ class ImportRecord(_Record):
         return Path(self.interface).parent if self.interface else super().target(mission)
 
 
-Record = Annotated[Union[CampaignRecord, RunRecord, ShrinkRecord, ImportRecord], Field(discriminator="kind")]
-_RECORD = TypeAdapter(Record)
+
+
+
+@lru_cache(maxsize=None)
+def _reader(kinds: tuple[type[Record], ...]) -> TypeAdapter:
+    return TypeAdapter(Annotated[Union[kinds], Field(discriminator="kind")])
 
 
 def record_of(config: dict | str, campaign_id: int | None = None) -> Record:
     """The record a stored config (JSON text or its object) holds; a config no bench wrote is refused."""
     try:
-        return _RECORD.validate_python(json.loads(config) if isinstance(config, str) else config)
+        return _reader(tuple(Record.KINDS.values())).validate_python(json.loads(config) if isinstance(config, str) else config)
     except (ValidationError, ValueError) as e:
         which = f"campaign {campaign_id}'s" if campaign_id is not None else "a campaign's"
         raise StoreError(f"{which} config {cut(config)} is not a record this bench reads ({_first_error(e)}): "
-                         "its kind must be one of campaign, run, shrink, import with their keys "
+                         f"its kind must be one of {', '.join(Record.KINDS)} with their keys "
                          "(docs/reference/store.md); was the store written by another program?") from None
 
 

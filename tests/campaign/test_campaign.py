@@ -17,7 +17,7 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT, cli, store
 from harness.campaign import campaign, runs
-from harness.run import workers
+from harness.dispatch import workers
 from harness.errors import InputFileError, StoreError, UntimelyError
 from harness.progress import Progress
 from tests.support.campaigns import MARKER, arguments, dump, failing_runner, fake_runner

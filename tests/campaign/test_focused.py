@@ -168,7 +168,7 @@ def test_a_target_folder_outside_the_repository_with_an_external_adapter(tmp_pat
 def test_a_campaign_stopped_during_a_shrink_stores_its_runs_and_shrinks_again_when_resumed(tmp_path, monkeypatch):
     """Ctrl-C (or SIGTERM, the same KeyboardInterrupt) in the midst of a shrink: the runs it made are
     stored, marked interrupted, and counted when the campaign resumes, which shrinks that finding again."""
-    from harness.run import workers
+    from harness.dispatch import workers
     args = ["campaign", "--strategy", "focused", "--budget", "8m", "--shrink", "--sut", "genom",
             "--db", str(tmp_path / "s.duckdb")]
     real, calls = workers.Setup.run, []

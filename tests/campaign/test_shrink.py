@@ -17,7 +17,7 @@ from harness.campaign.context import CampaignContext
 from harness.campaign.representatives import representatives
 from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, shorter_sleeps, store_shrink
 from harness.sut.executive import run_script
-from harness.run.workers import Setup
+from harness.dispatch.workers import Setup
 from harness.target.mission import load_mission
 from harness.store.sql import render_query
 

@@ -14,7 +14,7 @@ from harness.target.layer_description import load_layer
 
 CORE = ("harness/sut/simulated/kernel.py", "harness/sut/simulated/module.py", "harness/sut/simulated/layer.py",
         "harness/target/layer_description.py", "harness/sut/simulated/host.py", "harness/sut/simulated/realtime.py",
-        "harness/sut/executive.py", "harness/run/workers.py",
+        "harness/sut/executive.py", "harness/dispatch/workers.py",
         "harness/campaign/campaign.py", "harness/campaign/adhoc.py", "harness/cli.py", "harness/target/mission.py")
 
 

@@ -56,7 +56,7 @@ def test_no_module_path_from_before_harness_sut_is_left():
     run, and this test name them."""
     listed = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, text=True, check=True)
     old = [name.replace(".", "/") for name in MOVED_MODULES] + list(MOVED_MODULES) + [
-        "harness/run/external", "harness.run.external", "harness.run.executive", "harness.run.processes",
+        "harness/dispatch/external", "harness.dispatch.external", "harness.dispatch.executive", "harness.dispatch.processes",
         "harness/store/bags", "harness.store.bags"]
     left = []
     for relative in filter(None, listed.stdout.split("\0")):

@@ -74,7 +74,7 @@ AREAS = {
     "sut/external": ["harness.sut", "harness.sut.external"],
     "sut/ros": ["harness.sut.ros", "harness.sut.bags"],
     "sut/ros2": ["harness.sut.ros2"],
-    "run": ["harness.run"],
+    "dispatch": ["harness.dispatch"],
     "store": ["harness.store"],
     "analysis": ["harness.analysis"],
     "mutator": ["harness.mutator"],

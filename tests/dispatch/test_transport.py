@@ -1,5 +1,5 @@
 """One Transport protocol for every kind of SUT: a toy kind, an in-memory echo layer, added by one
-entry of harness.run.transport.REGISTRY, runs a campaign on the worker pool and an ad-hoc run;
+entry of harness.dispatch.transport.REGISTRY, runs a campaign on the worker pool and an ad-hoc run;
 the built-in kinds stay what --sut names."""
 from dataclasses import dataclass
 from pathlib import Path
@@ -10,10 +10,10 @@ from harness import DEFAULT_MISSION_DIR, store
 from harness.campaign import campaign
 from harness.campaign.request import CampaignRequest
 from harness.cli import main
-from harness.run import transport
+from harness.dispatch import transport
 from harness.sut.executive import Runner, run_script
 from harness.sut.definitions import ExternalSut
-from harness.run.workers import Setup
+from harness.dispatch.workers import Setup
 
 ECHO_S = 0.05  # virtual seconds the echo layer takes to answer
 

@@ -33,7 +33,7 @@ from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.trace import Trace
 from harness.sut.external import kept
-from harness.run.workers import Setup, Task, crashed
+from harness.dispatch.workers import Setup, Task, crashed
 
 PACKAGE = Path(__file__).resolve().parent.parent  # harness/
 ALLOWED_FAILURES = "distributed.scheduler.allowed-failures"

@@ -22,7 +22,7 @@ from harness.target.script import Script
 from harness.trace import Trace
 
 if TYPE_CHECKING:
-    from harness.run.workers import Setup
+    from harness.dispatch.workers import Setup
 
 
 class Transport(Protocol):

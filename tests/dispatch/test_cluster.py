@@ -7,7 +7,7 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR, store
 from harness.campaign import campaign
-from harness.run import cluster
+from harness.dispatch import cluster
 from harness.errors import UntimelyError
 from tests.support import campaigns, kept
 from tests.support.campaigns import arguments, dump, failing_runner
@@ -83,7 +83,7 @@ def checked(address, setup):
 
 
 def setup_for(mission=DEFAULT_MISSION_DIR, external=None):
-    from harness.run.workers import Setup
+    from harness.dispatch.workers import Setup
     return Setup(None, mission / "interface.toml", mission / "world.toml", 0.0, external or {})
 
 

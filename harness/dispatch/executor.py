@@ -1,7 +1,7 @@
 """Where a campaign's runs happen: one protocol, `Executor`. Its `run_all(tasks, on_trace)` runs
 every task and calls `on_trace(task, result)` in the calling thread, in completion order; an
 UntimelyError from a run (a SUT that cannot be used) stops it. The worker pool
-(harness.run.workers.Pool), a Dask cluster (harness.run.cluster.Cluster) and the slots of a
+(harness.dispatch.workers.Pool), a Dask cluster (harness.dispatch.cluster.Cluster) and the slots of a
 focused campaign on external SUTs (harness.campaign.slots.Slots) are executors; the pool also
 runs `campaign --shrink`'s shrinks, a task each."""
 from __future__ import annotations
@@ -9,7 +9,7 @@ from __future__ import annotations
 from contextlib import contextmanager
 from typing import Callable, Iterator, Protocol
 
-from harness.run.workers import Pool, Setup, Task
+from harness.dispatch.workers import Pool, Setup, Task
 
 
 class Executor(Protocol):
@@ -24,6 +24,6 @@ def open_executor(cluster: str | None, setup: Setup, jobs: int) -> Iterator[Exec
         with Pool(setup, jobs) as pool:
             yield pool
         return
-    from harness.run import cluster as dask_cluster  # Dask is an optional dependency
+    from harness.dispatch import cluster as dask_cluster  # Dask is an optional dependency
     with dask_cluster.connect(cluster, setup, jobs) as backend:
         yield backend

@@ -30,7 +30,7 @@ from pathlib import Path
 from typing import Callable
 
 from harness.errors import UntimelyError
-from harness.run import transport
+from harness.dispatch import transport
 from harness.sut import processes
 from harness.sut.external.kept import kept_adapters
 from harness.target.interface import load_interface

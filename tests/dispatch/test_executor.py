@@ -6,8 +6,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR
-from harness.run.executor import open_executor
-from harness.run.workers import Pool, Setup
+from harness.dispatch.executor import open_executor
+from harness.dispatch.workers import Pool, Setup
 from harness.target.mission import INTERFACE_FILE, WORLD_FILE
 
 
