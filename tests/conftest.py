@@ -1,3 +1,5 @@
+import signal
+
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, cli
@@ -32,3 +34,12 @@ def pytest_report_header():
     project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
     names = [re.match(r"[\w.-]+", r).group(0) for r in project["dependencies"]]
     return "untimely dependencies: " + ", ".join(f"{n} {version(n)}" for n in names)
+
+
+def pytest_configure(config):
+    """Ctrl-C reaches the processes the tests start, however the suite itself was started: a shell
+    runs a background job (`make test &` in a script) with SIGINT ignored, and a process started
+    with SIGINT ignored keeps ignoring it, so the tests that stop the bench with SIGINT saw it run
+    on. A handler here (not SIG_IGN) is reset to the default in every child the suite starts."""
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)

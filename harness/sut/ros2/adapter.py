@@ -103,7 +103,10 @@ class Adapter(Bridge):
         self.probe = self.node.create_client(GetParameters, f"{node}/get_parameters", callback_group=group) \
             if node else None
         self.lifecycle = Lifecycle(self.node, node, group) if mapping.lifecycle else None
-        self.answered, self.stale_said = time.monotonic(), False  # the probe's last answer
+        # when the probe in flight was sent (None: none unanswered): the executor's silence is its age,
+        # not the time since the last answer, which also counts this process's own delays under load
+        self.probe_sent: float | None = None
+        self.stale_said = False
         self.goals: dict[int, object] = {}  # request id -> ClientGoalHandle of this run
         self.latest: dict[str, UUID] = {}  # "module.Service" -> the id of its latest goal of this run
         self.cancelling: dict[str, list[int]] = {}  # goal id (hex) -> the cancel requests of it not yet taken
@@ -141,7 +144,8 @@ class Adapter(Bridge):
 
     def alive(self) -> bool:
         """The node's executor answered a probe within heartbeat_stale_s (no node named: always)."""
-        silent = time.monotonic() - self.answered
+        sent = self.probe_sent
+        silent = 0.0 if sent is None else time.monotonic() - sent
         if self.probe is None or silent <= self.mapping.heartbeat_stale_s:
             return True
         if not self.stale_said:
@@ -175,13 +179,13 @@ class Adapter(Bridge):
                 raise UntimelyError(problem or f"no echo on {self.mapping.pong_topic} within {timeout_s:g} s")
 
     def start_probing(self) -> None:
-        self.answered = time.monotonic()  # the start-up's waits were no silence of the executor
         if self.probe:
             threading.Thread(target=self._probing, name="probe", daemon=True).start()
 
     def _probing(self) -> None:
         """One probe at a time: a stuck executor leaves it unanswered, and `alive` sees the silence."""
         while not self.stopped.is_set():
+            self.probe_sent = time.monotonic()
             answer = self.probe.call_async(GetParameters.Request())
             done = threading.Event()
             answer.add_done_callback(lambda _f: done.set())
@@ -189,7 +193,7 @@ class Adapter(Bridge):
                 with self.lock:
                     self._answer_pings()  # says once, on stderr, that the executor fell silent
             with self.lock:
-                self.answered, self.stale_said = time.monotonic(), False
+                self.probe_sent, self.stale_said = None, False
                 self._answer_pings()
             self.stopped.wait(PROBE_PERIOD_S)
 

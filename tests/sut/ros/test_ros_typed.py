@@ -37,14 +37,15 @@ def test_typed_goals_and_service_calls_reply_like_generic_goals():
 
 
 def test_a_typed_campaign_judges_like_the_simulator_in_process(tmp_path, capsys):
-    """Golden + 10 mutants on `reference` in process and on `ros-typed-reference` (MoveBase goals,
-    Trigger calls, generic goals for the rest) on 8 slots, twice real time: every run completes on
-    both, every verdict that differs is flagged suspicious on one side."""
+    """Golden + 7 mutants (6 valid: the golden run, then one wave of the slots) on `reference` in
+    process and on `ros-typed-reference` (MoveBase goals, Trigger calls, generic goals for the rest) on 8 slots,
+    twice real time: every run completes on both, every verdict that differs is flagged suspicious
+    on one side."""
     ensure_ros_venv()
     db = tmp_path / "c.duckdb"
-    assert campaign(db, "--mutants", "10", "--sut", "reference,ros-typed-reference", "--jobs", "8",
+    assert campaign(db, "--mutants", "7", "--sut", "reference,ros-typed-reference", "--jobs", "8",
                     "--time-scale", "2") == 0
-    con = assert_judges_like_in_process(db, capsys.readouterr().out, "ros-typed-reference", 2, min_runs=8)
+    con = assert_judges_like_in_process(db, capsys.readouterr().out, "ros-typed-reference", 2, min_runs=7)
     runs = con.execute("select count(*) from traces where sut = 'ros-typed-reference'").fetchone()[0]
     calls = con.execute("""select count(*) from events e join traces t using (trace_id)
                            where t.sut = 'ros-typed-reference' and e.service in ('Init', 'GotoPosition')

@@ -62,9 +62,11 @@ def test_a_focused_campaign_finds_rclpy_1209_on_jazzy_and_kilted_refusing(target
                                  where kind = 'golden'""").fetchall())
     assert golden == {"sequencer-jazzy": "completed", "sequencer-kilted": "completed"}
     hung = con.execute("""select sut, error from traces where outcome = 'hung'""").fetchall()
-    assert hung and {sut for sut, _ in hung} == {"sequencer-jazzy"}, hung
-    assert any("has not answered /sequencer/get_parameters" in (error or "") and "Transition is not registered"
-               in error for _, error in hung), hung  # the reason: the executor died of an invalid transition
+    # the reason: the executor died of an invalid transition, on Jazzy only (a run of either distro
+    # may also hang for want of CPU on a loaded machine: its reason names no transition)
+    died = {sut for sut, error in hung if "has not answered /sequencer/get_parameters" in (error or "")
+            and "Transition is not registered" in error}
+    assert died == {"sequencer-jazzy"}, hung
     # the same test on Kilted: the transition refused (a TP), later requests still answered
     refused = con.execute("""select v.trace_id from verdicts v join traces t using (trace_id)
                              where t.sut = 'sequencer-kilted' and v.verdict = 'TP'
