@@ -31,8 +31,8 @@ pytestmark = [requires_ros, requires_typed, pytest.mark.slow]
 
 def test_a_campaign_through_the_cpp_node_judges_like_the_simulator_in_process(tmp_path, capsys):
     """Golden + 7 mutants (6 valid: the golden run, then one wave of the slots) on `reference` in
-    process and on `ros-cpp-reference` on 8 slots, twice real time: every run completes on both, every verdict
-    that differs is suspicious on one side."""
+    process and on `ros-cpp-reference` on 8 slots, twice real time: every run completes on both,
+    every verdict that differs is suspicious on one side."""
     if cpp_missing():
         pytest.skip(cpp_missing())
     db = tmp_path / "c.duckdb"

@@ -38,9 +38,9 @@ def test_typed_goals_and_service_calls_reply_like_generic_goals():
 
 def test_a_typed_campaign_judges_like_the_simulator_in_process(tmp_path, capsys):
     """Golden + 7 mutants (6 valid: the golden run, then one wave of the slots) on `reference` in
-    process and on `ros-typed-reference` (MoveBase goals, Trigger calls, generic goals for the rest) on 8 slots,
-    twice real time: every run completes on both, every verdict that differs is flagged suspicious
-    on one side."""
+    process and on `ros-typed-reference` (MoveBase goals, Trigger calls, generic goals for the
+    rest) on 8 slots, twice real time: every run completes on both, every verdict that differs is
+    flagged suspicious on one side."""
     ensure_ros_venv()
     db = tmp_path / "c.duckdb"
     assert campaign(db, "--mutants", "7", "--sut", "reference,ros-typed-reference", "--jobs", "8",
