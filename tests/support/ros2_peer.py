@@ -30,6 +30,7 @@ from untimely_msgs.srv import Call
 from harness.sut.ros2.teardown import release
 
 TIMEOUT_S = 20.0
+GOAL_S = 0.2  # how long a goal runs between its feedback and its result
 SERVICE, ACTION = "/ndd/set_params", "/dala/ndd"
 OPENED = {"nodes": [], "executor": None}  # released before the process exits (teardown.release)
 # SIGTERM ends `serve` between two spins: shutting the context down from the signal handler while
@@ -58,6 +59,9 @@ def serve(name: str) -> None:
 
     def execute(goal):
         goal.publish_feedback(Request.Feedback(phase="running"))
+        # the goal runs a while, as a real one does: a feedback and a result sent back to back travel
+        # on separate topics and may arrive in either order (then the trace has no intermediate reply)
+        time.sleep(GOAL_S)
         goal.succeed()
         return Request.Result(code="ok")
     _introspect(node.create_service(Call, SERVICE, call), node)

@@ -16,7 +16,8 @@ also the ROS 2 prefix (its `lib/` and `share/`), and builds `untimely_msgs` into
   sharing off, faster announcements), and a `ROS_DOMAIN_ID` no other holder on this machine has;
 - `python`: the distro venv's interpreter; `domain_id`; `log_dir`; `distro`.
 The domain id is held by an flock on a file of a machine-wide folder for as long as the object is
-open (the kernel releases it if the process dies): 8 slots of a campaign and several pytest
+open (the kernel releases it if the process dies), and an id is not handed out while a living
+process was started with it (`domain_ids_in_use`): 8 slots of a campaign and several pytest
 processes, even of other checkouts, never share one. `slot` says where the search starts, so a
 campaign's slots usually get the same ids run after run. `close()` removes the log folder and
 the shared memory of dead Fast DDS participants (`sweep_dead_segments`).
@@ -36,6 +37,7 @@ from pathlib import Path
 from harness.errors import UntimelyError
 
 DISTROS = ("jazzy", "kilted")
+DOMAIN_SETTING = re.compile(rb"(?:^|\0)ROS_DOMAIN_ID=(\d+)\0")  # in /proc/PID/environ
 DEFAULT_DISTRO = "jazzy"
 # 0 is every ROS 2 user's default; above 101 Fast DDS's port formula leaves Linux's port range.
 DOMAIN_IDS = range(1, 102)
@@ -146,9 +148,11 @@ def hold_domain_id(slot: int):
     """An open lock file whose flock holds a domain id (searched from `slot` on) until it is
     closed or the process ends, and the id."""
     LOCK_DIR.mkdir(mode=0o1777, exist_ok=True)
-    ids = list(DOMAIN_IDS)
+    ids, used = list(DOMAIN_IDS), domain_ids_in_use()
     start = slot % len(ids)
     for domain_id in ids[start:] + ids[:start]:
+        if domain_id in used:
+            continue
         lock = open(LOCK_DIR / f"{domain_id}.lock", "a")
         try:
             fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -158,6 +162,22 @@ def hold_domain_id(slot: int):
         return lock, domain_id
     raise Ros2Error(f"all {len(ids)} ROS 2 domain ids ({ids[0]}-{ids[-1]}) are held by other runs "
                     f"on this machine (locks in {LOCK_DIR}); wait for them to end or run fewer slots")
+
+
+def domain_ids_in_use(proc: Path = Path("/proc")) -> set[int]:
+    """The ROS_DOMAIN_ID of every living process that was started with one. A lock is given back
+    when its environment closes, which may be before the processes it started are gone (a stopped
+    slot gives its id back at once, its adapter and node still tearing down): such an id is not
+    handed out again while they live, or a new holder's nodes would talk to the dying ones."""
+    used = set()
+    for environ in proc.glob("[0-9]*/environ"):
+        try:
+            found = DOMAIN_SETTING.search(environ.read_bytes())
+        except OSError:  # ended meanwhile, or not ours to read
+            continue
+        if found:
+            used.add(int(found[1]))
+    return used
 
 
 def sweep_dead_segments(shm: Path = SHM, settle: bool = True) -> list[str]:

@@ -130,10 +130,12 @@ class Recorder:
         self.writer.open()
         self.connections: dict[str, object] = {}
         self.node = rclpy.create_node("untimely_record")
+        self.subscriptions = {}
         for topic, msgtype in self.topics.items():
             durable = DurabilityPolicy.TRANSIENT_LOCAL if topic.endswith("/_action/status") else DurabilityPolicy.VOLATILE
             qos = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE, durability=durable)
-            self.node.create_subscription(message_class(msgtype), topic, partial(self._write, topic), qos, raw=True)
+            self.subscriptions[topic] = self.node.create_subscription(
+                message_class(msgtype), topic, partial(self._write, topic), qos, raw=True)
 
     def _write(self, topic: str, raw: bytes) -> None:
         # An introspection event's instant is its own stamp, not its arrival here: events of separate
@@ -154,10 +156,13 @@ class Recorder:
                                           rihs01=hashes[0] if hashes else "RIHS01_" + "0" * 64)
 
     def wait_for_publishers(self, timeout_s: float) -> list[str]:
-        """Waits until every topic has a publisher discovered; returns those that still have none."""
+        """Waits until every topic has a publisher in the graph and matched to its subscription (a
+        publisher in the graph may not be matched yet: a goal's feedback went unrecorded once on a
+        loaded machine); returns the topics that still have none."""
         deadline = time.monotonic() + timeout_s
         while True:
-            missing = [t for t in self.topics if not self.node.count_publishers(t)]
+            missing = [t for t, sub in self.subscriptions.items()
+                       if not self.node.count_publishers(t) or not sub.get_publisher_count()]
             if not missing or time.monotonic() > deadline:
                 return missing
             rclpy.spin_once(self.node, timeout_sec=0.05)

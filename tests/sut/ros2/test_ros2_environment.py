@@ -11,8 +11,8 @@ import pytest
 
 from harness import ROOT
 from harness.sut.ros2.environment import (DOMAIN_IDS, DISTROS, PROFILE, PROFILE_VARIABLE, Ros2Environment,
-                                               Ros2Error, SETTLE_S, hold_domain_id, installed,
-                                               sweep_dead_segments)
+                                               Ros2Error, SETTLE_S, domain_ids_in_use, hold_domain_id,
+                                               installed, sweep_dead_segments)
 
 HOLDER = """
 import sys
@@ -50,6 +50,22 @@ def test_an_id_held_by_another_process_is_skipped_until_it_ends():
     lock, domain_id = hold_domain_id(slot=theirs - 1)  # the kernel released the ended process's lock
     lock.close()
     assert domain_id <= theirs
+
+
+def test_an_id_a_living_process_was_started_with_is_not_handed_out_until_it_ends():
+    """A slot gives its id back while its node may still be tearing down: a process that runs with
+    ROS_DOMAIN_ID (here a sleeper, holding no lock) keeps its id from a new holder."""
+    lock, free = hold_domain_id(slot=60)
+    lock.close()
+    dying = subprocess.Popen(["sleep", "30"], env={**os.environ, "ROS_DOMAIN_ID": str(free)})
+    try:
+        lock, domain_id = hold_domain_id(slot=60)
+        lock.close()
+        assert domain_id != free and free in domain_ids_in_use()
+    finally:
+        dying.kill()
+        dying.wait(timeout=10)
+    assert free not in domain_ids_in_use()
 
 
 def test_a_distro_not_installed_or_unknown_is_refused_naming_the_remedy(tmp_path):
