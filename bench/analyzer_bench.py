@@ -167,8 +167,11 @@ def readme(results: dict[str, list[Judged]]) -> None:
 
 
 def record(results: dict[str, list[Judged]]) -> None:
+    every = [j for runs in results.values() for j in runs]
     lines = ["# Judging times of bench/analyzer_bench.py in calibration loops (lower is faster), written by",
-             "# `analyzer_bench.py --record`; the bench calls a figure slower than these by 25% out.", ""]
+             "# `analyzer_bench.py --record`; the bench calls a figure slower than these by 25% out.",
+             f"# Recorded {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} on {os.cpu_count()} cores at load average "
+             f"{min(min(j.load) for j in every):.1f} to {max(max(j.load) for j in every):.1f}.", ""]
     for name, runs in results.items():
         judged = median(runs)
         lines += [f'["{name}"]', f"loops = {judged.loops:.1f}", f"cpu_loops = {judged.cpu_loops:.1f}", ""]

@@ -127,6 +127,8 @@ def render_property(prop: Property, judging: Judging = Judging(), explain: list[
     template = _template(prop)
     try:
         modules, services = _scope(prop, enders)
+        if shared is not None:  # the shared search found the causes: the oracle reads only its own services
+            services = _services(parameters)
         return ENV.get_template("oracles/_oracle.sql").render(
             template=template, into=into, shared=shared and shared.requests, shared_causes=shared and shared.causes,
             shared_epsilons=shared and shared.epsilons,

@@ -18,19 +18,28 @@
     from {{ name }}_candidates c semi join {{ name }}_x x using (trace_id, rqst_id)
     group by c.trace_id, c.rqst_id
 ),
+-- each x(i) and y(j) with the sole cause of its end, if any (_causes.sql), and whether x(i)'s
+-- end was caused; looked up per request rather than per pair, which are many more
+{{ name }}_xs as (
+    select x.*, s.cause_id as sole_cause, c.caused
+    from {{ name }}_x x left join {{ name }}_sole s using (trace_id, rqst_id)
+    left join {{ name }}_caused c using (trace_id, rqst_id)
+),
+{{ name }}_ys as (
+    select y.*, s.cause_id as sole_cause, y.final_t is null and {{ judge.ended_first('y.trace_id') }} as untaken
+    from {{ name }}_y y left join {{ name }}_sole s using (trace_id, rqst_id)
+),
 -- each x(i) with every other y(j) of its trace, placed relative to x(i)'s activity; whether
--- y(j) is the sole cause of x(i)'s end, or x(i) of y(j)'s (_causes.sql)
+-- y(j) is the sole cause of x(i)'s end, or x(i) of y(j)'s
 {{ name }}_met as (
-    select x.trace_id, x.rqst_id, x.t, x.final_t, y.rqst_id as y_rqst_id, y.t as y_t, y.class as y_class,
+    select x.trace_id, x.rqst_id, x.t, x.final_t, x.caused, y.rqst_id as y_rqst_id, y.t as y_t, y.class as y_class,
            {{ base.before('x.', 'y.') }} as x_first,
            coalesce({{ base.before('y.', 'x.final_') }}, true) as y_before_end,
            coalesce({{ base.before('y.final_', 'x.') }}, false) as y_ended_first,
-           sx.cause_id is not null as y_ended_x, sy.cause_id is not null as x_ended_y,
-           y.final_t is null and {{ judge.ended_first('x.trace_id') }} as y_untaken
-    from {{ name }}_x x
-    join {{ name }}_y y on y.trace_id = x.trace_id and y.rqst_id <> x.rqst_id  -- an x(i) without y(j) has no pair
-    left join {{ name }}_sole sx on sx.trace_id = x.trace_id and sx.rqst_id = x.rqst_id and sx.cause_id = y.rqst_id
-    left join {{ name }}_sole sy on sy.trace_id = x.trace_id and sy.rqst_id = y.rqst_id and sy.cause_id = x.rqst_id
+           coalesce(x.sole_cause = y.rqst_id, false) as y_ended_x, coalesce(y.sole_cause = x.rqst_id, false) as x_ended_y,
+           y.untaken as y_untaken
+    from {{ name }}_xs x
+    join {{ name }}_ys y on y.trace_id = x.trace_id and y.rqst_id <> x.rqst_id  -- an x(i) without y(j) has no pair
 ),
 -- y(j) conflicts if sent while x(i) runs; its shift is how far it would have to move to the
 -- other side of x(i)'s request or final reply. `movable`: the same unless the order is sure
@@ -47,10 +56,10 @@
                 when x_first then 'infinity'::double
                 when y_ended_first or x_ended_y then 'infinity'::double
                 else t - y_t end as movable,
-           c.caused,
+           caused,
            y_untaken as untaken,
            y_class is not distinct from 'R' as conflict_rejected
-    from {{ name }}_met left join {{ name }}_caused c using (trace_id, rqst_id)
+    from {{ name }}_met
 ),
 {{ judge.condition(name, defined="class is distinct from 'R'", caused='caused', movable='p.movable',
                    untaken='untaken') }},

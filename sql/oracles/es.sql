@@ -30,20 +30,28 @@
     select null::integer as trace_id, null::integer as y_rqst_id, null::integer as rqst_id where false
 {% endif %}
 ),
+-- each x(i) and y(j) with the sole cause of its end, if any (_causes.sql), and the x(i) a y(j)
+-- named (rule 8); looked up per request rather than per pair, which are many more
+{{ name }}_xs as (
+    select x.*, s.cause_id as sole_cause
+    from {{ name }}_x x left join {{ name }}_sole s using (trace_id, rqst_id)
+),
+{{ name }}_ys as (
+    select y.*, s.cause_id as sole_cause, n.rqst_id as named, y.final_t is null and {{ judge.ended_first('y.trace_id') }} as untaken
+    from {{ name }}_y y left join {{ name }}_sole s using (trace_id, rqst_id)
+    left join {{ name }}_named n on n.trace_id = y.trace_id and n.y_rqst_id = y.rqst_id
+),
 -- each x(i) with every other y(j) of its trace, placed relative to x(i); whether y(j) is the
--- sole cause of x(i)'s end, or x(i) of y(j)'s (_causes.sql), or named x(i) (rule 8)
+-- sole cause of x(i)'s end, or x(i) of y(j)'s, or named x(i)
 {{ name }}_met as (
     select x.trace_id, x.rqst_id, x.t, y.rqst_id as y_rqst_id, y.t as y_t, y.final_t as y_final_t, y.class as y_class,
            {{ base.before('y.', 'x.') }} as y_first,
            coalesce({{ base.before('y.final_', 'x.') }}, false) as y_ended,
-           sx.cause_id is not null as y_ended_x, sy.cause_id is not null as x_ended_y,
-           n.rqst_id is not null as y_named_x,
-           y.final_t is null and {{ judge.ended_first('x.trace_id') }} as y_untaken
-    from {{ name }}_x x
-    join {{ name }}_y y on y.trace_id = x.trace_id and y.rqst_id <> x.rqst_id  -- an x(i) without y(j) has no pair
-    left join {{ name }}_sole sx on sx.trace_id = x.trace_id and sx.rqst_id = x.rqst_id and sx.cause_id = y.rqst_id
-    left join {{ name }}_sole sy on sy.trace_id = x.trace_id and sy.rqst_id = y.rqst_id and sy.cause_id = x.rqst_id
-    left join {{ name }}_named n on n.trace_id = x.trace_id and n.rqst_id = x.rqst_id and n.y_rqst_id = y.rqst_id
+           coalesce(x.sole_cause = y.rqst_id, false) as y_ended_x, coalesce(y.sole_cause = x.rqst_id, false) as x_ended_y,
+           coalesce(y.named = x.rqst_id, false) as y_named_x,
+           y.untaken as y_untaken
+    from {{ name }}_xs x
+    join {{ name }}_ys y on y.trace_id = x.trace_id and y.rqst_id <> x.rqst_id  -- an x(i) without y(j) has no pair
 ),
 -- y(j) conflicts if sent before x(i) and not ended before it; its shift is how far its request
 -- or its final reply would have to move to the other side of x(i). `movable`: the same unless

@@ -5,7 +5,7 @@ import pytest
 
 from harness.errors import PropertyError
 from harness.target.interface import Property
-from harness.analysis.oracles import Judging, render_property
+from harness.analysis.oracles import Judging, Shared, render_property
 from harness.store.database import connect, insert_trace
 from harness.trace import Trace
 
@@ -81,3 +81,16 @@ def test_a_value_domain_property_without_the_interface_is_refused_saying_what_it
     with pytest.raises(PropertyError, match=r"property 'VAL\(rflex\)' of type VAL reads the argument domains "
                                             r"of the interface; pass the interface"):
         render_property(val)
+
+
+def test_in_an_analysis_an_oracle_reads_only_its_own_services_requests(interface, properties):
+    """The shared cause search needs whole modules; an oracle reading the shared requests does not
+    (on its own, EE searches the causes itself, over its modules and those that may interrupt them)."""
+    aib = next(p for p in properties if p.id == "AIB(aspect.Fuse)")
+    own = ("((module = 'aspect' and service = 'Fuse') or (module = 'aspect' and service = 'Reset') "
+           "or (module = 'aspect' and service = 'Stop'))")
+    shared = render_property(aib, Judging("events", 0.01, interface, properties, shared=Shared("r", "c", "e")))
+    assert f"with requests as (select * from r where {own})" in shared
+    alone = render_property(aib, Judging("events", 0.01, interface, properties))
+    # ndd: EXC(aspect.Reset,ndd.GotoPosition) says a GotoPosition may interrupt an aspect.Reset
+    assert "where kind in ('request', 'final') and module in ('aspect', 'ndd')" in alone
