@@ -135,7 +135,22 @@ def slot_use(con, wall: float) -> str:
                                         "count(*) filter (where outcome = 'hung') from traces "
                                         "join trace_runs using (trace_id)").fetchone()
     return (f"; the slots spent {in_runs / (SLOTS * wall):.0%} of their wall time in runs ({beyond:,.0f} slot-s "
-            f"of it beyond mission time), the rest idle; {hung} runs hung")
+            f"of it beyond mission time), the rest idle; {hung} runs hung" + in_flight(con))
+
+
+def in_flight(con) -> str:
+    """How long few runs (3 or fewer) and all SLOTS were in flight, from the first run's start to
+    the last one's end: the slots' idle time is where few are."""
+    rows = con.execute("select epoch(started_at), wall_s from traces join trace_runs using (trace_id)").fetchall()
+    edges = sorted([(start, 1) for start, _ in rows] + [(start + wall, -1) for start, wall in rows])
+    few = full = 0.0
+    running = 0
+    for (t, step), (later, _) in zip(edges, edges[1:]):
+        running += step
+        few += (later - t) * (running <= 3)
+        full += (later - t) * (running >= SLOTS)
+    return (f"; over the {edges[-1][0] - edges[0][0]:,.0f} s from the first run's start to the last one's end, "
+            f"3 or fewer runs in flight for {few:,.0f} s, all {SLOTS} for {full:,.0f} s")
 
 
 def discovery(con) -> str:
