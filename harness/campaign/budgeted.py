@@ -3,8 +3,8 @@ run and judged ROUND_TESTS at a time, in the plan's order (harness.mutator.focus
 variant the stopping rule has not ended yet, within the budget (harness.campaign.budget). With
 --shrink, each new finding's first trace is shrunk as soon as it shows, its runs within the
 budget too. On slots (harness.campaign.slots), the next round's runs start while a round's tail
-runs when the round-by-round campaign is certain to make that round as it is (Round, lookahead):
-the same tests, stopping point and traces, the slots kept busy.
+runs, as far as the round-by-round campaign is certain to make them (lookahead): the same tests,
+stopping point and traces, the slots kept busy.
 
 Resumable and a function of the arguments only: rounds are fixed (not a function of --jobs), a
 variant's rule is applied to its tests in order, and a resumed campaign replays its stored
@@ -83,7 +83,7 @@ class FocusedRun:
                                                    {"campaign": self.campaign_id}).fetchone()
         with self.account:
             self.budget.spent_s = traces_s + self.shrink_s + sum(
-                rnd.bounds[task.trace_id] for rnd in self.in_flight for task in rnd.pending.values())
+                bound for rnd in self.in_flight for trace_id, bound in rnd.bounds.items() if trace_id not in rnd.fresh)
 
     def script(self, n: int) -> tuple[int, str]:
         """Test n's (script_id, body), made and stored the first time (shrunk scripts and the
@@ -115,6 +115,8 @@ class FocusedRun:
             n = self._judged(current)
             if current.cut is not None:
                 return self._stop("budget", n)
+            if ahead:
+                self._release(ahead)
 
     def _round(self, n: int) -> Round | str:
         """The round from test n, started; or why the campaign stops before it."""
@@ -123,23 +125,24 @@ class FocusedRun:
             return "rule"
         if n >= self.config.mutants:
             return "tests"
-        return self._admitted(n, active, whole=False)
+        return self._admitted(n, active)
 
     def _lookahead(self, current: Round) -> Round | None:
-        """The round after `current`, started now, if the round-by-round campaign is certain to run
-        it as it is whatever `current` finds: the stopping rule cannot end a variant within
-        `current`, and every run fits the budget with those in flight counted at their bounds."""
+        """The round after `current`, started now, as the round-by-round campaign is certain to
+        make it whatever `current` finds: only if each of its runs fits the budget with those in
+        flight counted at their bounds, and the runs of a variant that `current` could end (the
+        stopping rule) held until it has not (_release)."""
         n = current.end
         if self.slots is None or current.cut is not None or n >= self.config.mutants:
             return None
         active = [s for s in self.config.sut if not self.state[s].done]
-        if not all(self.state[s].stays_active(len(current.tests), len(self.plan.aims), PATIENCE) for s in active):
-            return None
-        return self._admitted(n, active, whole=True)
+        held = {s for s in active if not self.state[s].stays_active(len(current.tests), len(self.plan.aims), PATIENCE)}
+        return None if held == set(active) else self._admitted(n, active, held)
 
-    def _admitted(self, n: int, active: list[str], whole: bool) -> Round | None:
+    def _admitted(self, n: int, active: list[str], held: set[str] | None = None) -> Round | None:
         """The round from test n on the active variants, each run's bound reserved in the budget
-        while it fits, started; None if `whole` and one does not fit (nothing is reserved then)."""
+        while it fits, started. Made ahead (`held` not None): None unless every run fits, and the
+        runs of the held variants are reserved, not started."""
         cap = self.config.mutants
         tests = [(k, [t for t in runs.tasks([self.script(k)], self.golden_id, self.config) if t.sut in active])
                  for k in range(n, min(n + ROUND_TESTS, cap))]
@@ -152,17 +155,28 @@ class FocusedRun:
                     break
                 self.budget.spent_s += bound
                 rnd.bounds[task.trace_id] = bound
-            if whole and rnd.cut is not None:
+            if held is not None and rnd.cut is not None:
                 self.budget.spent_s -= sum(rnd.bounds.values())
                 return None
         admitted = [t for _, tasks in tests for t in tasks if t.trace_id in rnd.bounds]
+        rnd.held = [t for t in admitted if t.sut in (held or ())]
         if self.slots:
-            rnd.pending = self.slots.submit(admitted, rnd.number)
+            rnd.pending = self.slots.submit([t for t in admitted if t not in rnd.held], rnd.number)
             self.in_flight.append(rnd)
             self._rank_shrinks()
         elif admitted:
             self.run_tasks(admitted, lambda task, trace: self._arrived(rnd, task, trace))
         return rnd
+
+    def _release(self, ahead: Round) -> None:
+        """The held runs of a round made ahead started if their variant is still active, else
+        dropped (bounds freed, the round's tests without them), once the round before it is judged."""
+        ended = {s for s in self.config.sut if self.state[s].done}
+        ahead.tests = [(k, [t for t in tasks if t.sut not in ended]) for k, tasks in ahead.tests]
+        with self.account:
+            self.budget.spent_s -= sum(ahead.bounds.pop(t.trace_id) for t in ahead.held if t.sut in ended)
+        ahead.pending.update(self.slots.submit([t for t in ahead.held if t.sut not in ended], ahead.number))
+        ahead.held = []
 
     def _collect(self, current: Round) -> None:
         """Waits for the runs of `current`, storing every trace in flight as it comes back."""
@@ -181,7 +195,7 @@ class FocusedRun:
         """Shrink runs take free slots after the first round in flight's runs, before a round started ahead."""
         self.slots.shrink_rank = min(rnd.number for rnd in self.in_flight) + 0.5 if self.in_flight else 0.5
 
-    def _arrived(self, rnd: Round, task: Task, trace) -> None:
+    def _arrived(self, rnd: Round, task: Task, trace) -> None:  # stored as it comes back, its bound freed
         rnd.fresh[task.trace_id] = trace
         self.batches.add(task, trace)
         with self.account:

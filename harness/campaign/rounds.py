@@ -16,11 +16,13 @@ ROUND_TESTS = 8
 class Round:
     """Tests [number * ROUND_TESTS, ...) on the variants active when it was made: the bounds of
     its runs admitted within the budget (by trace id; a trace stored before this session is not
-    run again), the test whose runs did not all fit (`cut`), its runs in flight, its traces back."""
+    run again), the test whose runs did not all fit (`cut`), the runs held (made ahead of
+    the round before it), its runs in flight, its traces back."""
     number: int
     tests: list[tuple[int, list[Task]]]
     cut: int | None = None
     bounds: dict[int, float] = field(default_factory=dict)
+    held: list[Task] = field(default_factory=list)  # made ahead: runs reserved, started once their variant is sure
     pending: dict[Future, Task] = field(default_factory=dict)
     fresh: dict[int, Trace] = field(default_factory=dict)
 
