@@ -26,7 +26,7 @@ from harness.campaign import runs, shrink
 from harness.campaign.budget import RULE, Budget, MeteredOriginal, VariantState
 from harness.campaign.context import CampaignContext
 from harness.campaign.rounds import ROUND_TESTS, Round
-from harness.campaign.slots import Slots, traced
+from harness.campaign.slots import Slots, at_once, traced
 from harness.store.budgets import BudgetRow, record_budget
 from harness.store.record import ShrinkRecord, records
 from harness.store.scripts import ScriptRow, add_scripts
@@ -39,6 +39,7 @@ from harness.dispatch.workers import Task
 from harness.textable import format_table
 
 PATIENCE = 40  # tests per variant without anything new, once every aim was exercised (budget.RULE)
+AHEAD = 2  # rounds made ahead of the one being judged (judging one takes the bench seconds)
 
 
 def record(con, campaign_id: int, budget: Budget, shrink_s: float, tests: int, stopped: str | None) -> None:
@@ -105,18 +106,18 @@ class FocusedRun:
         if self.stopped:
             print(f"campaign {self.campaign_id} is complete; nothing to run")
             return self.stopped
-        n, ahead = 0, None
+        n, ahead = 0, []
         while True:
-            current = ahead or self._round(n)
+            current = ahead.pop(0) if ahead else self._round(n)
             if isinstance(current, str):
                 return self._stop(current, n)
-            ahead = self._lookahead(current)
+            while len(ahead) < AHEAD and (later := self._lookahead([current, *ahead])):
+                ahead.append(later)
             self._collect(current)
             n = self._judged(current)
             if current.cut is not None:
                 return self._stop("budget", n)
-            if ahead:
-                self._release(ahead)
+            self._release(ahead)
 
     def _round(self, n: int) -> Round | str:
         """The round from test n, started; or why the campaign stops before it."""
@@ -127,16 +128,16 @@ class FocusedRun:
             return "tests"
         return self._admitted(n, active)
 
-    def _lookahead(self, current: Round) -> Round | None:
-        """The round after `current`, started now, as the round-by-round campaign is certain to
-        make it whatever `current` finds: only if each of its runs fits the budget with those in
-        flight counted at their bounds, and the runs of a variant that `current` could end (the
-        stopping rule) held until it has not (_release)."""
-        n = current.end
-        if self.slots is None or current.cut is not None or n >= self.config.mutants:
+    def _lookahead(self, unjudged: list[Round]) -> Round | None:
+        """The round after those `unjudged`, started now, as the round-by-round campaign is certain
+        to make it whatever they find: only if each of its runs fits the budget with those in
+        flight counted at their bounds, and the runs of a variant that they could end (the
+        stopping rule) held until they have not (_release)."""
+        n, tests = unjudged[-1].end, sum(len(rnd.tests) for rnd in unjudged)
+        if self.slots is None or unjudged[-1].cut is not None or n >= self.config.mutants:
             return None
         active = [s for s in self.config.sut if not self.state[s].done]
-        held = {s for s in active if not self.state[s].stays_active(len(current.tests), len(self.plan.aims), PATIENCE)}
+        held = {s for s in active if not self.state[s].stays_active(tests, len(self.plan.aims), PATIENCE)}
         return None if held == set(active) else self._admitted(n, active, held)
 
     def _admitted(self, n: int, active: list[str], held: set[str] | None = None) -> Round | None:
@@ -168,15 +169,21 @@ class FocusedRun:
             self.run_tasks(admitted, lambda task, trace: self._arrived(rnd, task, trace))
         return rnd
 
-    def _release(self, ahead: Round) -> None:
-        """The held runs of a round made ahead started if their variant is still active, else
-        dropped (bounds freed, the round's tests without them), once the round before it is judged."""
+    def _release(self, ahead: list[Round]) -> None:
+        """Once a round is judged, the held runs of the rounds made ahead: dropped if their variant
+        has ended (bounds freed, the round's tests without them), started once the rounds before
+        theirs cannot end it."""
         ended = {s for s in self.config.sut if self.state[s].done}
-        ahead.tests = [(k, [t for t in tasks if t.sut not in ended]) for k, tasks in ahead.tests]
-        with self.account:
-            self.budget.spent_s -= sum(ahead.bounds.pop(t.trace_id) for t in ahead.held if t.sut in ended)
-        ahead.pending.update(self.slots.submit([t for t in ahead.held if t.sut not in ended], ahead.number))
-        ahead.held = []
+        before = 0  # the unjudged tests before the round
+        for rnd in ahead:
+            rnd.tests = [(k, [t for t in tasks if t.sut not in ended]) for k, tasks in rnd.tests]
+            sure = [t for t in rnd.held if t.sut not in ended
+                    and self.state[t.sut].stays_active(before, len(self.plan.aims), PATIENCE)]
+            with self.account:
+                self.budget.spent_s -= sum(rnd.bounds.pop(t.trace_id) for t in rnd.held if t.sut in ended)
+            rnd.pending.update(self.slots.submit(sure, rnd.number))
+            rnd.held = [t for t in rnd.held if t.sut not in ended and t not in sure]
+            before += len(rnd.tests)
 
     def _collect(self, current: Round) -> None:
         """Waits for the runs of `current`, storing every trace in flight as it comes back."""
@@ -269,13 +276,6 @@ class FocusedRun:
         self.account_from_store()
         record(self.con, self.campaign_id, self.budget, self.shrink_s, tests, reason)
         return reason
-
-
-def at_once(work, *args) -> Future:
-    """`work(*args)` run now, as a finished future (in process, shrinks keep the rounds' order)."""
-    future = Future()
-    future.set_result(work(*args))
-    return future
 
 
 def stopped_line(run: FocusedRun, reason: str) -> str:

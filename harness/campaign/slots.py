@@ -101,6 +101,13 @@ class Slots:
             self.turn.notify_all()
 
 
+def at_once(work, *args) -> Future:
+    """`work(*args)` run now, as a finished future (in process, shrinks keep the rounds' order)."""
+    future = Future()
+    future.set_result(work(*args))
+    return future
+
+
 def traced(future: Future) -> Trace:
     """A finished run's trace; an adapter that could not be started stops the campaign."""
     result = future.result()
