@@ -72,14 +72,12 @@ class FocusedRun:
             self.shown.setdefault(trace_id, set()).add((property_id, kind))
         self.stored = {t for (t,) in con.execute("select trace_id from traces where campaign_id = ?",
                                                  [campaign_id]).fetchall()}
-        # what was shrunk, or tried (its runs are stored): a resumed campaign does not try again, unless
-        # the campaign was stopped while it ran
+        # what was shrunk or tried (its runs stored): not tried again on resume, unless it was interrupted
         self.shrunk = {(s.sut, s.verdict, s.property) for _, _, s in records(con, ShrinkRecord) if not s.interrupted}
 
     def account_from_store(self) -> None:
-        """What the campaign has spent: the mission seconds of its stored traces and shrink runs,
-        and the bounds of the test runs in flight (called with no shrink running: a running
-        shrink's runs are counted, but not yet stored)."""
+        """What the campaign has spent: its stored traces' and shrink runs' mission seconds, its test
+        runs in flight at their bounds (with no shrink running: its runs are counted, not stored)."""
         traces_s, self.shrink_s = self.con.execute(render_query("campaign_spent"),
                                                    {"campaign": self.campaign_id}).fetchone()
         with self.account:
@@ -113,6 +111,7 @@ class FocusedRun:
                 return self._stop(current, n)
             while len(ahead) < AHEAD and (later := self._lookahead([current, *ahead])):
                 ahead.append(later)
+            self._store_shrunk(wait=False)  # on slots, once the runs ahead are started
             self._collect(current)
             n = self._judged(current)
             if current.cut is not None:
@@ -229,7 +228,7 @@ class FocusedRun:
 
     def _shrink(self, found: list[tuple[Task, str | None, str]]) -> None:
         """Says what a round found; shrinks each new finding from the trace that showed it, at once
-        in process, in the background on external SUTs; stores the shrinks done, in order."""
+        in process (and stores it), in the background on external SUTs (run() stores them)."""
         for task, property_id, kind in found:
             what = f"{kind} on {property_id}" if property_id else kind
             print(f"found     {task.sut}: {what} (trace {task.trace_id}, script {task.script_id})")
@@ -247,7 +246,8 @@ class FocusedRun:
             except KeyboardInterrupt:  # stopped in the midst of an in-process shrink
                 shrink.store_interrupted(self.con, metered, behaviour)
                 raise
-        self._store_shrunk(wait=False)
+        if not self.slots:  # in process, before the next round's scripts (their ids follow the shrinks')
+            self._store_shrunk(wait=False)
 
     def store_interrupted(self) -> None:
         """The campaign was stopped: the runs of the shrinks still running are stored, marked
