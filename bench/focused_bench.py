@@ -12,7 +12,7 @@ Then the same Dala campaign in real time, at 1x on 8 slots: on the out-of-proces
 `make ros`) and on the ROS 2 lifecycle node (`ros2-*` on Jazzy, skipped without `make ros2`; with
 how many nodes were started and the median seconds one took to start and be discovered): its wall minutes, mission seconds, the slots' speed-up (mission s per wall s; 8 at
 best), how close the in-process campaign's mission seconds predicted it, whether every
-defect was exposed, and where the slots' wall time went (in runs, beyond their mission time, idle). Figures, not pass or fail: a busy machine gives a smaller speed-up, so the
+defect was exposed, and where the slots' wall time went (in runs, beyond their mission time, idle; how long 3 or fewer runs, and all 8, were in flight). Figures, not pass or fail: a busy machine gives a smaller speed-up, so the
 load average is printed beside them. UNTIMELY_BENCH_REALTIME chooses (default `sim,ros,ros2`; a
 comma-separated choice of them, or `none`): each takes about 10 minutes on a 2-core machine.
 """
