@@ -12,7 +12,7 @@ Then the same Dala campaign in real time, at 1x on 8 slots: on the out-of-proces
 `make ros`) and on the ROS 2 lifecycle node (`ros2-*` on Jazzy, skipped without `make ros2`; with
 how many nodes were started and the median seconds one took to start and be discovered): its wall minutes, mission seconds, the slots' speed-up (mission s per wall s; 8 at
 best), how close the in-process campaign's mission seconds predicted it, whether every
-defect was exposed, and where the slots' wall time went (in runs, beyond their mission time, idle). Figures, not pass or fail: a busy machine gives a smaller speed-up, so the
+defect was exposed, and where the slots' wall time went (in runs, beyond their mission time, idle; how long 3 or fewer runs, and all 8, were in flight). Figures, not pass or fail: a busy machine gives a smaller speed-up, so the
 load average is printed beside them. UNTIMELY_BENCH_REALTIME chooses (default `sim,ros,ros2`; a
 comma-separated choice of them, or `none`): each takes about 10 minutes on a 2-core machine.
 """
@@ -135,7 +135,22 @@ def slot_use(con, wall: float) -> str:
                                         "count(*) filter (where outcome = 'hung') from traces "
                                         "join trace_runs using (trace_id)").fetchone()
     return (f"; the slots spent {in_runs / (SLOTS * wall):.0%} of their wall time in runs ({beyond:,.0f} slot-s "
-            f"of it beyond mission time), the rest idle; {hung} runs hung")
+            f"of it beyond mission time), the rest idle; {hung} runs hung" + in_flight(con))
+
+
+def in_flight(con) -> str:
+    """How long few runs (3 or fewer) and all SLOTS were in flight, from the first run's start to
+    the last one's end: the slots' idle time is where few are."""
+    rows = con.execute("select epoch(started_at), wall_s from traces join trace_runs using (trace_id)").fetchall()
+    edges = sorted([(start, 1) for start, _ in rows] + [(start + wall, -1) for start, wall in rows])
+    few = full = 0.0
+    running = 0
+    for (t, step), (later, _) in zip(edges, edges[1:]):
+        running += step
+        few += (later - t) * (running <= 3)
+        full += (later - t) * (running >= SLOTS)
+    return (f"; over the {edges[-1][0] - edges[0][0]:,.0f} s from the first run's start to the last one's end, "
+            f"3 or fewer runs in flight for {few:,.0f} s, all {SLOTS} for {full:,.0f} s")
 
 
 def discovery(con) -> str:

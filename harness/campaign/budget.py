@@ -12,8 +12,12 @@ budget (`budget`), or after --mutants tests (`tests`).
 from __future__ import annotations
 
 import re
+import threading
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 
+from harness.campaign import shrink
+from harness.campaign.slots import Slots
 from harness.errors import UntimelyError
 
 UNITS = {"s": 1.0, "m": 60.0, "h": 3600.0}
@@ -47,6 +51,10 @@ class VariantState:
         self.done = self.tests >= aims and self.quiet >= patience
         return new
 
+    def stays_active(self, tests: int, aims: int, patience: int) -> bool:
+        """Whether the rule cannot end this variant within its next `tests` tests, whatever they show."""
+        return self.tests + tests < aims or self.quiet + tests < patience
+
 
 @dataclass
 class Budget:
@@ -58,3 +66,31 @@ class Budget:
 
     def left(self) -> float:
         return float("inf") if self.limit_s is None else self.limit_s - self.spent_s
+
+
+class BudgetSpent(UntimelyError):
+    """A shrink run that would not fit in the budget."""
+
+    def __init__(self, message: str = "the budget is spent"):
+        super().__init__(message)
+
+
+@dataclass
+class MeteredOriginal(shrink.Original):
+    """A trace to shrink whose re-runs are counted against the campaign's budget (shrinks run
+    side by side: one lock keeps the budget's account), each on a slot taken for that run alone."""
+    budget: Budget | None = None
+    bound: float = 0.0  # no candidate outlasts the original script's bound
+    account: threading.Lock = field(default_factory=threading.Lock)  # shared by the shrinks of a campaign
+    slots: Slots | None = None  # None: in process, on slot 0
+
+    def run(self, body: str, runner=None):
+        with self.account:
+            if not self.budget.fits(self.bound):
+                raise BudgetSpent()
+            self.budget.spent_s += self.bound  # reserved until the run says what it took
+        with self.slots.taken() if self.slots else nullcontext(self.slot) as self.slot:
+            trace = super().run(body, runner) if runner else super().run(body)
+        with self.account:
+            self.budget.spent_s += trace.sim_s - self.bound
+        return trace

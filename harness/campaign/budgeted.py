@@ -2,7 +2,9 @@
 run and judged ROUND_TESTS at a time, in the plan's order (harness.mutator.focused), on every
 variant the stopping rule has not ended yet, within the budget (harness.campaign.budget). With
 --shrink, each new finding's first trace is shrunk as soon as it shows, its runs within the
-budget too.
+budget too. On slots (harness.campaign.slots), the next round's runs start while a round's tail
+runs, as far as the round-by-round campaign is certain to make them (lookahead): the same tests,
+stopping point and traces, the slots kept busy.
 
 Resumable and a function of the arguments only: rounds are fixed (not a function of --jobs), a
 variant's rule is applied to its tests in order, and a resumed campaign replays its stored
@@ -16,15 +18,15 @@ from __future__ import annotations
 
 import json
 import threading
-from concurrent.futures import Future
-from contextlib import nullcontext
-from dataclasses import dataclass, field, fields
+from concurrent.futures import FIRST_COMPLETED, Future, wait
+from dataclasses import fields
 
 from harness import store
 from harness.campaign import runs, shrink
-from harness.campaign.budget import RULE, Budget, VariantState
+from harness.campaign.budget import RULE, Budget, MeteredOriginal, VariantState
 from harness.campaign.context import CampaignContext
-from harness.campaign.slots import Slots
+from harness.campaign.rounds import ROUND_TESTS, Round
+from harness.campaign.slots import Slots, at_once, traced
 from harness.store.budgets import BudgetRow, record_budget
 from harness.store.record import ShrinkRecord, records
 from harness.store.scripts import ScriptRow, add_scripts
@@ -36,36 +38,8 @@ from harness.target.script import parse
 from harness.dispatch.workers import Task
 from harness.textable import format_table
 
-ROUND_TESTS = 8
 PATIENCE = 40  # tests per variant without anything new, once every aim was exercised (budget.RULE)
-
-
-class BudgetSpent(UntimelyError):
-    """A shrink run that would not fit in the budget."""
-
-    def __init__(self, message: str = "the budget is spent"):
-        super().__init__(message)
-
-
-@dataclass
-class MeteredOriginal(shrink.Original):
-    """A trace to shrink whose re-runs are counted against the campaign's budget (shrinks run
-    side by side: one lock keeps the budget's account), each on a slot taken for that run alone."""
-    budget: Budget | None = None
-    bound: float = 0.0  # no candidate outlasts the original script's bound
-    account: threading.Lock = field(default_factory=threading.Lock)  # shared by the shrinks of a campaign
-    slots: Slots | None = None  # None: in process, on slot 0
-
-    def run(self, body: str, runner=None):
-        with self.account:
-            if not self.budget.fits(self.bound):
-                raise BudgetSpent()
-            self.budget.spent_s += self.bound  # reserved until the run says what it took
-        with self.slots.taken() if self.slots else nullcontext(self.slot) as self.slot:
-            trace = super().run(body, runner) if runner else super().run(body)
-        with self.account:
-            self.budget.spent_s += trace.sim_s - self.bound
-        return trace
+AHEAD = 2  # rounds made ahead of the one being judged (judging one takes the bench seconds)
 
 
 def record(con, campaign_id: int, budget: Budget, shrink_s: float, tests: int, stopped: str | None) -> None:
@@ -83,6 +57,7 @@ class FocusedRun:
         self.account = threading.Lock()  # the budget's, shared with shrinks running in the background
         self.shrinking: list[tuple[shrink.Behaviour, MeteredOriginal, Future]] = []
         self.state = {sut: VariantState() for sut in config.sut}
+        self.in_flight: list[Round] = []  # the rounds whose runs were started on slots, not all back
         (self.stopped,) = con.execute("select stopped from campaign_budgets where campaign_id = ?",
                                       [campaign_id]).fetchone() or (None,)
         self.budget, self.shrink_s = Budget(config.budget_s), 0.0
@@ -97,17 +72,17 @@ class FocusedRun:
             self.shown.setdefault(trace_id, set()).add((property_id, kind))
         self.stored = {t for (t,) in con.execute("select trace_id from traces where campaign_id = ?",
                                                  [campaign_id]).fetchall()}
-        # what was shrunk, or tried (its runs are stored): a resumed campaign does not try again, unless
-        # the campaign was stopped while it ran
+        # what was shrunk or tried (its runs stored): not tried again on resume, unless it was interrupted
         self.shrunk = {(s.sut, s.verdict, s.property) for _, _, s in records(con, ShrinkRecord) if not s.interrupted}
 
     def account_from_store(self) -> None:
-        """What the campaign has spent: the mission seconds of its stored traces and shrink runs
-        (called with no shrink running: a running shrink's runs are counted, but not yet stored)."""
+        """What the campaign has spent: its stored traces' and shrink runs' mission seconds, its test
+        runs in flight at their bounds (with no shrink running: its runs are counted, not stored)."""
         traces_s, self.shrink_s = self.con.execute(render_query("campaign_spent"),
                                                    {"campaign": self.campaign_id}).fetchone()
         with self.account:
-            self.budget.spent_s = traces_s + self.shrink_s
+            self.budget.spent_s = traces_s + self.shrink_s + sum(
+                bound for rnd in self.in_flight for trace_id, bound in rnd.bounds.items() if trace_id not in rnd.fresh)
 
     def script(self, n: int) -> tuple[int, str]:
         """Test n's (script_id, body), made and stored the first time (shrunk scripts and the
@@ -129,58 +104,131 @@ class FocusedRun:
         if self.stopped:
             print(f"campaign {self.campaign_id} is complete; nothing to run")
             return self.stopped
-        n, cap = 0, self.config.mutants
+        n, ahead = 0, []
         while True:
-            active = [s for s in self.config.sut if not self.state[s].done]
-            if not active:
-                return self._stop("rule", n)
-            if n >= cap:
-                return self._stop("tests", n)
-            tests = [(k, [t for t in runs.tasks([self.script(k)], self.golden_id, self.config) if t.sut in active])
-                     for k in range(n, min(n + ROUND_TESTS, cap))]
-            admitted, reserved, cut = [], 0.0, None
-            for k, tasks in tests:
-                for task in tasks:
-                    if task.trace_id in self.stored:
-                        continue
-                    bound = bound_s(parse(task.body))
-                    if not self.budget.fits(reserved + bound):
-                        cut = k
-                        break
-                    reserved += bound
-                    admitted.append(task)
-                if cut is not None:
-                    break
-            fresh = {}
-            if admitted:
-                self.run_tasks(admitted, lambda task, trace: (fresh.__setitem__(task.trace_id, trace),
-                                                              self.batches.add(task, trace)))
-                self.batches.commit()
-                traces = sorted(fresh.items())
-                for (trace_id, trace), found in zip(traces, self.judge.findings([t for _, t in traces])):
-                    self.shown[trace_id] = found
-                    with self.account:
-                        self.budget.spent_s += trace.sim_s
-                self.stored |= set(fresh)
-            found = []
-            for k, tasks in tests:
-                if k == cut:
-                    break
-                for task in tasks:
-                    new = self.state[task.sut].record(self.shown.get(task.trace_id, set()), len(self.plan.aims),
-                                                      PATIENCE)
-                    found += [(task, property_id, kind) for property_id, kind in sorted(new, key=str)]
-                n = k + 1
-            self._shrink(found)
-            if not self.shrinking:
-                self.account_from_store()
-            record(self.con, self.campaign_id, self.budget, self.shrink_s, n, None)
-            if cut is not None:
+            current = ahead.pop(0) if ahead else self._round(n)
+            if isinstance(current, str):
+                return self._stop(current, n)
+            while len(ahead) < AHEAD and (later := self._lookahead([current, *ahead])):
+                ahead.append(later)
+            self._store_shrunk(wait=False)  # on slots, once the runs ahead are started
+            self._collect(current)
+            n = self._judged(current)
+            if current.cut is not None:
                 return self._stop("budget", n)
+            self._release(ahead)
+
+    def _round(self, n: int) -> Round | str:
+        """The round from test n, started; or why the campaign stops before it."""
+        active = [s for s in self.config.sut if not self.state[s].done]
+        if not active:
+            return "rule"
+        if n >= self.config.mutants:
+            return "tests"
+        return self._admitted(n, active)
+
+    def _lookahead(self, unjudged: list[Round]) -> Round | None:
+        """The round after those `unjudged`, started now, as the round-by-round campaign is certain
+        to make it whatever they find: only if each of its runs fits the budget with those in
+        flight counted at their bounds, and the runs of a variant that they could end (the
+        stopping rule) held until they have not (_release)."""
+        n, tests = unjudged[-1].end, sum(len(rnd.tests) for rnd in unjudged)
+        if self.slots is None or unjudged[-1].cut is not None or n >= self.config.mutants:
+            return None
+        active = [s for s in self.config.sut if not self.state[s].done]
+        held = {s for s in active if not self.state[s].stays_active(tests, len(self.plan.aims), PATIENCE)}
+        return None if held == set(active) else self._admitted(n, active, held)
+
+    def _admitted(self, n: int, active: list[str], held: set[str] | None = None) -> Round | None:
+        """The round from test n on the active variants, each run's bound reserved in the budget
+        while it fits, started. Made ahead (`held` not None): None unless every run fits, and the
+        runs of the held variants are reserved, not started."""
+        cap = self.config.mutants
+        tests = [(k, [t for t in runs.tasks([self.script(k)], self.golden_id, self.config) if t.sut in active])
+                 for k in range(n, min(n + ROUND_TESTS, cap))]
+        rnd = Round(n // ROUND_TESTS, tests)
+        with self.account:
+            for k, task in ((k, t) for k, tasks in tests for t in tasks if t.trace_id not in self.stored):
+                bound = bound_s(parse(task.body))
+                if not self.budget.fits(bound):
+                    rnd.cut = k
+                    break
+                self.budget.spent_s += bound
+                rnd.bounds[task.trace_id] = bound
+            if held is not None and rnd.cut is not None:
+                self.budget.spent_s -= sum(rnd.bounds.values())
+                return None
+        admitted = [t for _, tasks in tests for t in tasks if t.trace_id in rnd.bounds]
+        rnd.held = [t for t in admitted if t.sut in (held or ())]
+        if self.slots:
+            rnd.pending = self.slots.submit([t for t in admitted if t not in rnd.held], rnd.number)
+            self.in_flight.append(rnd)
+            self._rank_shrinks()
+        elif admitted:
+            self.run_tasks(admitted, lambda task, trace: self._arrived(rnd, task, trace))
+        return rnd
+
+    def _release(self, ahead: list[Round]) -> None:
+        """Once a round is judged, the held runs of the rounds made ahead: dropped if their variant
+        has ended (bounds freed, the round's tests without them), started once the rounds before
+        theirs cannot end it."""
+        ended = {s for s in self.config.sut if self.state[s].done}
+        before = 0  # the unjudged tests before the round
+        for rnd in ahead:
+            rnd.tests = [(k, [t for t in tasks if t.sut not in ended]) for k, tasks in rnd.tests]
+            sure = [t for t in rnd.held if t.sut not in ended
+                    and self.state[t.sut].stays_active(before, len(self.plan.aims), PATIENCE)]
+            with self.account:
+                self.budget.spent_s -= sum(rnd.bounds.pop(t.trace_id) for t in rnd.held if t.sut in ended)
+            rnd.pending.update(self.slots.submit(sure, rnd.number))
+            rnd.held = [t for t in rnd.held if t.sut not in ended and t not in sure]
+            before += len(rnd.tests)
+
+    def _collect(self, current: Round) -> None:
+        """Waits for the runs of `current`, storing every trace in flight as it comes back."""
+        while current.pending:
+            futures = {f: rnd for rnd in self.in_flight for f in rnd.pending}
+            done, _ = wait(futures, return_when=FIRST_COMPLETED)
+            for future in sorted(done, key=lambda f: futures[f].pending[f].trace_id):
+                rnd = futures[future]
+                self._arrived(rnd, rnd.pending.pop(future), traced(future))
+        if current in self.in_flight:
+            self.in_flight.remove(current)
+            self._rank_shrinks()
+        self.batches.commit()
+
+    def _rank_shrinks(self) -> None:
+        """Shrink runs take free slots after the first round in flight's runs, before a round started ahead."""
+        self.slots.shrink_rank = min(rnd.number for rnd in self.in_flight) + 0.5 if self.in_flight else 0.5
+
+    def _arrived(self, rnd: Round, task: Task, trace) -> None:  # stored as it comes back, its bound freed
+        rnd.fresh[task.trace_id] = trace
+        self.batches.add(task, trace)
+        with self.account:
+            self.budget.spent_s += trace.sim_s - rnd.bounds[task.trace_id]
+
+    def _judged(self, rnd: Round) -> int:
+        """Judges a round's traces, applies the rule to its tests in order, shrinks what is new;
+        returns the next test's number."""
+        traces = sorted(rnd.fresh.items())
+        for (trace_id, _), found in zip(traces, self.judge.findings([t for _, t in traces])):
+            self.shown[trace_id] = found
+        self.stored |= set(rnd.fresh)
+        found = []
+        for k, tasks in rnd.tests[:rnd.recorded]:
+            for task in tasks:
+                new = self.state[task.sut].record(self.shown.get(task.trace_id, set()), len(self.plan.aims),
+                                                  PATIENCE)
+                found += [(task, property_id, kind) for property_id, kind in sorted(new, key=str)]
+        self._shrink(found)
+        if not self.shrinking:
+            self.account_from_store()
+        record(self.con, self.campaign_id, self.budget, self.shrink_s, rnd.end, None)
+        return rnd.end
 
     def _shrink(self, found: list[tuple[Task, str | None, str]]) -> None:
         """Says what a round found; shrinks each new finding from the trace that showed it, at once
-        in process, in the background on external SUTs; stores the shrinks done, in order."""
+        in process (and stores it), in the background on external SUTs (run() stores them)."""
         for task, property_id, kind in found:
             what = f"{kind} on {property_id}" if property_id else kind
             print(f"found     {task.sut}: {what} (trace {task.trace_id}, script {task.script_id})")
@@ -198,7 +246,8 @@ class FocusedRun:
             except KeyboardInterrupt:  # stopped in the midst of an in-process shrink
                 shrink.store_interrupted(self.con, metered, behaviour)
                 raise
-        self._store_shrunk(wait=False)
+        if not self.slots:  # in process, before the next round's scripts (their ids follow the shrinks')
+            self._store_shrunk(wait=False)
 
     def store_interrupted(self) -> None:
         """The campaign was stopped: the runs of the shrinks still running are stored, marked
@@ -227,13 +276,6 @@ class FocusedRun:
         self.account_from_store()
         record(self.con, self.campaign_id, self.budget, self.shrink_s, tests, reason)
         return reason
-
-
-def at_once(work, *args) -> Future:
-    """`work(*args)` run now, as a finished future (in process, shrinks keep the rounds' order)."""
-    future = Future()
-    future.set_result(work(*args))
-    return future
 
 
 def stopped_line(run: FocusedRun, reason: str) -> str:

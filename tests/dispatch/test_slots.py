@@ -60,26 +60,30 @@ class Watched(threading.Condition):
         return super().wait(timeout)
 
 
-def test_a_test_waiting_for_a_slot_goes_before_a_shrink_run_that_waited_longer():
+def test_a_free_slot_goes_to_the_waiting_run_of_lowest_rank_not_to_the_one_that_waited_longest():
+    """A test of the round in flight first, then a shrink (ranked between the rounds), then a test
+    of the round started ahead of time, whatever order they came in."""
     slots = Slots(FakeSetup(), None, 1)
     slots.turn = Watched()
+    slots.shrink_rank = 1.5
     order = []
 
-    def take(who: str, test: bool) -> None:
-        with slots.taken(test=test):
+    def take(who: str, rank: float | None) -> None:
+        with slots.taken(rank):
             order.append(who)
-    with slots.taken(test=True):
-        shrink = Slots.background(take, "shrink", False)
-        assert slots.turn.waits.acquire(timeout=5), "the shrink run never waited for the slot"
-        test = Slots.background(take, "test", True)
-        assert slots.turn.waits.acquire(timeout=5), "the test never waited for the slot"
-    shrink.result(timeout=5), test.result(timeout=5)
-    assert order == ["test", "shrink"]
+    with slots.taken(0):
+        waiting = []
+        for who, rank in (("round 2", 2), ("shrink", None), ("round 1", 1)):
+            waiting.append(Slots.background(take, who, rank))
+            assert slots.turn.waits.acquire(timeout=5), f"the {who} run never waited for the slot"
+    for future in waiting:
+        future.result(timeout=5)
+    assert order == ["round 1", "shrink", "round 2"]
 
 
 def test_a_shrink_waiting_for_a_slot_gives_up_when_the_campaign_stops():
     slots = Slots(FakeSetup(), None, 1)
-    with slots.taken(test=True):
+    with slots.taken(0):
         waiting = Slots.background(lambda: slots.taken().__enter__())
         slots.close()
     with pytest.raises(SlotsClosed):
