@@ -38,7 +38,8 @@ class Record(BaseModel):
             return
         kind = cls.model_fields["kind"].default
         if Record.KINDS.setdefault(kind, cls) is not cls:
-            raise TypeError(f"{cls.__qualname__}: kind {kind!r} is {Record.KINDS[kind].__qualname__}'s already; give it a kind of its own")
+            owner = Record.KINDS[kind].__qualname__
+            raise TypeError(f"{cls.__qualname__}: kind {kind!r} is {owner}'s already; give it a kind of its own")
 
     def stored(self) -> dict:
         """The JSON object stored in campaigns.config: its kind and the keys it was given."""
@@ -117,9 +118,6 @@ class ImportRecord(Record):
         return Path(self.interface).parent if self.interface else super().target(mission)
 
 
-
-
-
 @lru_cache(maxsize=None)
 def _reader(kinds: tuple[type[Record], ...]) -> TypeAdapter:
     return TypeAdapter(Annotated[Union[kinds], Field(discriminator="kind")])
@@ -128,7 +126,8 @@ def _reader(kinds: tuple[type[Record], ...]) -> TypeAdapter:
 def record_of(config: dict | str, campaign_id: int | None = None) -> Record:
     """The record a stored config (JSON text or its object) holds; a config no bench wrote is refused."""
     try:
-        return _reader(tuple(Record.KINDS.values())).validate_python(json.loads(config) if isinstance(config, str) else config)
+        reader = _reader(tuple(Record.KINDS.values()))
+        return reader.validate_python(json.loads(config) if isinstance(config, str) else config)
     except (ValidationError, ValueError) as e:
         which = f"campaign {campaign_id}'s" if campaign_id is not None else "a campaign's"
         raise StoreError(f"{which} config {cut(config)} is not a record this bench reads ({_first_error(e)}): "

@@ -156,9 +156,9 @@ class Recorder:
                                           rihs01=hashes[0] if hashes else "RIHS01_" + "0" * 64)
 
     def wait_for_publishers(self, timeout_s: float) -> list[str]:
-        """Waits until every topic has a publisher in the graph and matched to its subscription (a
-        publisher in the graph may not be matched yet: a goal's feedback went unrecorded once on a
-        loaded machine); returns the topics that still have none."""
+        """Waits until every topic has a publisher in the graph and matched to its subscription (one
+        in the graph may not be matched yet, and what it publishes until then is not received);
+        returns the topics that still have none."""
         deadline = time.monotonic() + timeout_s
         while True:
             missing = [t for t, sub in self.subscriptions.items()
