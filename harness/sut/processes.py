@@ -64,6 +64,27 @@ def stop_on_signals() -> None:
     a stop signal or Ctrl-C during that cleanup is ignored."""
     for signum in _handled():
         signal.signal(signum, _raise_stopped)
+    if sys.unraisablehook is not _stop_again:
+        _stop_again.previous = sys.unraisablehook
+        sys.unraisablehook = _stop_again
+
+
+REDELIVER_S = 0.05  # after the finalizer that swallowed a stop has returned
+
+
+def _stop_again(unraisable) -> None:
+    """A stop raised inside a finalizer (a `__del__` the garbage collector ran) cannot propagate:
+    Python reports it here and carries on. It is delivered again, from a timer thread, so that it
+    is raised in the main thread's own code (a signal sent from here would be raised in this hook)."""
+    stop = unraisable.exc_value
+    signum = getattr(stop, "signum", signal.SIGINT)
+    if not isinstance(stop, KeyboardInterrupt) or sys.is_finalizing() or signum not in _handled():
+        _stop_again.previous(unraisable)
+        return
+    signal.signal(signum, _raise_stopped)
+    again = threading.Timer(REDELIVER_S, os.kill, (os.getpid(), signum))
+    again.daemon = True
+    again.start()
 
 
 try:  # looked up before any fork: a child's preexec_fn only calls it

@@ -63,6 +63,7 @@ class Channel:
         self.ended: str | None = None  # why the output ended, when the bench ended it
         self.last_read: tuple[float, str] | None = None  # (monotonic time, line)
         self.closed = threading.Event()
+        self.writing = threading.Lock()  # held while a write's outcome is not yet recorded
         self.reader = None
         self.deliver: Callable[[list[str] | None], None] | None = None
 
@@ -125,6 +126,8 @@ class Channel:
                 self._output_closed()
         except Exception as e:  # noqa: BLE001 - the run must learn that its SUT's output ended
             self.ended = self.ended or f"the bench could not read the SUT's output ({e!r})"
+        with self.writing:  # a reset is reported once: a write that took it has said so in `ended`
+            pass
         self.deliver(None)
 
     def _output_closed(self) -> None:
@@ -144,15 +147,16 @@ class Channel:
                                    f"{quoted(line)} could not be written{self.last_read_text()}")
             if not select.select([], [self.in_fd], [], min(left, POLL_S))[1]:
                 continue
-            try:
-                data = data[os.write(self.in_fd, data):]
-            except BlockingIOError:
-                continue
-            except ConnectionResetError as e:  # the reset is reported once: to the write, or to the reader
-                self._failed(e)
-                return
-            except OSError:
-                return
+            with self.writing:
+                try:
+                    data = data[os.write(self.in_fd, data):]
+                except BlockingIOError:
+                    continue
+                except ConnectionResetError as e:  # the reset is reported once: to the write, or to the reader
+                    self._failed(e)
+                    return
+                except OSError:
+                    return
 
     def _failed(self, error: OSError) -> None:
         self.ended = self.ended or f"the connection failed ({error.strerror or error})"

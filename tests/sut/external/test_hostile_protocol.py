@@ -6,10 +6,11 @@ import resource
 import socket
 import struct
 import threading
+import time
 
 import pytest
 
-from harness.sut.external.channel import MAX_LINE_BYTES, STDERR_KEEP_BYTES
+from harness.sut.external.channel import MAX_LINE_BYTES, STDERR_KEEP_BYTES, Channel, TcpChannel
 from harness.sut.definitions import ExternalSut
 from harness.sut.external.runner import run_external
 from harness.target.script import parse
@@ -150,3 +151,29 @@ def test_a_campaign_whose_runs_all_crash_says_why_grouped_and_so_does_the_report
     assert cli(["report", "--db", str(db), "--out", str(tmp_path / "report")]) == 0
     page = (tmp_path / "report" / "index.html").read_text()
     assert "why runs crashed" in page and "the SUT closed its output before bye (exit status 3)" in page
+
+
+
+def test_a_reset_taken_by_a_write_is_the_reason_the_reader_reports(monkeypatch):
+    """The kernel reports a reset once, to a write or to the reader: a reader that meets the end
+    while the write that took the reset has not yet recorded it waits for that record."""
+    told = threading.Event()
+    server = Server(lambda connection: told.wait(30) and reset(connection))
+    channel, ends = TcpChannel(server.sut(), slot=0), []
+    record = Channel._failed
+
+    def record_late(self, error):  # the reader starts, and meets the end, before the reset is recorded
+        self.start(lambda lines: ends.append(self.why_ended()))
+        time.sleep(0.5)
+        record(self, error)
+
+    monkeypatch.setattr(Channel, "_failed", record_late)
+    try:
+        told.set()
+        time.sleep(0.2)  # the reset has arrived: the write takes it
+        channel.write('{"op": "hello"}\n')
+        channel.reader.join(5)
+    finally:
+        channel.close()
+        server.close()
+    assert ends == ["the connection failed (Connection reset by peer)"]
