@@ -11,8 +11,7 @@ timeout raises Unresponsive: an adapter that stops reading cannot block the benc
 A started adapter gets a process group of its own (it may start a ROS master and nodes);
 closing the channel ends the group, then the daemons it detached (harness.sut.processes).
 With UNTIMELY_PROTOCOL_LOG=FILE in the environment, every line that crosses the channel is
-appended to FILE with its direction and monotonic time (a transcript for adapter authors;
-docs/protocol.md shows one).
+appended to FILE (transcript.py).
 """
 from __future__ import annotations
 
@@ -28,6 +27,7 @@ from typing import Callable
 from harness.errors import UntimelyError
 from harness.sut import processes
 from harness.sut.definitions import ExternalSut
+from harness.sut.external.transcript import Transcript
 
 MAX_LINE_BYTES = 1 << 20
 STDERR_KEEP_BYTES = 8 << 10
@@ -57,7 +57,7 @@ class Channel:
 
     def __init__(self, sut: ExternalSut, slot: int):
         self.sut = sut
-        self.transcript = _Transcript(os.environ.get("UNTIMELY_PROTOCOL_LOG"), f"{sut.name}@{slot}")
+        self.transcript = Transcript(os.environ.get("UNTIMELY_PROTOCOL_LOG"), f"{sut.name}@{slot}")
         self.stderr = bytearray()
         self.stderr_cut = 0  # bytes of stderr dropped from the front
         self.ended: str | None = None  # why the output ended, when the bench ended it
@@ -288,15 +288,3 @@ def open_channel(sut: ExternalSut, slot: int) -> Channel:
     """The channel `sut`'s definition names: its command started on stdio, or its address over TCP."""
     return StdioChannel(sut, slot) if sut.command else TcpChannel(sut, slot)
 
-
-class _Transcript:
-    """The lines of one channel, appended to a file shared by all channels (or nowhere)."""
-    lock = threading.Lock()
-
-    def __init__(self, path: str | None, label: str):
-        self.path, self.label, self.start = path, label, time.monotonic()
-
-    def add(self, direction: str, line: str) -> None:
-        if self.path:
-            with self.lock, open(self.path, "a", encoding="utf-8") as f:
-                f.write(f"{time.monotonic() - self.start:10.6f} {self.label} {direction} {line.rstrip()}\n")
