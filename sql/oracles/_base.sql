@@ -33,28 +33,31 @@
 {%- endmacro %}
 
 {% macro requests(events, where='true', traces=none, args=false, taken=true) -%}
--- request and final-reply events (intermediate replies decide nothing) that `where` keeps (the
--- requests an oracle reads, see `scope`); `args`: with the requests' arguments (only a
--- value-domain oracle reads them); `taken`: the store has taken_events (one read as it is may lack them)
-logged as (
-    select trace_id, rqst_id, module, service, kind, t, seq, reply{{ ', args' if args }}
+-- the requests that `where` keeps (the requests an oracle reads, see `scope`), one row each (a
+-- request id is unique within its trace); `args`: with their arguments (only a value-domain
+-- oracle reads them); `taken`: the store has taken_events (one read as it is may lack them)
+sent as (
+    select trace_id, rqst_id, module, service, t, seq{{ ', args' if args }}
     from {{ events }}
-    where kind in ('request', 'final') and {{ where }}
+    where kind = 'request' and ({{ where }})
           {%- if traces %} and trace_id in ({{ traces | join(', ') }}){% endif %}
 
 ),
--- one row per request (a request id is unique within its trace): when it was sent, and when
--- and how its first final reply came
-paired as (
-    select trace_id, rqst_id, any_value(module) as module, any_value(service) as service,
-           arg_min(t, seq) filter (where kind = 'request') as t,
-           min(seq) filter (where kind = 'request') as seq,
-           arg_min(t, seq) filter (where kind = 'final') as final_t,
-           min(seq) filter (where kind = 'final') as final_seq,
-           arg_min(reply, seq) filter (where kind = 'final') as reply{% if args %},
-           arg_min(args, seq) filter (where kind = 'request') as args{% endif %}
-    from logged
+-- the first final reply of each (intermediate replies decide nothing); joined to its request
+-- rather than grouped with it, which costs a sixth of the shared requests' time
+finals as (
+    select trace_id, rqst_id, arg_min(t, seq) as final_t, min(seq) as final_seq, arg_min(reply, seq) as reply
+    from {{ events }}
+    where kind = 'final' and ({{ where }})
+          {%- if traces %} and trace_id in ({{ traces | join(', ') }}){% endif %}
+
     group by trace_id, rqst_id
+),
+-- when each request was sent, and when and how its first final reply came; a reply without its
+-- request is dropped
+paired as (
+    select s.trace_id, s.rqst_id, s.module, s.service, s.t, s.seq, f.final_t, f.final_seq, f.reply{{ ', s.args' if args }}
+    from sent s left join finals f using (trace_id, rqst_id)
 ),
 {% if events == 'events' and taken %}
 -- observed, a request the SUT replied `taken` to is placed at that reply: the instant the layer
@@ -66,11 +69,10 @@ placed as (
 {% else %}
 placed as (select * from paired),
 {% endif %}
--- the interface gives each reply code its class T, Z or R; a reply without its request is dropped
+-- the interface gives each reply code its class T, Z or R
 requests as (
     select p.*, c.class
     from placed p left join reply_codes c using (module, service, reply)
-    where p.seq is not null
 )
 {%- endmacro %}
 

@@ -15,8 +15,9 @@
 insert into {{ into }} by name
 {% endif %}
 {% if shared %}
--- the analysis's requests, aggregated once for every oracle (_requests.sql)
-with requests as (select * from {{ shared }} where {{ where }}),
+-- the analysis's requests, aggregated once for every oracle (_requests.sql); each reference scans
+-- them again (they are sorted by module and service: a scan skips the rest), cheaper than a copy
+with requests as not materialized (select * from {{ shared }} where {{ where }}),
 {% else %}
 with {{ base.requests(events, where, explain.traces if explain else none, oracle.needs_args is defined, taken) }},
 {% endif %}

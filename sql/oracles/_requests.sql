@@ -3,7 +3,7 @@
     oracle reads (of `modules`, whole for the oracles that search causes, or of `services`) with
     its first final reply and class (and its arguments, `args`, when some oracle's template
     declares `needs_args`), from which each oracle reads the requests of its scope
-    instead of grouping the events again (25 properties x 2 event tables times over);
+    instead of pairing the events again (25 properties x 2 event tables times over);
     `shared_epsilons`, each trace's epsilon (_epsilon.sql: a pass over every request event, once
     per events table rather than once per oracle); and `shared_causes`, the candidate causes of every
     request's end (_causes.sql's search over all of them, with the `enders` of every property), of
