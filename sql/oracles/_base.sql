@@ -36,21 +36,18 @@
 -- the requests that `where` keeps (the requests an oracle reads, see `scope`), one row each (a
 -- request id is unique within its trace); `args`: with their arguments (only a value-domain
 -- oracle reads them); `taken`: the store has taken_events (one read as it is may lack them)
+{% set kept %}({{ where }}){% if traces %} and trace_id in ({{ traces | join(', ') }}){% endif %}{% endset %}
 sent as (
     select trace_id, rqst_id, module, service, t, seq{{ ', args' if args }}
     from {{ events }}
-    where kind = 'request' and ({{ where }})
-          {%- if traces %} and trace_id in ({{ traces | join(', ') }}){% endif %}
-
+    where kind = 'request' and {{ kept }}
 ),
 -- the first final reply of each (intermediate replies decide nothing); joined to its request
 -- rather than grouped with it, which costs a sixth of the shared requests' time
 finals as (
     select trace_id, rqst_id, arg_min(t, seq) as final_t, min(seq) as final_seq, arg_min(reply, seq) as reply
     from {{ events }}
-    where kind = 'final' and ({{ where }})
-          {%- if traces %} and trace_id in ({{ traces | join(', ') }}){% endif %}
-
+    where kind = 'final' and {{ kept }}
     group by trace_id, rqst_id
 ),
 -- when each request was sent, and when and how its first final reply came; a reply without its

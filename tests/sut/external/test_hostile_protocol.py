@@ -153,7 +153,6 @@ def test_a_campaign_whose_runs_all_crash_says_why_grouped_and_so_does_the_report
     assert "why runs crashed" in page and "the SUT closed its output before bye (exit status 3)" in page
 
 
-
 def test_a_reset_taken_by_a_write_is_the_reason_the_reader_reports(monkeypatch):
     """The kernel reports a reset once, to a write or to the reader: a reader that meets the end
     while the write that took the reset has not yet recorded it waits for that record."""
