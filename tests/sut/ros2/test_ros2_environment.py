@@ -57,14 +57,19 @@ def test_an_id_a_living_process_was_started_with_is_not_handed_out_until_it_ends
     ROS_DOMAIN_ID (here a sleeper, holding no lock) keeps its id from a new holder."""
     lock, free = hold_domain_id(slot=60)
     lock.close()
-    dying = subprocess.Popen(["sleep", "30"], env={**os.environ, "ROS_DOMAIN_ID": str(free)})
+    # Popen returns once exec closed its error pipe, which the kernel does before it fills in the
+    # new image's environment: /proc/PID/environ may still read empty. The sleeper says when it runs.
+    dying = subprocess.Popen([sys.executable, "-c", "print(flush=True); import time; time.sleep(30)"],
+                             env={**os.environ, "ROS_DOMAIN_ID": str(free)}, stdout=subprocess.PIPE)
     try:
+        dying.stdout.readline()
         lock, domain_id = hold_domain_id(slot=60)
         lock.close()
         assert domain_id != free and free in domain_ids_in_use()
     finally:
         dying.kill()
         dying.wait(timeout=10)
+        dying.stdout.close()
     assert free not in domain_ids_in_use()
 
 
