@@ -164,6 +164,13 @@ class Launcher:
         return self.expect(lambda m: m["op"] == "reply" and m["id"] == rqst_id and m["kind"] == "final",
                            timeout)["code"]
 
+    def internal(self, wanted: set[tuple[int, str]], timeout: float = 60.0) -> dict[tuple[int, str], float]:
+        """The ground-truth lines read, (id, kind) -> t, once each of `wanted` has come (or `timeout`
+        seconds passed): the node sends them on a topic of its own, which may lag the replies."""
+        for rqst_id, kind in sorted(wanted):
+            self.wait(lambda m: m["op"] == "internal" and m["id"] == rqst_id and m["kind"] == kind, timeout)
+        return {(m["id"], m["kind"]): m["t"] for _, m in self.lines if m["op"] == "internal"}
+
     def replies(self, rqst_id: int) -> list[dict]:
         return [m for _, m in self.lines if m["op"] == "reply" and m["id"] == rqst_id]
 

@@ -3,6 +3,7 @@ outcome with its reason in the trace's error (never a traceback, a hang or unbou
 The adapters are real processes (tests/adapters/hostile.py) or sockets served here."""
 import re
 import resource
+import select
 import socket
 import struct
 import threading
@@ -156,8 +157,8 @@ def test_a_campaign_whose_runs_all_crash_says_why_grouped_and_so_does_the_report
 def test_a_reset_taken_by_a_write_is_the_reason_the_reader_reports(monkeypatch):
     """The kernel reports a reset once, to a write or to the reader: a reader that meets the end
     while the write that took the reset has not yet recorded it waits for that record."""
-    told = threading.Event()
-    server = Server(lambda connection: told.wait(30) and reset(connection))
+    told, was_reset = threading.Event(), threading.Event()
+    server = Server(lambda connection: told.wait(30) and (reset(connection), was_reset.set()))
     channel, ends = TcpChannel(server.sut(), slot=0), []
     record = Channel._failed
 
@@ -169,7 +170,8 @@ def test_a_reset_taken_by_a_write_is_the_reason_the_reader_reports(monkeypatch):
     monkeypatch.setattr(Channel, "_failed", record_late)
     try:
         told.set()
-        time.sleep(0.2)  # the reset has arrived: the write takes it
+        assert was_reset.wait(10)
+        select.select([channel.socket], [], [], 10)  # the reset has arrived (it makes the socket readable): the write takes it
         channel.write('{"op": "hello"}\n')
         channel.reader.join(5)
     finally:

@@ -43,7 +43,7 @@ def test_golden_first_steps_through_ros():
             expected = ["intermediate", "final"] if rqst_id in (30, 31, 32) else ["final"]
             assert kinds == expected, (rqst_id, kinds)
         # Ground truth: the layer took each request before it ended it, on the SUT's clock.
-        internal = {(m["id"], m["kind"]): m["t"] for _, m in launcher.lines if m["op"] == "internal"}
+        internal = launcher.internal({(n, kind) for n in (1, 10, 20, 30, 31) for kind in ("request", "final")})
         assert all(internal[(n, "request")] <= internal[(n, "final")] for n in (1, 10, 20, 30, 31))
         assert 0.4 < internal[(10, "final")] - internal[(10, "request")] < 1.5  # Init lasts 0.5 s
         assert finished(launcher) == set()
@@ -167,7 +167,7 @@ def test_virtual_damage_reaches_the_bench():
         launcher.send(request(6, "ndd.GotoPosition", x=9, y=4))
         hit = launcher.expect(lambda m: m["op"] == "world" and m["kind"] == "collision", timeout=60)
         assert hit["detail"]["with"].startswith("rock"), hit
-        went = next(m["t"] for _, m in launcher.lines if m["op"] == "internal" and m["id"] == 6)
+        went = launcher.internal({(6, "request")})[(6, "request")]
         assert went < hit["t"] < went + 30  # mission seconds on the SUT's clock, since the hello
         assert finished(launcher) == set()
     finally:

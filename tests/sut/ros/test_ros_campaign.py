@@ -39,7 +39,9 @@ def test_ros_campaign_judges_like_the_simulator_in_process(tmp_path, capsys):
             where i.trace_id = e.trace_id and i.rqst_id = e.rqst_id and i.kind = 'request')""").fetchone()[0]
     assert untold == 0
     latency = con.execute("select pings, rtt_p95_s from interface_latency where sut = 'ros-reference'").fetchone()
-    assert latency[0] >= runs and 0 < latency[1] < 1.0
+    # measured round trips, each within the probe's limit (missions/dala/suts.toml: 5 s; 8 runs at
+    # once on 2 shared cores may take a second or more)
+    assert latency[0] >= runs and 0 < latency[1] < 5.0
 
 
 def drive_started(log) -> bool:

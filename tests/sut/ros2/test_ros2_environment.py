@@ -10,6 +10,7 @@ import time
 import pytest
 
 from harness import ROOT
+from harness.sut.ros2 import environment
 from harness.sut.ros2.environment import (DOMAIN_IDS, DISTROS, PROFILE, PROFILE_VARIABLE, Ros2Environment,
                                                Ros2Error, SETTLE_S, domain_ids_in_use, hold_domain_id,
                                                installed, sweep_dead_segments)
@@ -101,17 +102,19 @@ def test_the_environment_is_the_distros_and_its_log_folder_goes_away(distro):
     assert not log_dir.exists() and ros.domain_id is None
 
 
-def test_the_sweep_removes_the_shared_memory_of_dead_owners_only(tmp_path):
+def test_the_sweep_removes_the_shared_memory_of_dead_owners_only(tmp_path, monkeypatch):
     """A segment whose lock file nobody holds (its owner was killed) goes, with its lock files and
     semaphore; one whose lock is held (a living owner), one just created (without waiting for it to
     settle), and other files stay."""
+    # "just created" must stay young until the sweep, however slow the disk of a busy machine
+    monkeypatch.setattr(environment, "SETTLE_S", 60.0)
     def segment(name: str, age_s: float) -> None:
         for path in (tmp_path / name, tmp_path / f"{name}_el", tmp_path / f"sem.{name}_mutex"):
             path.write_bytes(b"")
             os.utime(path, (time.time() - age_s,) * 2)
-    segment("fastdds_0123456789abcdef", 60)   # dead
-    segment("fastrtps_port7411", 60)          # dead port
-    segment("fastdds_fedcba9876543210", 60)   # alive: its lock is held below
+    segment("fastdds_0123456789abcdef", 600)  # dead
+    segment("fastrtps_port7411", 600)         # dead port
+    segment("fastdds_fedcba9876543210", 600)  # alive: its lock is held below
     segment("fastrtps_aaaaaaaaaaaaaaaa", 0)   # being created: not locked yet
     (tmp_path / "lttng-ust-wait-6").write_bytes(b"")
     with open(tmp_path / "fastdds_fedcba9876543210_el") as held:
