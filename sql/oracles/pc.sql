@@ -10,25 +10,28 @@
 {{ name }}_needed as (
     select * from (values {% for s in q %}{% set module, service = s.split('.', 1) %}({{ loop.index }}, {{ module | lit }}, {{ service | lit }}){{ ', ' if not loop.last }}{% endfor %}) as needed(position, module, service)
 ),
-{{ name }}_oks as (
-    select trace_id, module, service, final_t as t, final_seq as seq
+-- each q's first ok reply in each trace, in the order of (t, seq): some ok of q precedes x(i) iff
+-- the first does, and the distances below are the first's (the earliest ok before x(i), or the
+-- first after it), so x(i) is paired with it alone rather than with every ok of its trace
+{{ name }}_first_oks as (
+    select trace_id, module, service, min({'t': final_t, 'seq': final_seq}) as first
     from requests where {{ base.among(q) }} and reply = 'ok'
+    group by trace_id, module, service
 ),
 -- one pair per x(i) and q in Q: q conflicts while none of its ok replies precedes x(i).
 -- Its shift: back to the earliest ok before x(i), or on to the first ok after it (none: never)
 {{ name }}_pairs as (
-    select x.trace_id, x.rqst_id, any_value(n.module || '.' || n.service) as item,
-           not coalesce(bool_or({{ base.before('o.', 'x.') }}), false) as conflicts,
-           coalesce(max(x.t - o.t) filter (where {{ base.before('o.', 'x.') }}),
-                    min(o.t - x.t), 'infinity') as shift,
+    select x.trace_id, x.rqst_id, n.module || '.' || n.service as item,
+           not coalesce({{ base.before('o.first.', 'x.') }}, false) as conflicts,
+           case when {{ base.before('o.first.', 'x.') }} then x.t - o.first.t
+                else coalesce(o.first.t - x.t, 'infinity') end as shift,
            -- rule 7: an ok observed before x(i) was sent came before it whatever the delays
-           case when bool_or({{ base.before('o.', 'x.') }}) then 'infinity'::double
-                else coalesce(min(o.t - x.t), 'infinity') end as movable,
+           case when {{ base.before('o.first.', 'x.') }} then 'infinity'::double
+                else coalesce(o.first.t - x.t, 'infinity') end as movable,
            false as conflict_rejected
     from {{ name }}_x x
     cross join {{ name }}_needed n
-    left join {{ name }}_oks o on o.trace_id = x.trace_id and o.module = n.module and o.service = n.service
-    group by x.trace_id, x.rqst_id, n.position
+    left join {{ name }}_first_oks o on o.trace_id = x.trace_id and o.module = n.module and o.service = n.service
 ),
 {{ judge.condition(name, movable='p.movable') }},
 {{ judge.judged(name, r_p, ['T', 'Z']) }}
