@@ -8,7 +8,7 @@
 {% macro ctes(name, x, q, r_p) -%}
 {{ base.relevant(name, 'x', x) }},
 {{ name }}_needed as (
-    select * from (values {% for s in q %}{% set module, service = s.split('.', 1) %}({{ loop.index }}, {{ module | lit }}, {{ service | lit }}){{ ', ' if not loop.last }}{% endfor %}) as needed(position, module, service)
+    select * from (values {% for s in q %}{% set module, service = s.split('.', 1) %}({{ module | lit }}, {{ service | lit }}){{ ', ' if not loop.last }}{% endfor %}) as needed(module, service)
 ),
 -- each q's first ok reply in each trace, in the order of (t, seq): some ok of q precedes x(i) iff
 -- the first does, and the distances below are the first's (the earliest ok before x(i), or the
