@@ -16,7 +16,7 @@ import duckdb
 
 from harness import SQL_DIR
 from harness.analysis import diff
-from harness.analysis.oracles import Shared, oracle_statements, render_shared, render_unknown
+from harness.analysis.oracles import Shared, oracle_statements, render_shared, render_unknown, verdict_values
 from harness.analysis.provenance import default_properties, last_epsilon, sources
 from harness.errors import InputFileError, PropertyError, StoreError
 from harness.store.analyses import (OracleFailure, drop_staged, keep_previous, publish, record, replace_old_analysis,
@@ -75,9 +75,11 @@ def _shared(events: str) -> Shared:
 
 @dataclass
 class Rendered:
-    """An analysis's statements: what its oracles share (made first), then every oracle."""
+    """An analysis's statements: what its oracles share (made first), then every oracle; and the
+    values the verdicts' text columns may hold (verdict_values)."""
     shared: list[str]
     oracles: list[Oracle]
+    named: dict[str, set[str]]
 
 
 def render_oracles(properties: list[Property], epsilon: float, interface: Interface | None = None) -> Rendered:
@@ -87,14 +89,15 @@ def render_oracles(properties: list[Property], epsilon: float, interface: Interf
                     [Oracle(p, events, target, sql)
                      for events, target in SOURCES
                      for p, sql in zip(properties, oracle_statements(properties, epsilon, interface, events,
-                                                                     staged(target), _shared(events)))])
+                                                                     staged(target), _shared(events)))],
+                    verdict_values(properties))
 
 
 
 def _stage(con, rendered: Rendered) -> None:
     """Empty staging tables, and what the oracles share."""
     for _, target in SOURCES:
-        stage(con, target)
+        stage(con, target, rendered.named)
     for statement in rendered.shared:
         con.execute(statement)
 
@@ -142,7 +145,7 @@ def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsi
             replace_old_analysis(con)
             keep_previous(con)
             for _, target in SOURCES:
-                publish(con, target)
+                publish(con, target, rendered.named)
             con.execute(render_view("properties", properties=properties))
             for name in view_order():
                 con.execute(render_view(name))

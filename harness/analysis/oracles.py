@@ -15,7 +15,7 @@ import jinja2
 
 from harness import DEFAULT_EPSILON_S
 from harness.errors import PropertyError
-from harness.store.sql import ENV
+from harness.store.sql import ENV, VERDICTS
 from harness.target.interface import Interface, Property
 from harness.target.property_types import PARAMETERS, interruptions, property_types
 
@@ -53,6 +53,15 @@ def _parameters(prop: Property) -> dict:
 def _services(parameters: dict) -> list[str]:
     """Every "module.Service" a property's parameters name (x, y, q), sorted."""
     return sorted({s for v in parameters.values() if isinstance(v, list) for s in v})
+
+
+def verdict_values(properties: list[Property]) -> dict[str, set[str]]:
+    """Every value the verdicts' text columns may hold (`named` of sql/views/verdicts.sql): the
+    properties' ids and families, the modules and services they name (a verdict judges one of their
+    requests), the verdicts."""
+    services = [s.split(".") for p in properties for s in _services(_parameters(p))]
+    return {"property_id": {p.id for p in properties}, "family": {p.family for p in properties},
+            "module": {m for m, _ in services}, "service": {s for _, s in services}, "verdict": set(VERDICTS)}
 
 
 def _scope(prop: Property, enders: list[tuple[str, str, str]]) -> tuple[list[str], list[str] | None]:

@@ -30,8 +30,9 @@ def staged(name: str) -> str:
     return f"{name}_staged"
 
 
-def stage(con, target: str) -> None:
-    con.execute(render_view("verdicts", target=staged(target), temp=True))
+def stage(con, target: str, named: dict[str, set[str]]) -> None:
+    """The empty temporary table the oracles insert the verdicts `target` into; `named`: as publish's."""
+    con.execute(render_view("verdicts", target=staged(target), temp=True, named=named))
 
 
 def try_statement(con, statement: str) -> duckdb.Error | None:
@@ -43,10 +44,11 @@ def try_statement(con, statement: str) -> duckdb.Error | None:
     return None
 
 
-def publish(con, target: str) -> None:
-    """The verdicts table `target` with its staged rows, shared codes applied (sql/views/shared_codes.sql);
-    the caller owns the transaction."""
-    con.execute(render_view("verdicts", target=target, source=staged(target)))
+def publish(con, target: str, named: dict[str, set[str]]) -> None:
+    """The verdicts table `target` with its staged rows, shared codes applied (sql/views/shared_codes.sql),
+    its text columns of `named` (column -> every value it may hold) stored as enums; the caller owns
+    the transaction."""
+    con.execute(render_view("verdicts", target=target, source=staged(target), named=named))
 
 
 def drop_staged(con, target: str) -> None:
