@@ -23,7 +23,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from harness import DEFAULT_EPSILON_S, DEFAULT_MISSION_DIR  # noqa: E402
 from harness.analysis import diff  # noqa: E402
-from harness.analysis.analyzer import flag_accuracy, materialise  # noqa: E402
+from harness.analysis.analyzer import materialise  # noqa: E402
+from harness.analysis.summary import flag_accuracy  # noqa: E402
 from harness.cli import main as cli  # noqa: E402
 from harness.target.interface import load_interface, load_properties  # noqa: E402
 from harness.store.database import connect  # noqa: E402

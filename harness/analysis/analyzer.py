@@ -18,17 +18,17 @@ from harness import SQL_DIR
 from harness.analysis import diff
 from harness.analysis.oracles import Shared, oracle_statements, render_shared, render_unknown, verdict_values
 from harness.analysis.provenance import default_properties, last_epsilon, sources
+from harness.analysis.summary import analysis_summary
 from harness.errors import InputFileError, PropertyError, StoreError
 from harness.store.analyses import (OracleFailure, drop_staged, keep_previous, publish, record, replace_old_analysis,
                                     stage, staged, try_statement)
 from harness.store.appends import transaction
 from harness.store.database import connect
-from harness.store.reads import ordered, relations
-from harness.store.record import CampaignRecord, records
+from harness.store.reads import holds_rows, relations
 from harness.store.sql import render_query, render_view, view_order
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.target.mission import INTERFACE_FILE
-from harness.textable import counted, format_table, percent, rate_interval, with_orders
+from harness.textable import counted
 
 # (events source, verdicts table): the observed timeline and the ground truth.
 SOURCES = (("events", "verdicts"), ("internal_events", "verdicts_internal"))
@@ -77,15 +77,20 @@ def _shared(events: str) -> Shared:
 class Rendered:
     """An analysis's statements: what its oracles share (made first), then every oracle; and the
     values the verdicts' text columns may hold (verdict_values)."""
-    shared: list[str]
+    shared: dict[str, str]  # events table -> the statement making what its oracles share
     oracles: list[Oracle]
     named: dict[str, set[str]]
+
+    def on(self, events_tables: set[str]) -> Rendered:
+        """The statements judging `events_tables` alone."""
+        return Rendered({e: sql for e, sql in self.shared.items() if e in events_tables},
+                        [o for o in self.oracles if o.source in events_tables], self.named)
 
 
 def render_oracles(properties: list[Property], epsilon: float, interface: Interface | None = None) -> Rendered:
     if not properties:
         raise PropertyError("no properties to judge; give a properties file with [[property]] entries")
-    return Rendered([render_shared(properties, events, epsilon, interface, _shared(events)) for events, _ in SOURCES],
+    return Rendered({events: render_shared(properties, events, epsilon, interface, _shared(events)) for events, _ in SOURCES},
                     [Oracle(p, events, target, sql)
                      for events, target in SOURCES
                      for p, sql in zip(properties, oracle_statements(properties, epsilon, interface, events,
@@ -93,12 +98,11 @@ def render_oracles(properties: list[Property], epsilon: float, interface: Interf
                     verdict_values(properties))
 
 
-
 def _stage(con, rendered: Rendered) -> None:
     """Empty staging tables, and what the oracles share."""
     for _, target in SOURCES:
         stage(con, target, rendered.named)
-    for statement in rendered.shared:
+    for statement in rendered.shared.values():
         con.execute(statement)
 
 
@@ -140,7 +144,9 @@ def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsi
     started = time.perf_counter()
     rendered = render_oracles(properties, epsilon, interface)  # a property that cannot be rendered stops us here
     try:
-        failures = _judge(con, rendered)
+        # an events table without events (no ground truth: real-time runs, imports) is judged by no
+        # oracle, whose planning alone costs some 10 ms; its verdicts table is made, empty, all the same
+        failures = _judge(con, rendered.on({events for events, _ in SOURCES if holds_rows(con, events)}))
         with transaction(con):
             replace_old_analysis(con)
             keep_previous(con)
@@ -177,104 +183,6 @@ def judges_every_trace(con: duckdb.DuckDBPyConnection) -> bool:
     return con.execute("select traces = (select count(*) from traces) from analysis").fetchone()[0]
 
 
-def sut_order(con) -> list[str]:
-    """Variants in the order the campaign ran them."""
-    return [r[0] for r in con.execute("select sut from variant_positions semi join traces using (sut) "
-                                      "order by position").fetchall()]
-
-
-def family_order(con) -> list[str]:
-    """Families in the order the properties file lists them, then All."""
-    return [r[0] for r in con.execute("select family from family_positions order by position").fetchall()]
-
-
-def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
-    """Paper layout: one row per family (properties-file order, then All), one column per variant;
-    each cell the rate, its 95% Wilson interval and n, then o= its interval over the orders of events."""
-    cells = {(sut, family): with_orders(rate_interval(*values), lowest, highest)
-             for sut, family, lowest, highest, *values in
-             con.execute(f"select sut, family, {column}_min, {column}_max, {column}, {column}_low, {column}_high, n "
-                         f"from {view}").fetchall()}
-    return format_table(["family"] + suts,
-                        [[f] + [cells.get((s, f), "-") for s in suts] for f in family_order(con)])
-
-
-def flag_accuracy(con) -> tuple[int, int, int, int]:
-    """Over the requests judged on both timelines: (verdicts, inverted verdicts, inverted and
-    flagged, flagged). Recall = inverted and flagged / inverted; precision = inverted and flagged / flagged."""
-    judged, flagged = con.execute("""select count(*), count(*) filter (where suspicious) from verdicts
-                                     semi join verdicts_internal using (trace_id, property_id, module, service, rqst_id)
-                                  """).fetchone()
-    inverted, caught = con.execute("select count(*), count(*) filter (where suspicious) from inversions").fetchone()
-    return judged, inverted, caught, flagged
-
-
-def summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
-    cursor = con.execute(ordered(con, "trace_robustness"))
-    columns, robustness = [d[0] for d in cursor.description], cursor.fetchall()
-    suts = [r[0] for r in robustness]
-    rates = [i for i, c in enumerate(columns) if c.startswith("t_rob")]
-    table2 = format_table(columns, [tuple(percent(v) + "%" if i in rates else v for i, v in enumerate(r))
-                                    for r in robustness])
-    parts = ["Table II - per trace results\n" + table2,
-             "Table III - true positive rates TP/(TP+FN), % [95% Wilson interval] n=TP+FN "
-             "o=[lowest, highest] over the orders of events closer than epsilon\n"
-             + _rates_by_family(con, "tp_rates", "tp_rate", suts),
-             "Table IV - false positive rates FP/(FP+TN), % [95% Wilson interval] n=FP+TN "
-             "o=[lowest, highest] over the orders of events closer than epsilon\n"
-             + _rates_by_family(con, "fp_rates", "fp_rate", suts)]
-    left_out = con.execute("select left_out, count(*) from trace_scope where not counted group by all "
-                           "order by all").fetchall()
-    if left_out:
-        parts.append("Not counted in Tables II-IV (view trace_scope): "
-                     + "; ".join(f"{n} trace{'s' * (n != 1)}: {why}" for why, n in left_out) + ".")
-    parts.append(epsilons(con))
-    judged, inverted, caught, flagged = flag_accuracy(con)
-    if judged:
-        recall = f"recall {percent(caught / inverted)}%" if inverted else "no recall to measure"
-        precision = f"precision {percent(caught / flagged)}%" if flagged else "no precision to measure"
-        parts.append(f"Ground truth: {inverted} of {judged} observed verdicts differ from the verdicts "
-                     f"on the internal timeline (view inversions). The suspicious flag (epsilon {epsilon:g} s) "
-                     f"caught {caught} of them ({recall}) and is raised on {counted(flagged, 'verdict')} in all "
-                     f"({precision}). The SUT's internal events "
-                     f"settle all {flagged} uncertain verdicts: {caught} change, {flagged - caught} hold.")
-    cursor = con.execute("select * exclude (campaign_id) from interface_latency order by campaign_id, sut")
-    latency = cursor.fetchall()
-    if latency:
-        parts.append("Interface latency of the real-time runs (ping round trips, wall s; "
-                     "suggested epsilon in mission s)\n" + format_table([d[0] for d in cursor.description], latency))
-    parts.append(least_covered(con))
-    return "\n\n".join(parts)
-
-
-def epsilons(con) -> str:
-    """Which epsilon the traces were judged with (view trace_epsilon): the analysis's, per
-    real-time trace the one its pings measured, or 0 for another trace whose SUT told its order."""
-    found = con.execute("""select source, count(*), min(epsilon_s), max(epsilon_s) from trace_epsilon
-                           group by source order by source""").fetchall()
-    said = []
-    for source, n, low, high in found:
-        value = f"{low:g} s" if low == high else f"{low:g} to {high:g} s"
-        said.append(f"{value} for {n} trace{'s' * (n != 1)} "
-                    + {"analysis": "(the analysis's --epsilon)", "taken": "(the SUT replied taken to every request: "
-                       "it told its order)"}.get(source, "(measured by the pings of each real-time run)"))
-    return "Epsilon (view trace_epsilon): " + "; ".join(said) + "."
-
-
-def least_covered(con: duckdb.DuckDBPyConnection, shown: int = 5) -> str:
-    """The properties whose condition was false on the fewest requests, on their worst variant
-    (of equally bad ones, the first by name); targeted mutants are suggested unless they made them."""
-    found = con.execute(f"""
-        select property_id, min(c_false) as c_false, arg_min(sut, (c_false, sut)) as sut
-        from coverage left join property_positions using (property_id) group by property_id
-        order by c_false, min(position) limit {int(shown)}""").fetchall()
-    listed = ", ".join(f"{p} {n} ({sut})" for p, n, sut in found)
-    targeted = any(r.strategy == "targeted" for _, _, r in records(con, CampaignRecord))
-    more = ("More cases: more --mutants, or another --seed, of the targeted campaign" if targeted
-            else "More cases: python -m harness campaign --strategy targeted")
-    return f"Least covered (requests with C false, on the variant with fewest; view coverage): {listed}. {more}"
-
-
 def main(db: str, properties: str | None = None, interface: str | None = None,
          epsilon: float | None = None) -> int:
     """`analyze`: the verdicts of every stored trace, and Tables II-IV."""
@@ -297,6 +205,6 @@ def main(db: str, properties: str | None = None, interface: str | None = None,
         return 0
     for failure in failed_oracles(con):
         print(failure + "\n")
-    print(summary(con, epsilon))
+    print(analysis_summary(con, epsilon))
     print("\n" + diff.changes(con))
     return 0

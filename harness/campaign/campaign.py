@@ -19,6 +19,7 @@ from contextlib import ExitStack
 
 from harness import DEFAULT_MISSION_DIR, store
 from harness.analysis import analyzer
+from harness.analysis.summary import analysis_summary
 from harness.analysis.provenance import last_epsilon
 from harness.campaign import budgeted, representatives, sharding, shrink
 from harness.campaign.config import campaign_config, find_campaign
@@ -114,7 +115,7 @@ def _judged(ctx: CampaignContext, show: bool = True) -> None:
             print(f"verdicts  materialised for every trace of {ctx.db} (epsilon {epsilon:g} s)\n")
             for failure in analyzer.failed_oracles(ctx.con):
                 print(failure + "\n")
-            print(analyzer.summary(ctx.con, epsilon))
+            print(analysis_summary(ctx.con, epsilon))
 
 
 def _focused(ctx: CampaignContext, start: float) -> None:

@@ -17,6 +17,7 @@ import re
 from pathlib import Path
 
 from harness.analysis import analyzer
+from harness.analysis.summary import analysis_summary
 from harness.analysis.explain import judged_files
 from harness.analysis.provenance import last_epsilon
 from harness.errors import StoreError, UntimelyError
@@ -159,6 +160,6 @@ def merge(out: str, stores: list[str], properties: str | None = None) -> int:
     if shrinks:
         print(f"left out: the {shrinks} shrinks the shards stored (campaign --shrink), their runs and reproducers; "
               f"to shrink the merged findings: untimely campaign --shrink with the shards' options and --db {out}\n")
-    print(analyzer.summary(con, epsilon))
+    print(analysis_summary(con, epsilon))
     con.close()
     return 0

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import duckdb
 
-from harness.analysis.analyzer import family_order, sut_order
+from harness.analysis.summary import family_order, sut_order
 from harness.errors import StoreError, UntimelyError
 from harness.analysis.explain import explanations
 from harness.files import make_folder

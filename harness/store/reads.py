@@ -41,6 +41,10 @@ def exists(con, name: str) -> bool:
     return name in relations(con)
 
 
+def holds_rows(con, table: str) -> bool:
+    return con.execute(f"select exists (from {table})").fetchone()[0]
+
+
 def require_analysis(con, db, needed: tuple[str, ...], what: str) -> None:
     """Refuse a store that lacks the relations an analysis makes (`needed`), saying it has no `what`."""
     if not all(exists(con, name) for name in needed):

@@ -55,8 +55,10 @@ def test_one_broken_template_leaves_every_other_verdict_as_a_normal_analysis_giv
         keys = f"select trace_id, property_id, rqst_id, module, service, verdict from {target} where not ({others})"
         assert con.execute(keys + " order by all").fetchall() == [
             row[:5] + ("unknown",) for row in normal.execute(keys + " order by all").fetchall()]
+    # an events table without events (a fixture without ground truth) is judged by no oracle
+    sources = [s for s in ("events", "internal_events") if con.execute(f"select count(*) from {s}").fetchone()[0]]
     assert con.execute("select distinct property_id, source from oracle_failures order by all").fetchall() == [
-        (p, source) for p in failing for source in ("events", "internal_events")]
+        (p, source) for p in failing for source in sources]
     # not counted as TN (or anything): Tables III and IV are those without the failing properties
     tn, fp = con.execute("select coalesce(sum(tn), 0), coalesce(sum(fp), 0) from property_verdicts").fetchone()
     assert (tn, fp) == normal.execute(f"select coalesce(sum(tn), 0), coalesce(sum(fp), 0) from property_verdicts where {others}").fetchone()
@@ -73,5 +75,6 @@ def test_analyze_shows_the_failure_and_judges_the_rest(tmp_path, monkeypatch, ca
     assert main(["analyze", "--db", str(db), "--epsilon", str(EPSILON),
                  "--properties", str(DEFAULT_MISSION_DIR / "properties.toml")]) == 0
     out = capsys.readouterr().out
-    assert "The oracle of property 'PEX(rflex)' on events and internal_events failed: Binder Error: " in out
+    # the fixture holds no internal events, on which no oracle runs
+    assert "The oracle of property 'PEX(rflex)' on events failed: Binder Error: " in out
     assert "[template sql/oracles/pc.sql]; its " in out and "Table II - per trace results" in out

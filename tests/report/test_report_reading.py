@@ -11,7 +11,8 @@ from xml.etree import ElementTree as ET
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
-from harness.analysis.analyzer import materialise, summary
+from harness.analysis.analyzer import materialise
+from harness.analysis.summary import analysis_summary
 from harness.target.interface import load_interface, load_properties
 from harness.report import charts, html, trace_pages
 from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
@@ -170,7 +171,7 @@ def test_tables_count_judged_traces_and_keep_ad_hoc_runs_apart(tmp_path):
     assert con.execute("select trace_id, left_out from trace_scope where not counted order by 1").fetchall() == [
         (20, "ad-hoc run beside a campaign or import"), (21, "stored after the last analysis: run analyze")]
     assert "Not counted in Tables II-IV (view trace_scope): 1 trace: ad-hoc run beside a campaign or import; " \
-           "1 trace: stored after the last analysis: run analyze." in summary(con, 0.01)
+           "1 trace: stored after the last analysis: run analyze." in analysis_summary(con, 0.01)
     con.close()
     out = write_report(db, tmp_path / "out")
     outcomes = _page(out / "index.html").texts("trace_outcomes")

@@ -10,7 +10,8 @@ import pyarrow.parquet as pq
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, cli, store
-from harness.analysis.analyzer import materialise, ordered
+from harness.analysis.analyzer import materialise
+from harness.store.reads import ordered
 from harness.errors import StoreError
 from harness.store.export import export, relations
 from harness.store.importer import import_file

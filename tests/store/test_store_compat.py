@@ -13,7 +13,7 @@ import pyarrow as pa
 import pytest
 
 from harness import cli, store
-from harness.analysis.analyzer import ordered
+from harness.store.reads import ordered
 from harness.errors import StoreError
 from harness.store.export import relations
 from tests.support.paths import STORES
