@@ -187,6 +187,8 @@ class Cluster:
                 submit()
             for future in completed:
                 task = futures.pop(future)
+                if pending:  # the thread it freed gets its next run before its trace is fetched and stored
+                    submit()
                 if future.status == "error":
                     error = future.exception()
                     result = crashed(task, f"the Dask worker running it failed: {type(error).__name__}: {error}")
@@ -195,8 +197,6 @@ class Cluster:
                 if isinstance(result, UntimelyError):
                     raise result
                 on_trace(task, result)
-                if pending:
-                    submit()
         finally:
             self.client.cancel(list(futures))
 
