@@ -2,9 +2,11 @@
 
 On the default campaign (300 mutants; genom, bip-a, bip-b) and on a --time-mutations campaign
 with all five variants, prints the flag's recall (inverted verdicts it flags / inverted
-verdicts, target 100%) and precision (inverted verdicts among the flagged, target >= 80%; issue 23),
-against the `inversions` view; and the wall time of re-analysing the default campaign with the
-diff of the two analyses (target < 3 s), as a ratio to the target. Campaigns are built in a
+verdicts, target 100%) and precision (inverted verdicts among the flagged: no longer a target since
+the alternatives became complete, which raises the flag on every omega of a hung trace whose reply
+may have been lost, docs/analyzer.md), against the `inversions` view; and the wall time of
+re-analysing the default campaign with the diff of the two analyses (target < 3 s), as a ratio
+to the target, and the README's rows of these figures. Campaigns are built in a
 temporary folder unless given. Not a test:
 
     .venv/bin/python bench/flag_bench.py [--default STORE] [--time-mutations STORE]
@@ -30,7 +32,9 @@ from harness.target.interface import load_interface, load_properties  # noqa: E4
 from harness.store.database import connect  # noqa: E402
 
 CAMPAIGNS = {"default": [], "time-mutations": ["--time-mutations", "--sut", "genom,bip-a,bip-b,bare,reference"]}
-RECALL, PRECISION, REANALYSIS_S = 1.0, 0.80, 3.0
+ROWS = {"default": "suspicious flag vs. ground truth, default campaign",
+        "time-mutations": "suspicious flag, `--time-mutations`, all five variants"}  # the README's
+RECALL, REANALYSIS_S = 1.0, 3.0
 
 
 def campaign(folder: Path, name: str) -> Path:
@@ -57,11 +61,15 @@ def report(name: str, db: Path) -> None:
     print(f"{name}: {judged} verdicts, {inverted} inverted, {flagged} flagged, {caught} inverted and flagged")
     print(f"  recall    {100 * recall:5.1f}%  (target >= {100 * RECALL:.0f}%: "
           f"{'met' if recall >= RECALL else 'NOT met'})")
-    print(f"  precision {100 * precision:5.1f}%  (target >= {100 * PRECISION:.0f}%: "
-          f"{'met' if precision >= PRECISION else 'NOT met'})")
+    print(f"  precision {100 * precision:5.1f}%")
     print(f"  re-analysis with diff {seconds:.2f} s wall = {seconds / REANALYSIS_S:.2f} x the {REANALYSIS_S:g} s "
-          f"target ({cpu:.2f} s of CPU; other jobs on the machine stretch the wall time)",
-          flush=True)
+          f"target ({cpu:.2f} s of CPU; other jobs on the machine stretch the wall time)")
+    print(f"README: {ROWS[name]} | recall {100 * recall:.1f}%, precision {100 * precision:.1f}% ({inverted} inverted, "
+          f"{flagged} flagged; precision is no longer the aim: docs/analyzer.md, \"Against the ground truth\") | "
+          f"recall {100 * RECALL:.0f}%")
+    if name == "default":
+        print(f"README: re-analysis of the default campaign with the diff (`bench/flag_bench.py`) | {seconds:.2f} s "
+              f"wall, {cpu:.2f} s CPU | < {REANALYSIS_S:g} s", flush=True)
 
 
 def main() -> int:
