@@ -1,9 +1,10 @@
 """Runs of a campaign on a Dask cluster: `campaign --cluster tcp://HOST:PORT` or `local:N`.
 
-The coordinator (the `campaign` process) stays the only writer of the store: it submits one
-Dask task per run, gets each trace back by value and loads it in its own transaction, exactly
-as with the local pool, so resume, ids and seeds are the same and a simulated campaign stores
-the same whatever machine ran what.
+The coordinator (the `campaign` process) stays the only writer of the store: it submits the
+runs as Dask tasks (a batch of simulated runs each, one run of an external SUT each), gets each
+trace back by value and loads it in its own transaction, exactly as with the local pool, so
+resume, ids and seeds are the same and a simulated campaign stores the same whatever machine
+ran what.
 
 Before submitting anything it checks, each with a message naming what to do: that the
 scheduler answers and has workers; that every worker runs this very code (version and a hash
@@ -19,8 +20,10 @@ from __future__ import annotations
 
 import hashlib
 import importlib.metadata
+import itertools
 import logging
 import threading
+import uuid
 from collections import deque
 from contextlib import ExitStack, contextmanager
 from dataclasses import replace
@@ -39,6 +42,9 @@ PACKAGE = Path(__file__).resolve().parent.parent  # harness/
 ALLOWED_FAILURES = "distributed.scheduler.allowed-failures"
 CONNECT_TIMEOUT_S = 10
 SUT_RESOURCE = "sut"
+# Simulated runs a Dask task runs one after the other (some 15 ms each): Dask's cost of a task,
+# a round trip through the scheduler and CPU in three processes, is then paid once a batch.
+RUNS_PER_BATCH = 16
 
 
 def _import_distributed():
@@ -104,6 +110,31 @@ def _run_remote(setup: Setup, task: Task) -> Trace | UntimelyError:
             _busy_slots.discard(slot)
 
 
+def _run_batch(setup: Setup, tasks: list[Task], queue: str) -> list[Trace | UntimelyError]:
+    """Runs on a Dask worker, one run after the other, each announced on the queue named `queue`
+    before it begins (the scheduler holds the announcement once `put` returns). The queue goes
+    by name: the scheduler unpickles a task's arguments, and a Queue unpickled there would call
+    the scheduler from its own event loop."""
+    started, traces = _import_distributed().Queue(queue), []
+    for task in tasks:
+        started.put(task.trace_id)
+        traces.append(_run_remote(setup, task))
+    return traces
+
+
+def next_batch(pending: deque, threads: int, external: dict) -> list[Task]:
+    """The runs of the next Dask task, taken from the front of `pending`: one run of an external
+    SUT (it lasts seconds and holds a `sut` resource), or simulated runs, at most RUNS_PER_BATCH
+    and half a fair share of what remains, so that the last batches are short and no thread is
+    left with a long one while the others have nothing to run."""
+    batch = [pending.popleft()]
+    if batch[0].sut not in external:
+        size = min(RUNS_PER_BATCH, len(pending) // (2 * threads))
+        while len(batch) < size and pending and pending[0].sut not in external:
+            batch.append(pending.popleft())
+    return batch
+
+
 _campaigns_lock, _campaigns_kept = threading.Lock(), []  # one ExitStack per connected campaign
 
 
@@ -167,38 +198,52 @@ class Cluster:
                                 f"--resources {SUT_RESOURCE}=K` (K SUT instances at once on that machine)")
 
     def run_all(self, tasks: list[Task], on_trace: Callable[[Task, Trace], None]) -> None:
-        """As many runs in flight as the workers have threads: a worker that dies then takes with
-        it the run it was running, not others queued behind it (those would fail unrun)."""
+        """One batch in flight per worker thread; a thread that ends one gets its next before
+        the coordinator fetches and stores the traces of the last."""
         distributed = _import_distributed()
-        setup = self.client.scatter(self.setup, broadcast=True)
-        capacity = sum(w["nthreads"] for w in self.client.scheduler_info()["workers"].values())
-        pending, futures = deque(tasks), {}
+        threads = sum(w["nthreads"] for w in self.client.scheduler_info()["workers"].values())
+        started = distributed.Queue(f"untimely-started-{uuid.uuid4().hex}", client=self.client)
+        pending, futures, announced, numbers = deque(tasks), {}, set(), itertools.count(1)
         completed = distributed.as_completed()
 
         def submit() -> None:
-            task = pending.popleft()
-            resources = {SUT_RESOURCE: 1} if task.sut in self.setup.external else None
-            future = self.client.submit(_run_remote, setup, task, key=f"untimely-run-{task.trace_id}",
-                                        pure=False, retries=0, resources=resources)
-            futures[future] = task
+            batch = next_batch(pending, threads, self.setup.external)
+            resources = {SUT_RESOURCE: 1} if batch[0].sut in self.setup.external else None
+            # the setup goes by value (some 400 bytes): scattered, it would die with the last worker holding it
+            future = self.client.submit(_run_batch, self.setup, batch, started.name, pure=False, retries=0,
+                                        key=f"untimely-batch-{next(numbers)}", resources=resources)
+            futures[future] = batch
             completed.add(future)
         try:
-            while pending and len(futures) < capacity:
+            while pending and len(futures) < threads:
                 submit()
             for future in completed:
-                task = futures.pop(future)
-                if pending:  # the thread it freed gets its next run before its trace is fetched and stored
+                batch, failed = futures.pop(future), future.status == "error"
+                if failed:
+                    announced.update(started.get(batch=True))
+                    crashes = failed_batch(batch, future.exception(), announced, pending)
+                while pending and len(futures) < threads:
                     submit()
-                if future.status == "error":
-                    error = future.exception()
-                    result = crashed(task, f"the Dask worker running it failed: {type(error).__name__}: {error}")
-                else:
-                    result = future.result()
-                if isinstance(result, UntimelyError):
-                    raise result
-                on_trace(task, result)
+                for task, result in crashes if failed else zip(batch, future.result()):
+                    if isinstance(result, UntimelyError):
+                        raise result
+                    on_trace(task, result)
         finally:
             self.client.cancel(list(futures))
+            started.close()
+
+
+def failed_batch(batch: list[Task], error: BaseException, announced: set[int], pending: deque) -> list[tuple]:
+    """A batch whose task failed. A worker that dies (`KilledWorker`) takes with it the run it
+    was running, the batch's last one announced, which is recorded crashed; the runs after it
+    never ran and those before it lost their traces with the worker: they go back to the front
+    of `pending`. Any other failure crashes the whole batch."""
+    culprits = batch
+    if isinstance(error, _import_distributed().KilledWorker):
+        culprits = [task for task in batch if task.trace_id in announced][-1:]
+        pending.extendleft(reversed([task for task in batch if task not in culprits]))
+    reason = f"the Dask worker running it failed: {type(error).__name__}: {error}"
+    return [(task, crashed(task, reason)) for task in culprits]
 
 
 @contextmanager
@@ -208,7 +253,8 @@ def connect(address: str, setup: Setup, jobs: int):
     else is a scheduler address."""
     distributed = _import_distributed()
     cluster = None
-    with __import__("dask").config.set({ALLOWED_FAILURES: 0}):
+    # Dask's profiler samples every worker thread's stack each 10 ms, slowing runs by some 5%
+    with __import__("dask").config.set({ALLOWED_FAILURES: 0, "distributed.worker.profile.enabled": False}):
         if address.startswith("local:"):
             workers = address.removeprefix("local:")
             if not workers.isdigit() or int(workers) < 1:

@@ -1,5 +1,6 @@
 """Campaigns on a Dask cluster (`campaign --cluster`): local clusters on loopback, the same store as
 the local pool, a worker dying mid-campaign, and the checks made before anything is submitted."""
+from collections import deque
 from dataclasses import replace
 
 import cloudpickle
@@ -8,6 +9,7 @@ import pytest
 from harness import DEFAULT_MISSION_DIR, store
 from harness.campaign import campaign
 from harness.dispatch import cluster
+from harness.dispatch.workers import Task
 from harness.errors import UntimelyError
 from tests.support import campaigns, kept
 from tests.support.campaigns import arguments, dump, failing_runner
@@ -36,7 +38,7 @@ def test_a_worker_dying_mid_run_records_that_run_crashed_and_the_campaign_comple
     for name in ("interface.toml", "golden.mission", "properties.toml"):
         (mission / name).write_bytes((DEFAULT_MISSION_DIR / name).read_bytes())
     (mission / "world.toml").write_text("# the fake layer reads no world\n")
-    campaign.main(arguments(mission, db, mutants=4, seed=3, cluster="local:2"), runner=failing_runner)
+    campaign.main(arguments(mission, db, mutants=4, seed=3, cluster="local:1"), runner=failing_runner)
     con = store.connect(db, read_only=True)
     rows = con.execute("select script_id, sut, outcome, error from traces order by trace_id").fetchall()
     valid = [r[0] for r in con.execute("select script_id from scripts where valid order by 1").fetchall()]
@@ -45,6 +47,40 @@ def test_a_worker_dying_mid_run_records_that_run_crashed_and_the_campaign_comple
     assert set(crashed) == {(2, "genom"), (3, "genom")}
     assert "ZeroDivisionError: codel divided by zero" in crashed[(2, "genom")]
     assert crashed[(3, "genom")].startswith("the Dask worker running it failed: KilledWorker")
+
+
+def runs(*suts: str) -> deque:
+    return deque(Task(trace_id=n, script_id=n, sut=sut, seed=n, body="") for n, sut in enumerate(suts))
+
+
+def test_simulated_runs_go_in_batches_that_shorten_towards_the_end_and_external_ones_alone():
+    external = {"toy": object()}
+    assert len(cluster.next_batch(runs(*["genom"] * 100), 2, external)) == cluster.RUNS_PER_BATCH
+    assert len(cluster.next_batch(runs(*["genom"] * 41), 2, external)) == 10  # 40 behind it, 4 halves of shares
+    assert len(cluster.next_batch(runs(*["genom"] * 3), 2, external)) == 1
+    mixed = runs(*["genom"] * 5, "toy", *["genom"] * 60)
+    assert [t.sut for t in cluster.next_batch(mixed, 1, external)] == ["genom"] * 5  # stops at the external run
+    assert [t.sut for t in cluster.next_batch(mixed, 1, external)] == ["toy"]
+    assert len(mixed) == 60
+
+
+def test_a_worker_dying_mid_batch_crashes_the_run_it_was_running_and_gives_back_the_others():
+    batch, pending = list(runs("genom", "bip-a", "genom", "bip-a")), runs("later")
+    worker = type("WorkerState", (), {"address": "tcp://127.0.0.1:1"})()
+    death = distributed.KilledWorker("untimely-batch-1", worker, 0)
+    [(culprit, trace)] = cluster.failed_batch(batch, death, {0, 1, 2, 99}, pending)
+    assert culprit is batch[2] and trace.outcome == "crashed"
+    assert trace.error.startswith("the Dask worker running it failed: KilledWorker")
+    assert list(pending) == [batch[0], batch[1], batch[3], Task(0, 0, "later", 0, "")]  # its traces were lost
+    pending = deque()
+    assert cluster.failed_batch(batch, death, set(), pending) == [] and list(pending) == batch  # died before it began
+
+
+def test_a_batch_that_fails_otherwise_crashes_every_run_in_it():
+    batch, pending = list(runs("genom", "bip-a")), deque()
+    failed = cluster.failed_batch(batch, TypeError("cannot unpickle"), {0}, pending)
+    assert [task for task, _ in failed] == batch and not pending
+    assert {trace.error for _, trace in failed} == {"the Dask worker running it failed: TypeError: cannot unpickle"}
 
 
 @pytest.mark.slow
