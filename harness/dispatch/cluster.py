@@ -237,11 +237,14 @@ def failed_batch(batch: list[Task], error: BaseException, announced: set[int], p
     """A batch whose task failed. A worker that dies (`KilledWorker`) takes with it the run it
     was running, the batch's last one announced, which is recorded crashed; the runs after it
     never ran and those before it lost their traces with the worker: they go back to the front
-    of `pending`. Any other failure crashes the whole batch."""
+    of `pending`, their announcements forgotten (they will make new ones). Any other failure
+    crashes the whole batch."""
     culprits = batch
     if isinstance(error, _import_distributed().KilledWorker):
         culprits = [task for task in batch if task.trace_id in announced][-1:]
-        pending.extendleft(reversed([task for task in batch if task not in culprits]))
+        again = [task for task in batch if task not in culprits]
+        announced.difference_update(task.trace_id for task in again)
+        pending.extendleft(reversed(again))
     reason = f"the Dask worker running it failed: {type(error).__name__}: {error}"
     return [(task, crashed(task, reason)) for task in culprits]
 
