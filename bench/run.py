@@ -29,6 +29,11 @@ def run(script: Path) -> int:
 
 def main(names: list[str]) -> int:
     scripts = sorted(HERE.glob("*_bench.py"))
+    known = [s.stem.removesuffix("_bench") for s in scripts]
+    unknown = [n for n in names if n not in known]
+    if unknown:
+        print(f"no bench named {unknown[0]!r}; name some of: {', '.join(known)}", file=sys.stderr)
+        return 2
     if names:
         scripts = [s for s in scripts if s.stem.removesuffix("_bench") in names]
     print(f"machine: {platform.processor() or platform.machine()}, {platform.system()} "

@@ -23,7 +23,6 @@ import importlib.metadata
 import itertools
 import logging
 import threading
-import uuid
 from collections import deque
 from contextlib import ExitStack, contextmanager
 from dataclasses import replace
@@ -36,12 +35,14 @@ from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.trace import Trace
 from harness.sut.external import kept
+from harness.dispatch.announcements import Announcements, announcements
 from harness.dispatch.workers import Setup, Task, crashed
 
 PACKAGE = Path(__file__).resolve().parent.parent  # harness/
 ALLOWED_FAILURES = "distributed.scheduler.allowed-failures"
 CONNECT_TIMEOUT_S = 10
 SUT_RESOURCE = "sut"
+LOCAL = "local:"  # `local:N`: N worker processes of this machine, started for the campaign
 # Simulated runs a Dask task runs one after the other (some 15 ms each): Dask's cost of a task,
 # a round trip through the scheduler and CPU in three processes, is then paid once a batch.
 RUNS_PER_BATCH = 16
@@ -110,15 +111,14 @@ def _run_remote(setup: Setup, task: Task) -> Trace | UntimelyError:
             _busy_slots.discard(slot)
 
 
-def _run_batch(setup: Setup, tasks: list[Task], queue: str) -> list[Trace | UntimelyError]:
-    """Runs on a Dask worker, one run after the other, each announced on the queue named `queue`
-    before it begins (the scheduler holds the announcement once `put` returns). The queue goes
-    by name: the scheduler unpickles a task's arguments, and a Queue unpickled there would call
-    the scheduler from its own event loop."""
-    started, traces = _import_distributed().Queue(queue), []
-    for task in tasks:
-        started.put(task.trace_id)
-        traces.append(_run_remote(setup, task))
+def _run_batch(setup: Setup, tasks: list[Task], started: Announcements, key: str) -> list[Trace | UntimelyError]:
+    """Runs on a Dask worker, one run after the other, each announced before it begins (`key`: the
+    batch's task's)."""
+    traces = []
+    with started.opened(key) as announce:
+        for task in tasks:
+            announce(task.trace_id)
+            traces.append(_run_remote(setup, task))
     return traces
 
 
@@ -200,18 +200,21 @@ class Cluster:
     def run_all(self, tasks: list[Task], on_trace: Callable[[Task, Trace], None]) -> None:
         """One batch in flight per worker thread; a thread that ends one gets its next before
         the coordinator fetches and stores the traces of the last."""
-        distributed = _import_distributed()
         threads = sum(w["nthreads"] for w in self.client.scheduler_info()["workers"].values())
-        started = distributed.Queue(f"untimely-started-{uuid.uuid4().hex}", client=self.client)
+        with announcements(self.client, local=self.address.startswith(LOCAL)) as started:
+            self._run_batches(tasks, on_trace, threads, started)
+
+    def _run_batches(self, tasks: list[Task], on_trace: Callable[[Task, Trace], None], threads: int,
+                     started: Announcements) -> None:
         pending, futures, announced, numbers = deque(tasks), {}, set(), itertools.count(1)
-        completed = distributed.as_completed()
+        completed = _import_distributed().as_completed()
 
         def submit() -> None:
-            batch = next_batch(pending, threads, self.setup.external)
+            batch, key = next_batch(pending, threads, self.setup.external), f"untimely-batch-{next(numbers)}"
             resources = {SUT_RESOURCE: 1} if batch[0].sut in self.setup.external else None
             # the setup goes by value (some 400 bytes): scattered, it would die with the last worker holding it
-            future = self.client.submit(_run_batch, self.setup, batch, started.name, pure=False, retries=0,
-                                        key=f"untimely-batch-{next(numbers)}", resources=resources)
+            future = self.client.submit(_run_batch, self.setup, batch, started, key, pure=False, retries=0, key=key,
+                                        resources=resources)
             futures[future] = batch
             completed.add(future)
         try:
@@ -220,7 +223,7 @@ class Cluster:
             for future in completed:
                 batch, failed = futures.pop(future), future.status == "error"
                 if failed:
-                    announced.update(started.get(batch=True))
+                    announced.update(started.read(future.key, self.client))
                     crashes = failed_batch(batch, future.exception(), announced, pending)
                 while pending and len(futures) < threads:
                     submit()
@@ -230,7 +233,6 @@ class Cluster:
                     on_trace(task, result)
         finally:
             self.client.cancel(list(futures))
-            started.close()
 
 
 def failed_batch(batch: list[Task], error: BaseException, announced: set[int], pending: deque) -> list[tuple]:
@@ -258,8 +260,8 @@ def connect(address: str, setup: Setup, jobs: int):
     cluster = None
     # Dask's profiler samples every worker thread's stack each 10 ms, slowing runs by some 5%
     with __import__("dask").config.set({ALLOWED_FAILURES: 0, "distributed.worker.profile.enabled": False}):
-        if address.startswith("local:"):
-            workers = address.removeprefix("local:")
+        if address.startswith(LOCAL):
+            workers = address.removeprefix(LOCAL)
             if not workers.isdigit() or int(workers) < 1:
                 raise UntimelyError(f"--cluster {address!r}: give local:N with N >= 1 workers")
             slots = -(-jobs // int(workers)) if setup.external else 1

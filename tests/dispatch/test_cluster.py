@@ -1,6 +1,7 @@
 """Campaigns on a Dask cluster (`campaign --cluster`): local clusters on loopback, the same store as
 the local pool, a worker dying mid-campaign, and the checks made before anything is submitted."""
 from collections import deque
+from contextlib import ExitStack, contextmanager
 from dataclasses import replace
 
 import cloudpickle
@@ -30,15 +31,30 @@ def test_a_simulated_campaign_on_two_workers_stores_what_the_local_pool_stores(t
     assert dump(dask) == dump(pool)
 
 
+@contextmanager
+def scheduler_of_its_own(**workers):
+    """A scheduler that outlives the campaign, as a team's cluster does (allowed-failures 0), with
+    one worker of `workers` options."""
+    import dask
+    with dask.config.set({cluster.ALLOWED_FAILURES: 0}), distributed.LocalCluster(
+            n_workers=1, processes=True, dashboard_address=None, **workers) as local:
+        yield local
+
+
 @pytest.mark.slow
-def test_a_worker_dying_mid_run_records_that_run_crashed_and_the_campaign_completes(tmp_path):
+@pytest.mark.parametrize("where", ["local:1", "its own scheduler"])
+def test_a_worker_dying_mid_run_records_that_run_crashed_and_the_campaign_completes(tmp_path, where):
+    """Its batch announced the run in a file (`local:N`) or on a Dask queue (another scheduler)."""
     mission = tmp_path / "mission"
     db = tmp_path / "c.duckdb"
     mission.mkdir()
     for name in ("interface.toml", "golden.mission", "properties.toml"):
         (mission / name).write_bytes((DEFAULT_MISSION_DIR / name).read_bytes())
     (mission / "world.toml").write_text("# the fake layer reads no world\n")
-    campaign.main(arguments(mission, db, mutants=4, seed=3, cluster="local:1"), runner=failing_runner)
+    with ExitStack() as stack:
+        address = where if where.startswith("local:") else stack.enter_context(
+            scheduler_of_its_own(threads_per_worker=1)).scheduler_address
+        campaign.main(arguments(mission, db, mutants=4, seed=3, cluster=address), runner=failing_runner)
     con = store.connect(db, read_only=True)
     rows = con.execute("select script_id, sut, outcome, error from traces order by trace_id").fetchall()
     valid = [r[0] for r in con.execute("select script_id from scripts where valid order by 1").fetchall()]
@@ -179,10 +195,8 @@ def test_external_suts_run_on_the_cluster_in_slots_of_their_worker(tmp_path):
 def test_a_workers_adapters_that_offer_reuse_serve_run_after_run_and_end_with_the_campaign(tmp_path):
     """On a scheduler that outlives the campaign, as a team's cluster does."""
     from tests.support.external import FAULTY
-    import dask
-    with dask.config.set({cluster.ALLOWED_FAILURES: 0}), distributed.LocalCluster(
-            n_workers=1, threads_per_worker=2, processes=True, dashboard_address=None,
-            resources={cluster.SUT_RESOURCE: 2}) as local, distributed.Client(local) as client:
+    with scheduler_of_its_own(threads_per_worker=2, resources={cluster.SUT_RESOURCE: 2}) as local, \
+            distributed.Client(local) as client:
         db = tmp_path / "c.duckdb"
         campaign.main(arguments(DEFAULT_MISSION_DIR, db, mutants=3, seed=5, time_scale=20.0, jobs=2,
                                 sut=f"f=cmd:{{python}} {FAULTY} --reuse answer", cluster=local.scheduler_address))

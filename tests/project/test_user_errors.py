@@ -226,3 +226,12 @@ def test_ctrl_c_during_an_analysis_query_stops_it_clearly(tmp_path):
                           timeout=300)
     assert done.returncode == 130, done.stderr
     assert done.stderr == "stopped (Ctrl-C); the store keeps every finished transaction\n"
+
+
+def test_a_bench_name_that_names_no_bench_is_refused_rather_than_running_nothing():
+    """`python bench/run.py cluster_bench` ran no bench and exited 0: a bench is named without `_bench`."""
+    ran = subprocess.run([sys.executable, "bench/run.py", "cluster_bench"], cwd=ROOT, capture_output=True, text=True,
+                         timeout=60)
+    assert ran.returncode == 2 and "==" not in ran.stdout
+    assert "no bench named 'cluster_bench'; name some of: analyzer, analyzer_memory," in ran.stderr
+    assert ", cluster, " in ran.stderr

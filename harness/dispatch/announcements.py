@@ -1,0 +1,74 @@
+"""Which run a Dask worker was running when it died (harness.dispatch.cluster): a batch of runs
+announces each one before it begins it, and after a `KilledWorker` the coordinator reads what the
+dead worker's batch announced; its last one is the run that died.
+
+When every worker is a process of this machine (`local:N`), a batch appends each trace id to a
+file of its own in a folder the campaign made: a write that returned outlives the process that
+made it, and costs no round trip to the scheduler (one per run, 2 to 3% of a simulated campaign's
+wall time on 2 cores). Workers on other machines announce on a Dask queue, which the scheduler
+holds once `put` returns. The queue goes by name: the scheduler unpickles a task's arguments, and
+a Queue unpickled there would call the scheduler from its own event loop.
+"""
+from __future__ import annotations
+
+import os
+import tempfile
+import uuid
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Iterator
+
+
+@dataclass(frozen=True)
+class Announcements:
+    """Where one campaign's batches announce their runs: `folder` (a file per batch) or `queue`
+    (the name of a Dask queue, every batch's announcements in it)."""
+    folder: str | None = None
+    queue: str | None = None
+
+    @contextmanager
+    def opened(self, batch: str) -> Iterator[Callable[[int], object]]:
+        """On a worker: what announces each trace id of the batch named `batch`."""
+        if self.folder is None:
+            with _queue(self.queue) as queue:
+                yield queue.put
+            return
+        file = os.open(Path(self.folder) / batch, os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o600)
+        try:
+            yield lambda trace_id: os.write(file, b"%d\n" % trace_id)
+        finally:
+            os.close(file)
+
+    def read(self, batch: str, client) -> list[int]:
+        """In the coordinator, after the batch named `batch` failed: the trace ids it announced,
+        in order (from the queue: with those of other batches not read before)."""
+        if self.folder is None:
+            with _queue(self.queue, client) as queue:
+                return queue.get(batch=True)
+        path = Path(self.folder) / batch
+        return [int(line) for line in path.read_text().split()] if path.exists() else []
+
+
+@contextmanager
+def announcements(client, local: bool) -> Iterator[Announcements]:
+    """A campaign's announcements (a folder of this machine when its workers are `local`), removed
+    when it ends."""
+    if local:
+        with tempfile.TemporaryDirectory(prefix="untimely-announcements-") as folder:
+            yield Announcements(folder=folder)
+        return
+    with _queue(f"untimely-started-{uuid.uuid4().hex}", client) as queue:
+        yield Announcements(queue=queue.name)
+
+
+@contextmanager
+def _queue(name: str, client=None):
+    """A handle on the Dask queue `name`; the scheduler drops the queue once every handle is closed
+    (closing sends a message, with no round trip)."""
+    from distributed import Queue
+    queue = Queue(name, client=client)
+    try:
+        yield queue
+    finally:
+        queue.close()
