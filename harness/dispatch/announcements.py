@@ -6,15 +6,16 @@ When every worker is a process of this machine (`local:N`), a batch appends each
 file of its own in a folder the campaign made: a write that returned outlives the process that
 made it, and costs no round trip to the scheduler (one per run, 2 to 3% of a simulated campaign's
 wall time on 2 cores). Workers on other machines announce on a Dask queue, which the scheduler
-holds once `put` returns. The queue goes by name: the scheduler unpickles a task's arguments, and
-a Queue unpickled there would call the scheduler from its own event loop.
+holds once `put` returns, and which the campaign drops from the scheduler as it ends. The queue
+goes by name: the scheduler unpickles a task's arguments, and a Queue unpickled there would call
+the scheduler from its own event loop.
 """
 from __future__ import annotations
 
 import os
 import tempfile
 import uuid
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterator
@@ -31,8 +32,8 @@ class Announcements:
     def opened(self, batch: str) -> Iterator[Callable[[int], object]]:
         """On a worker: what announces each trace id of the batch named `batch`."""
         if self.folder is None:
-            with _queue(self.queue) as queue:
-                yield queue.put
+            from distributed import Queue
+            yield Queue(self.queue).put
             return
         file = os.open(Path(self.folder) / batch, os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o600)
         try:
@@ -44,8 +45,8 @@ class Announcements:
         """In the coordinator, after the batch named `batch` failed: the trace ids it announced,
         in order (from the queue: with those of other batches not read before)."""
         if self.folder is None:
-            with _queue(self.queue, client) as queue:
-                return queue.get(batch=True)
+            from distributed import Queue
+            return Queue(self.queue, client=client).get(batch=True)
         path = Path(self.folder) / batch
         return [int(line) for line in path.read_text().split()] if path.exists() else []
 
@@ -58,17 +59,18 @@ def announcements(client, local: bool) -> Iterator[Announcements]:
         with tempfile.TemporaryDirectory(prefix="untimely-announcements-") as folder:
             yield Announcements(folder=folder)
         return
-    with _queue(f"untimely-started-{uuid.uuid4().hex}", client) as queue:
-        yield Announcements(queue=queue.name)
-
-
-@contextmanager
-def _queue(name: str, client=None):
-    """A handle on the Dask queue `name`; the scheduler drops the queue once every handle is closed
-    (closing sends a message, with no round trip)."""
     from distributed import Queue
-    queue = Queue(name, client=client)
+    queue = Queue(f"untimely-started-{uuid.uuid4().hex}", client=client)
     try:
-        yield queue
+        yield Announcements(queue=queue.name)
     finally:
-        queue.close()
+        with suppress(OSError, TimeoutError):  # a scheduler gone (maybe why we leave) holds nothing more
+            client.run_on_scheduler(_drop_queue, queue.name)
+
+
+def _drop_queue(name: str, dask_scheduler) -> None:
+    """On the scheduler: forget the queue `name`, which it keeps while some handle on it is open
+    (each batch opens one, and a dead worker's is never closed)."""
+    queues = dask_scheduler.extensions["queues"]
+    while name in queues.queues:
+        queues.release(name=name)

@@ -1,5 +1,6 @@
 """Campaigns on a Dask cluster (`campaign --cluster`): local clusters on loopback, the same store as
 the local pool, a worker dying mid-campaign, and the checks made before anything is submitted."""
+import time
 from collections import deque
 from contextlib import ExitStack, contextmanager
 from dataclasses import replace
@@ -41,6 +42,14 @@ def scheduler_of_its_own(**workers):
         yield local
 
 
+def queues_left(local, seconds: float = 5.0) -> list[str]:
+    """The Dask queues a scheduler still holds once those closing have had `seconds` to go."""
+    queues, deadline = local.scheduler.extensions["queues"].queues, time.monotonic() + seconds
+    while queues and time.monotonic() < deadline:
+        time.sleep(0.05)
+    return list(queues)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("where", ["local:1", "its own scheduler"])
 def test_a_worker_dying_mid_run_records_that_run_crashed_and_the_campaign_completes(tmp_path, where):
@@ -52,9 +61,10 @@ def test_a_worker_dying_mid_run_records_that_run_crashed_and_the_campaign_comple
         (mission / name).write_bytes((DEFAULT_MISSION_DIR / name).read_bytes())
     (mission / "world.toml").write_text("# the fake layer reads no world\n")
     with ExitStack() as stack:
-        address = where if where.startswith("local:") else stack.enter_context(
-            scheduler_of_its_own(threads_per_worker=1)).scheduler_address
-        campaign.main(arguments(mission, db, mutants=4, seed=3, cluster=address), runner=failing_runner)
+        own = None if where.startswith("local:") else stack.enter_context(scheduler_of_its_own(threads_per_worker=1))
+        campaign.main(arguments(mission, db, mutants=4, seed=3, cluster=own.scheduler_address if own else where),
+                      runner=failing_runner)
+        assert not (own and queues_left(own)), "the campaign's queue of announcements outlived it on the scheduler"
     con = store.connect(db, read_only=True)
     rows = con.execute("select script_id, sut, outcome, error from traces order by trace_id").fetchall()
     valid = [r[0] for r in con.execute("select script_id from scripts where valid order by 1").fetchall()]
