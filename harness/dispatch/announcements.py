@@ -17,8 +17,11 @@ import tempfile
 import uuid
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass
+from collections import deque
 from pathlib import Path
 from typing import Callable, Iterator
+
+from harness.dispatch.workers import Task, crashed
 
 
 @dataclass(frozen=True)
@@ -74,3 +77,20 @@ def _drop_queue(name: str, dask_scheduler) -> None:
     queues = dask_scheduler.extensions["queues"]
     while name in queues.queues:
         queues.release(name=name)
+
+
+def failed_batch(batch: list[Task], error: BaseException, announced: set[int], pending: deque) -> list[tuple]:
+    """A batch whose task failed. A worker that dies (`KilledWorker`) takes with it the run it
+    was running, the batch's last one announced, which is recorded crashed; the runs after it
+    never ran and those before it lost their traces with the worker: they go back to the front
+    of `pending`, their announcements forgotten (they will make new ones); if it announced none,
+    they all go back. Any other failure crashes the whole batch."""
+    from distributed import KilledWorker
+    culprits = batch
+    if isinstance(error, KilledWorker):
+        culprits = [task for task in batch if task.trace_id in announced][-1:]
+        again = [task for task in batch if task not in culprits]
+        announced.difference_update(task.trace_id for task in again)
+        pending.extendleft(reversed(again))
+    reason = f"the Dask worker running it failed: {type(error).__name__}: {error}"
+    return [(task, crashed(task, reason)) for task in culprits]

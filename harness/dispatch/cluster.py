@@ -35,8 +35,8 @@ from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.trace import Trace
 from harness.sut.external import kept
-from harness.dispatch.announcements import Announcements, announcements
-from harness.dispatch.workers import Setup, Task, crashed
+from harness.dispatch.announcements import Announcements, announcements, failed_batch
+from harness.dispatch.workers import Setup, Task
 
 PACKAGE = Path(__file__).resolve().parent.parent  # harness/
 ALLOWED_FAILURES = "distributed.scheduler.allowed-failures"
@@ -46,6 +46,9 @@ LOCAL = "local:"  # `local:N`: N worker processes of this machine, started for t
 # Simulated runs a Dask task runs one after the other (some 15 ms each): Dask's cost of a task,
 # a round trip through the scheduler and CPU in three processes, is then paid once a batch.
 RUNS_PER_BATCH = 16
+# Workers that die before a batch's first run begins give its runs back, and that may happen again and
+# again (a worker's memory limit, a machine lost): this many times, the campaign stops rather than loop.
+UNEXPLAINED_DEATHS = 3
 
 
 def _import_distributed():
@@ -207,7 +210,7 @@ class Cluster:
     def _run_batches(self, tasks: list[Task], on_trace: Callable[[Task, Trace], None], threads: int,
                      started: Announcements) -> None:
         pending, futures, announced, numbers = deque(tasks), {}, set(), itertools.count(1)
-        completed = _import_distributed().as_completed()
+        completed, unexplained = _import_distributed().as_completed(), 0
 
         def submit() -> None:
             batch, key = next_batch(pending, threads, self.setup.external), f"untimely-batch-{next(numbers)}"
@@ -225,6 +228,13 @@ class Cluster:
                 if failed:
                     announced.update(started.read(future.key, self.client))
                     crashes = failed_batch(batch, future.exception(), announced, pending)
+                    unexplained += not crashes  # its worker died before it announced a run
+                    if unexplained == UNEXPLAINED_DEATHS:
+                        death = future.exception()
+                        raise UntimelyError(f"Dask workers died {unexplained} times before beginning a run of their "
+                                            f"batch (the last: {type(death).__name__}: {death}); they cannot run this "
+                                            "campaign: see their logs (a memory limit, a killed process), then run "
+                                            "the same command again to resume it")
                 while pending and len(futures) < threads:
                     submit()
                 for task, result in crashes if failed else zip(batch, future.result()):
@@ -233,22 +243,6 @@ class Cluster:
                     on_trace(task, result)
         finally:
             self.client.cancel(list(futures))
-
-
-def failed_batch(batch: list[Task], error: BaseException, announced: set[int], pending: deque) -> list[tuple]:
-    """A batch whose task failed. A worker that dies (`KilledWorker`) takes with it the run it
-    was running, the batch's last one announced, which is recorded crashed; the runs after it
-    never ran and those before it lost their traces with the worker: they go back to the front
-    of `pending`, their announcements forgotten (they will make new ones). Any other failure
-    crashes the whole batch."""
-    culprits = batch
-    if isinstance(error, _import_distributed().KilledWorker):
-        culprits = [task for task in batch if task.trace_id in announced][-1:]
-        again = [task for task in batch if task not in culprits]
-        announced.difference_update(task.trace_id for task in again)
-        pending.extendleft(reversed(again))
-    reason = f"the Dask worker running it failed: {type(error).__name__}: {error}"
-    return [(task, crashed(task, reason)) for task in culprits]
 
 
 @contextmanager

@@ -1,5 +1,6 @@
 """Campaigns on a Dask cluster (`campaign --cluster`): local clusters on loopback, the same store as
 the local pool, a worker dying mid-campaign, and the checks made before anything is submitted."""
+import shutil
 import time
 from collections import deque
 from contextlib import ExitStack, contextmanager
@@ -10,7 +11,7 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR, store
 from harness.campaign import campaign
-from harness.dispatch import cluster
+from harness.dispatch import announcements, cluster
 from harness.dispatch.workers import Task
 from harness.errors import UntimelyError
 from tests.support import campaigns, kept
@@ -40,6 +41,20 @@ def scheduler_of_its_own(**workers):
     with dask.config.set({cluster.ALLOWED_FAILURES: 0}), distributed.LocalCluster(
             n_workers=1, processes=True, dashboard_address=None, **workers) as local:
         yield local
+
+
+@pytest.mark.slow
+def test_workers_that_die_again_and_again_before_announcing_a_run_stop_the_campaign(tmp_path, monkeypatch):
+    """Rather than give the runs back for ever: here no announcement is ever read."""
+    monkeypatch.setattr(announcements.Announcements, "read", lambda *_: [])
+    mission = tmp_path / "mission"
+    shutil.copytree(DEFAULT_MISSION_DIR, mission)
+    (mission / "world.toml").write_text("# the fake layer reads no world\n")
+    db = tmp_path / "c.duckdb"
+    with pytest.raises(UntimelyError, match=r"Dask workers died 3 times before beginning a run of their batch "
+                                            r"\(the last: .*KilledWorker.*\); they cannot run this campaign: see "
+                                            r"their logs .*, then run the same command again to resume it"):
+        campaign.main(arguments(mission, db, mutants=4, seed=3, cluster="local:1"), runner=failing_runner)
 
 
 def queues_left(local, seconds: float = 5.0) -> list[str]:
@@ -95,18 +110,18 @@ def test_a_worker_dying_mid_batch_crashes_the_run_it_was_running_and_gives_back_
     worker = type("WorkerState", (), {"address": "tcp://127.0.0.1:1"})()
     death = distributed.KilledWorker("untimely-batch-1", worker, 0)
     announced = {0, 1, 2, 99}
-    [(culprit, trace)] = cluster.failed_batch(batch, death, announced, pending)
+    [(culprit, trace)] = announcements.failed_batch(batch, death, announced, pending)
     assert culprit is batch[2] and trace.outcome == "crashed"
     assert trace.error.startswith("the Dask worker running it failed: KilledWorker")
     assert list(pending) == [batch[0], batch[1], batch[3], Task(0, 0, "later", 0, "")]  # its traces were lost
     again, pending = [batch[0], batch[1], batch[3]], deque()
-    assert cluster.failed_batch(again, death, announced, pending) == []  # a second worker died before it began
+    assert announcements.failed_batch(again, death, announced, pending) == []  # a second worker died before it began
     assert list(pending) == again
 
 
 def test_a_batch_that_fails_otherwise_crashes_every_run_in_it():
     batch, pending = list(runs("genom", "bip-a")), deque()
-    failed = cluster.failed_batch(batch, TypeError("cannot unpickle"), {0}, pending)
+    failed = announcements.failed_batch(batch, TypeError("cannot unpickle"), {0}, pending)
     assert [task for task, _ in failed] == batch and not pending
     assert {trace.error for _, trace in failed} == {"the Dask worker running it failed: TypeError: cannot unpickle"}
 
