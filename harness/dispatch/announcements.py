@@ -15,9 +15,9 @@ from __future__ import annotations
 import os
 import tempfile
 import uuid
+from collections import deque
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass
-from collections import deque
 from pathlib import Path
 from typing import Callable, Iterator
 
