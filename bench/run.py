@@ -35,7 +35,7 @@ def main(names: list[str]) -> int:
         print(f"no bench named {unknown[0]!r}; name some of: {', '.join(known)}", file=sys.stderr)
         return 2
     if names:
-        scripts = [s for s in scripts if s.stem.removesuffix("_bench") in names]
+        scripts = [script for script, name in zip(scripts, known) if name in names]
     print(f"machine: {platform.processor() or platform.machine()}, {platform.system()} "
           f"{platform.release()}, python {platform.python_version()}, "
           f"{os.cpu_count()} cores", flush=True)

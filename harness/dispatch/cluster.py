@@ -226,13 +226,13 @@ class Cluster:
             for future in completed:
                 batch, failed = futures.pop(future), future.status == "error"
                 if failed:
+                    error = future.exception()
                     announced.update(started.read(future.key, self.client))
-                    crashes = failed_batch(batch, future.exception(), announced, pending)
+                    crashes = failed_batch(batch, error, announced, pending)
                     unexplained += not crashes  # its worker died before it announced a run
                     if unexplained == UNEXPLAINED_DEATHS:
-                        death = future.exception()
                         raise UntimelyError(f"Dask workers died {unexplained} times before beginning a run of their "
-                                            f"batch (the last: {type(death).__name__}: {death}); they cannot run this "
+                                            f"batch (the last: {type(error).__name__}: {error}); they cannot run this "
                                             "campaign: see their logs (a memory limit, a killed process), then run "
                                             "the same command again to resume it")
                 while pending and len(futures) < threads:

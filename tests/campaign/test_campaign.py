@@ -6,7 +6,6 @@ second), so a campaign of a few mutants takes a fraction of a second once its wo
 import io
 import json
 import os
-import shutil
 import signal
 import subprocess
 import sys
@@ -15,12 +14,12 @@ from dataclasses import asdict
 
 import pytest
 
-from harness import DEFAULT_MISSION_DIR, ROOT, cli, store
+from harness import ROOT, cli, store
 from harness.campaign import campaign, runs
 from harness.dispatch import workers
 from harness.errors import InputFileError, StoreError, UntimelyError
 from harness.progress import Progress
-from tests.support.campaigns import MARKER, arguments, dump, failing_runner, fake_runner
+from tests.support.campaigns import MARKER, arguments, dump, failing_runner, fake_layer_mission, fake_runner
 
 
 def user_error_runner(script, sut, seed, interface, world_file, max_delay):
@@ -31,10 +30,7 @@ def user_error_runner(script, sut, seed, interface, world_file, max_delay):
 
 @pytest.fixture
 def mission(tmp_path):
-    folder = tmp_path / "mission"
-    shutil.copytree(DEFAULT_MISSION_DIR, folder)
-    (folder / "world.toml").write_text("# the fake layer reads no world\n")
-    return folder
+    return fake_layer_mission(tmp_path / "mission")
 
 
 @pytest.mark.slow

@@ -1,6 +1,5 @@
 """Campaigns on a Dask cluster (`campaign --cluster`): local clusters on loopback, the same store as
 the local pool, a worker dying mid-campaign, and the checks made before anything is submitted."""
-import shutil
 import time
 from collections import deque
 from contextlib import ExitStack, contextmanager
@@ -15,7 +14,7 @@ from harness.dispatch import announcements, cluster
 from harness.dispatch.workers import Task
 from harness.errors import UntimelyError
 from tests.support import campaigns, kept
-from tests.support.campaigns import arguments, dump, failing_runner
+from tests.support.campaigns import arguments, dump, failing_runner, fake_layer_mission
 
 distributed = pytest.importorskip("distributed")
 # Dask workers need not have tests/ on their path: the test runners and the census of child
@@ -47,10 +46,7 @@ def scheduler_of_its_own(**workers):
 def test_workers_that_die_again_and_again_before_announcing_a_run_stop_the_campaign(tmp_path, monkeypatch):
     """Rather than give the runs back for ever: here no announcement is ever read."""
     monkeypatch.setattr(announcements.Announcements, "read", lambda *_: [])
-    mission = tmp_path / "mission"
-    shutil.copytree(DEFAULT_MISSION_DIR, mission)
-    (mission / "world.toml").write_text("# the fake layer reads no world\n")
-    db = tmp_path / "c.duckdb"
+    mission, db = fake_layer_mission(tmp_path / "mission"), tmp_path / "c.duckdb"
     with pytest.raises(UntimelyError, match=r"Dask workers died 3 times before beginning a run of their batch "
                                             r"\(the last: .*KilledWorker.*\); they cannot run this campaign: see "
                                             r"their logs .*, then run the same command again to resume it"):
@@ -69,14 +65,9 @@ def queues_left(local, seconds: float = 5.0) -> list[str]:
 @pytest.mark.parametrize("where", ["local:1", "its own scheduler"])
 def test_a_worker_dying_mid_run_records_that_run_crashed_and_the_campaign_completes(tmp_path, where):
     """Its batch announced the run in a file (`local:N`) or on a Dask queue (another scheduler)."""
-    mission = tmp_path / "mission"
-    db = tmp_path / "c.duckdb"
-    mission.mkdir()
-    for name in ("interface.toml", "golden.mission", "properties.toml"):
-        (mission / name).write_bytes((DEFAULT_MISSION_DIR / name).read_bytes())
-    (mission / "world.toml").write_text("# the fake layer reads no world\n")
+    mission, db = fake_layer_mission(tmp_path / "mission"), tmp_path / "c.duckdb"
     with ExitStack() as stack:
-        own = None if where.startswith("local:") else stack.enter_context(scheduler_of_its_own(threads_per_worker=1))
+        own = None if where.startswith(cluster.LOCAL) else stack.enter_context(scheduler_of_its_own(threads_per_worker=1))
         campaign.main(arguments(mission, db, mutants=4, seed=3, cluster=own.scheduler_address if own else where),
                       runner=failing_runner)
         assert not (own and queues_left(own)), "the campaign's queue of announcements outlived it on the scheduler"

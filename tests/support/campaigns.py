@@ -2,10 +2,11 @@
 the runners, the typed request of `campaign`, and a dump of a store to compare two campaigns by."""
 import json
 import os
+import shutil
 import time
 from pathlib import Path
 
-from harness import store
+from harness import DEFAULT_MISSION_DIR, store
 from harness.campaign.request import CampaignRequest
 from harness.sut.executive import Runner
 
@@ -26,6 +27,13 @@ class FakeLayer:
 
 
 fake_runner = Runner(FakeLayer)
+
+
+def fake_layer_mission(folder: Path) -> Path:
+    """A copy of the default mission in `folder`, with an empty world: the fake layer reads none."""
+    shutil.copytree(DEFAULT_MISSION_DIR, folder)
+    (folder / "world.toml").write_text("# the fake layer reads no world\n")
+    return folder
 
 
 def failing_runner(script, sut, seed, interface, world_file, max_delay):
