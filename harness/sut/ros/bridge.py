@@ -45,7 +45,7 @@ class Bridge:
         with self.lock, self.out_lock:
             self.generation += 1
             self.live = True  # the goals and pings of the last run were forgotten at its end
-            self.replies = Replies(self._writer(self.generation))
+            self.replies = Replies(self._writer(self.generation), taken_promised="taken" in caps)
             self.hello_epoch = time.time()
             self._write({"op": "hello", "proto": proto, "sut": sut, "caps": caps})
 

@@ -19,7 +19,8 @@ from the mapping file (ros2.toml). Rules:
   adapter counts them (one client per service: they arrive in the order sent);
 - `taken` (where every route's server has introspection: services from Jazzy on, actions from
   Kilted on): the server's introspection event of receiving the request, a goal's named by its id,
-  a call's by its sequence number, is relayed as a `taken` reply when it arrives;
+  a call's by its sequence number, is relayed as a `taken` reply when it arrives, or goes just
+  before the request's feedback or response where these arrive first (harness/sut/ros/replies.py);
 - a request of a service the mapping's [cancels] names is a cancel request of the latest goal of
   the service it names; the cancel's response is its final reply (cancels.py);
 - liveness: the node's executor must answer NODE/get_parameters (probed every PROBE_PERIOD_S) within

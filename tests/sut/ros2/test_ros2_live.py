@@ -248,7 +248,8 @@ def test_no_taken_on_jazzy_where_goals_have_no_introspection():
 @requires_ros2("kilted")
 def test_first_steps_on_kilted_with_taken_replies():
     """On Kilted both actions and services have introspection: every request gets a `taken` reply,
-    from the server's event of receiving it, before any other reply (first_steps checks the order)."""
+    from the server's event of receiving it (or, where that event comes late, from the feedback or
+    response that proves it), before any other reply (first_steps checks the order)."""
     run = launcher(distro="kilted")
     try:
         answer = run.start(time_scale=1.0)
