@@ -32,19 +32,16 @@ class Replies:
                 self.write({"op": "reply", "id": rqst_id, "kind": "intermediate"})
 
     def taken(self, rqst_id: int) -> None:
-        """The server took the request (ROS 2 introspection): a `taken` reply, once, before any other."""
+        """The server took the request (ROS 2 introspection): a `taken` reply, once, before any other,
+        where the adapter promised them."""
         with self.lock:
-            self._give_taken(rqst_id)
-
-    def _give_taken(self, rqst_id: int) -> None:
-        if rqst_id not in self.given:
-            self.given[rqst_id] = "taken"
-            self.write({"op": "reply", "id": rqst_id, "kind": "taken"})
+            self._taken_first(rqst_id)
 
     def _taken_first(self, rqst_id: int) -> None:
-        """Before another reply: the promised `taken` reply, if its event has not arrived yet."""
-        if self.taken_promised:
-            self._give_taken(rqst_id)
+        """The promised `taken` reply, unless the request has had a reply already."""
+        if self.taken_promised and rqst_id not in self.given:
+            self.given[rqst_id] = "taken"
+            self.write({"op": "reply", "id": rqst_id, "kind": "taken"})
 
     def ended(self, rqst_id: int, status: str, code: str | None) -> None:
         """The goal is done with `status`; `code` is its final reply, None if it may have none."""

@@ -268,7 +268,7 @@ class Adapter(Bridge):
         if event.info.event_type == ServiceEventInfo.REQUEST_RECEIVED:
             with self.lock:
                 rqst_id, replies = self.calls.pop((service, event.info.sequence_number), None), self.replies
-            if rqst_id is not None and self.taken:
+            if rqst_id is not None:
                 replies.taken(rqst_id)
 
     def _goal_taken(self, event) -> None:

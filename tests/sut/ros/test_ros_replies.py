@@ -43,6 +43,6 @@ def test_a_promised_taken_goes_first_when_its_event_comes_after_the_response_or_
         (6, "taken"), (6, "final"), (7, "taken"), (7, "intermediate"), (7, "final"), (8, "taken"), (8, "final")]
 
 
-def test_without_the_promise_no_taken_is_made_up():
-    assert lines_of([("feedback", 10), ("ended", 10, "SUCCEEDED", "ok")]) == \
+def test_without_the_promise_no_taken_is_made_up_or_relayed():
+    assert lines_of([("taken", 10), ("feedback", 10), ("ended", 10, "SUCCEEDED", "ok")]) == \
         [(10, "intermediate", None), (10, "final", "ok")]

@@ -20,7 +20,7 @@ from harness.sut.ros.replies import Replies
 from harness.sut.ros2.adapter import Adapter
 
 written, after_each, goal_id = [], [], bytes(range(16))
-adapter = SimpleNamespace(lock=threading.Lock(), replies=Replies(written.append, taken_promised=True), taken=True,
+adapter = SimpleNamespace(lock=threading.Lock(), replies=Replies(written.append, taken_promised=True),
                           calls={("/rflex", 7): 3}, goal_ids={goal_id.hex(): 4})
 info = lambda kind, number=0: ServiceEventInfo(event_type=getattr(ServiceEventInfo, kind), sequence_number=number)
 for kind, number in (("REQUEST_SENT", 7), ("REQUEST_RECEIVED", 8), ("REQUEST_RECEIVED", 7), ("RESPONSE_SENT", 7)):
