@@ -41,7 +41,7 @@ from typing import Callable
 import rclpy
 from action_msgs.msg import GoalStatus
 from rcl_interfaces.srv import GetParameters
-from rclpy.action import ActionClient, ActionServer
+from rclpy.action import ActionClient
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.qos import QoSProfile, ReliabilityPolicy
@@ -54,7 +54,7 @@ from harness.sut.ros.mapping import Mapping, check_cancels, interface_kinds, int
 from harness.sut.ros.replies import Replies
 from harness.sut.ros.routes import Route
 from harness.sut.ros2 import introspection
-from harness.sut.ros2.cancels import cancel_taken, send_cancel
+from harness.sut.ros2.cancels import send_cancel
 from harness.sut.ros2.lifecycle import Lifecycle
 from harness.sut.ros2.teardown import release
 from harness.sut.ros2.types import fill, interface_name, route_class
@@ -64,8 +64,6 @@ STATUS_NAMES = {GoalStatus.STATUS_SUCCEEDED: "SUCCEEDED", GoalStatus.STATUS_ABOR
                 GoalStatus.STATUS_CANCELED: "CANCELED"}
 QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
 PROBE_PERIOD_S = 0.2
-# Service introspection came with Jazzy (rclpy 7), action introspection with Kilted (rclpy 9).
-ACTION_INTROSPECTION = hasattr(ActionServer, "configure_introspection")
 
 
 class Adapter(Bridge):
@@ -85,7 +83,7 @@ class Adapter(Bridge):
         self.calls: dict[tuple[str, int], int] = {}  # (service, the call's sequence number) -> request id
         self.call_counts: dict[str, int] = {}  # service -> calls made this run (the node counts them too)
         self.introspected: set[str] = set()  # the event topics their servers publish (find_introspection)
-        self._subscribe_introspection(group)
+        introspection.subscribe(self, QOS, group)
         for topic, handler in ((mapping.world_topic, self._world), (mapping.internal_topic, self._internal),
                                (mapping.pong_topic, self._pong)):
             if topic:
@@ -109,37 +107,10 @@ class Adapter(Bridge):
         self.stopped = threading.Event()
         threading.Thread(target=self.executor.spin, name="executor", daemon=True).start()
 
-    def _subscribe_introspection(self, group) -> None:
-        """The servers' events of every route, as the distro has them; relayed only once their
-        servers are found publishing them (find_introspection)."""
-        for route in {route.name: route for route in self.routes.values()}.values():
-            kind, name = self.types[route.name], route.name
-            if route.kind == "service":
-                self.node.create_subscription(kind.Event, introspection.call_topic(name),
-                                              lambda event, n=name: introspection.call_taken(self, n, event), QOS,
-                                              callback_group=group)
-            elif ACTION_INTROSPECTION:
-                self.node.create_subscription(kind.Impl.SendGoalService.Event, introspection.goal_topic(name),
-                                              lambda event, n=name: introspection.goal_taken(self, n, event), QOS,
-                                              callback_group=group)
-        for name in set(self.cancelled.values()) if ACTION_INTROSPECTION else ():
-            self.node.create_subscription(self.types[name].Impl.CancelGoalService.Event,
-                                          introspection.cancel_topic(name),
-                                          lambda event, n=name: cancel_taken(self, n, event), QOS, callback_group=group)
-
     def find_introspection(self) -> list[str]:
-        """Which servers publish their introspection (the node is up: a lifecycle node may turn it
-        on when configured): their events are relayed from now on. The "module.Service" whose
-        requests may get a `taken` reply, for the hello."""
-        topics = {qualified: (introspection.call_topic(route.name) if route.kind == "service"
-                              else introspection.goal_topic(route.name))
-                  for qualified, route in self.routes.items() if route.kind == "service" or ACTION_INTROSPECTION}
-        topics.update({qualified: introspection.cancel_topic(name) for qualified, name in self.cancelled.items()
-                       if ACTION_INTROSPECTION})
-        found = introspection.published(self.node, sorted(set(topics.values())))
-        with self.lock:
-            self.introspected = found
-        return [qualified for qualified, topic in topics.items() if topic in found]
+        """Once the node is up: the "module.Service" whose servers publish introspection (the hello's
+        `taken_services`), whose events are relayed from now on."""
+        return introspection.find(self)
 
     def forget(self) -> None:
         self.goals, self.calls, self.call_counts, self.unprobed = {}, {}, {}, set()

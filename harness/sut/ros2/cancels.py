@@ -11,7 +11,7 @@ cancelled goal's own ending comes, as any goal's, with its result (a CANCELED st
 result's code, else the mapping's CANCELED code). A cancel before any goal of the service names a
 goal id no server knows, so the server answers it (ERROR_UNKNOWN_GOAL_ID): no reply is invented.
 `taken`: the server's introspection event of the cancel request, where it publishes one
-(introspection.py).
+(introspection.cancel_taken).
 """
 from __future__ import annotations
 
@@ -19,11 +19,9 @@ import os
 
 from action_msgs.srv import CancelGoal
 from rclpy.action.client import ClientGoalHandle
-from service_msgs.msg import ServiceEventInfo
 from unique_identifier_msgs.msg import UUID
 
 from harness.sut.ros.replies import Replies
-from harness.sut.ros2.introspection import cancel_topic
 from harness.errors import UntimelyError
 
 RESPONSES = {getattr(CancelGoal.Response, name): name for name in
@@ -61,13 +59,3 @@ def _answered(mapping, replies: Replies, rqst_id: int, future) -> None:
     name = RESPONSES.get(future.result().return_code, f"return code {future.result().return_code}")
     replies.ended(rqst_id, name, mapping.cancel_codes.get(name))
 
-
-def cancel_taken(adapter, action: str, event) -> None:
-    """The server's record of a cancel request it received (Kilted's action introspection)."""
-    if (event.info.event_type == ServiceEventInfo.REQUEST_RECEIVED and event.request
-            and cancel_topic(action) in adapter.introspected):
-        with adapter.lock:
-            waiting = adapter.cancelling.get(bytes(event.request[0].goal_info.goal_id.uuid).hex())
-            rqst_id, replies = (waiting.pop(0) if waiting else None), adapter.replies
-        if rqst_id is not None:
-            replies.taken(rqst_id)

@@ -15,8 +15,11 @@ from __future__ import annotations
 
 import time
 
+from rclpy.action import ActionServer
 from service_msgs.msg import ServiceEventInfo
 
+# Service introspection came with Jazzy (rclpy 7), action introspection with Kilted (rclpy 9).
+ACTION_INTROSPECTION = hasattr(ActionServer, "configure_introspection")
 SETTLE_S = 0.5  # discovery of the servers' event publishers, after their services are up
 POLL_S = 0.05
 
@@ -36,6 +39,47 @@ def cancel_topic(name: str) -> str:
 def served_by(topic: str) -> str:
     """The service whose server publishes `topic`."""
     return topic.removesuffix("/_service_event")
+
+
+def event_topics(adapter) -> dict[str, str]:
+    """"module.Service" -> the topic of its server's events, where the distro has them."""
+    topics = {qualified: call_topic(route.name) if route.kind == "service" else goal_topic(route.name)
+              for qualified, route in adapter.routes.items() if route.kind == "service" or ACTION_INTROSPECTION}
+    topics.update({qualified: cancel_topic(name) for qualified, name in adapter.cancelled.items()
+                   if ACTION_INTROSPECTION})
+    return topics
+
+
+def subscribe(adapter, qos, group) -> None:
+    """The servers' events of every route, as the distro has them; relayed only once their
+    servers are found publishing them (`find`)."""
+    handled = {}
+    for qualified, topic in event_topics(adapter).items():
+        handled.setdefault(topic, _handling(adapter, qualified))
+    for topic, (event_class, handler) in handled.items():
+        adapter.node.create_subscription(event_class, topic, handler, qos, callback_group=group)
+
+
+def _handling(adapter, qualified: str):
+    """The event class of a service's server's topic, and what relays its events."""
+    if qualified in adapter.cancelled:
+        action = adapter.cancelled[qualified]
+        return adapter.types[action].Impl.CancelGoalService.Event, lambda event: cancel_taken(adapter, action, event)
+    route = adapter.routes[qualified]
+    kind = adapter.types[route.name]
+    if route.kind == "service":
+        return kind.Event, lambda event: call_taken(adapter, route.name, event)
+    return kind.Impl.SendGoalService.Event, lambda event: goal_taken(adapter, route.name, event)
+
+
+def find(adapter) -> list[str]:
+    """Which servers publish their events (the node is up: a lifecycle node may turn them on when
+    configured), relayed from now on; the "module.Service" whose requests may get a `taken`."""
+    topics = event_topics(adapter)
+    found = published(adapter.node, sorted(set(topics.values())))
+    with adapter.lock:
+        adapter.introspected = found
+    return [qualified for qualified, topic in topics.items() if topic in found]
 
 
 def published(node, topics: list[str], settle_s: float = SETTLE_S) -> set[str]:
@@ -76,5 +120,16 @@ def goal_taken(adapter, action: str, event) -> None:
             and goal_topic(action) in adapter.introspected):
         with adapter.lock:
             rqst_id, replies = adapter.goal_ids.get(bytes(event.request[0].goal_id.uuid).hex()), adapter.replies
+        if rqst_id is not None:
+            replies.taken(rqst_id)
+
+
+def cancel_taken(adapter, action: str, event) -> None:
+    """The server's record of a cancel request it received, named by the goal it cancels."""
+    if (event.info.event_type == ServiceEventInfo.REQUEST_RECEIVED and event.request
+            and cancel_topic(action) in adapter.introspected):
+        with adapter.lock:
+            waiting = adapter.cancelling.get(bytes(event.request[0].goal_info.goal_id.uuid).hex())
+            rqst_id, replies = (waiting.pop(0) if waiting else None), adapter.replies
         if rqst_id is not None:
             replies.taken(rqst_id)
