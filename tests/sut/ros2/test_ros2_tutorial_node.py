@@ -7,7 +7,11 @@ import sys
 import pytest
 
 from harness import ROOT
+from harness.sut.definitions import ExternalSut
+from harness.sut.external.runner import run_external
 from harness.sut.ros2.environment import installed
+from harness.target.interface import load_interface
+from harness.target.script import parse
 from tests.support.ros_driver import Launcher, descendants, request, requires_ros2, wait_gone
 
 pytestmark = pytest.mark.slow
@@ -26,6 +30,7 @@ action = "/count"
 service = "/set"
 type = "std_srvs/srv/SetBool"
 fields = { on = "data" }
+defaults = { data = false }
 success = "success"
 failure = "refused"
 [cancels]
@@ -96,3 +101,38 @@ def test_a_cancel_without_its_entry_is_refused_before_the_node_starts(tmp_path):
         assert run.process.wait(30) == 2
     finally:
         run.kill()
+
+
+INTERFACE = """
+[replies]
+""" + "".join(f'{code} = "{cls}"\n' for code, cls in REPLIES.items()) + """
+[modules.tutorial]
+services.count = { kind = "exec" }
+services.count_cancel = { kind = "control" }
+services.set = { kind = "control" }
+"""
+SCRIPT = """send tutorial.set as s
+wait s
+send tutorial.count as c
+sleep 0.5
+send tutorial.count_cancel as k
+wait all
+"""
+
+
+@pytest.mark.parametrize("distro", ["jazzy", "kilted"])
+def test_through_the_bench_no_taken_is_stored_and_the_outcomes_keep_their_codes(tmp_path, distro):
+    """The bench runs a script on the node (set without `on`: data false; a goal cancelled while
+    it runs): the trace it would store holds no taken_events, and each final its own code."""
+    if installed(ROOT, distro):
+        pytest.skip(installed(ROOT, distro))
+    (tmp_path / "interface.toml").write_text(INTERFACE)
+    (tmp_path / "ros2.toml").write_text(MAPPING)
+    interface = load_interface(tmp_path / "interface.toml")
+    sut = ExternalSut("tutorial", command=f"{{python}} -m harness.sut.ros2 --distro {distro} --mapping "
+                      f"{tmp_path / 'ros2.toml'} -- python {NODE}", startup_s=90.0, probe_timeout_s=5.0)
+    trace = run_external(parse(SCRIPT, "tutorial"), sut, 1, interface)
+    assert trace.outcome == "completed", trace.error
+    finals = {e[5]: e[-1] for e in trace.events if e[2] == "final"}
+    assert finals == {"set": "refused", "count": "canceled", "count_cancel": "ok"}, trace.events
+    assert trace.taken_events == []
