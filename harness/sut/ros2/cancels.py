@@ -45,7 +45,9 @@ def send_cancel(adapter, rqst_id: int, canceller: str, args: dict) -> None:
 def named_goal(sent_goals: dict[int, tuple[str, object]], rqst_id: int, canceller: str, target: str, args: dict):
     """The goal id of the request `args["goal"]` names, a goal of `target` sent in this run."""
     goal = args["goal"]
-    sent = sent_goals.get(goal) if isinstance(goal, int) and not isinstance(goal, bool) else None
+    # a request id, which a script's argument of type float carries as 7.0
+    whole = isinstance(goal, (int, float)) and not isinstance(goal, bool) and float(goal).is_integer()
+    sent = sent_goals.get(int(goal)) if whole else None
     if sent is None or sent[0] != target:
         raise UntimelyError(f"request {rqst_id} ({canceller}) cancels goal = {goal!r}, which is no request of "
                             f"{target} sent in this run; name the request id of a goal of {target}")

@@ -75,12 +75,15 @@ def test_servers_without_introspection_get_no_taken_and_cancels_need_no_route(tm
         run.send(request(5, "tutorial.count"))
         assert run.final(5) == "ok"
         run.send(request(6, "tutorial.count_cancel"))  # the latest goal, ended
-        run.send(request(7, "tutorial.count_cancel", goal=3))  # a goal canceled already
+        run.send(request(7, "tutorial.count_cancel", goal=3.0))  # a goal canceled already (a float argument)
         assert (run.final(6), run.final(7)) == ("goal_terminated", "goal_terminated")
         kinds = {n: [m["kind"] for m in run.replies(n)] for n in range(1, 8)}
         assert all("taken" not in replies for replies in kinds.values()), kinds
         children = descendants(run.process.pid)
-        assert run.bye() == 0, "".join(run.stderr[-20:])
+        run.send(request(8, "tutorial.count_cancel", goal=1))  # a call, no goal: the script is wrong
+        error = run.expect(lambda m: m["op"] == "error")["message"]
+        assert "request 8 (tutorial.count_cancel) cancels goal = 1, which is no request of tutorial.count" in error
+        assert run.process.wait(30) == 2
         assert wait_gone(children, timeout=15) == set()
     finally:
         run.kill()
