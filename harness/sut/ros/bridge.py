@@ -38,16 +38,19 @@ class Bridge:
         self.replies = Replies(self._writer(0))
         self.hello_epoch = time.time()  # reset when the hello is answered: the SUT's clock starts there
 
-    def hello(self, proto: str, sut: str, caps: list[str]) -> None:
-        """Answer the bench's hello, starting a run; `internal` and `world` times count from here."""
+    def hello(self, proto: str, sut: str, caps: list[str], taken_services: list[str] | None = None) -> None:
+        """Answer the bench's hello, starting a run; `internal` and `world` times count from here.
+        `taken_services` ("module.Service"), where given, are those whose requests may get a `taken`
+        reply (docs/reference/protocol.md)."""
         caps = [cap for cap, topic in (("internal", self.mapping.internal_topic),
                                        ("world", self.mapping.world_topic)) if topic] + caps
+        told = {} if taken_services is None else {"taken_services": sorted(taken_services)}
         with self.lock, self.out_lock:
             self.generation += 1
             self.live = True  # the goals and pings of the last run were forgotten at its end
-            self.replies = Replies(self._writer(self.generation), taken_promised="taken" in caps)
+            self.replies = Replies(self._writer(self.generation))
             self.hello_epoch = time.time()
-            self._write({"op": "hello", "proto": proto, "sut": sut, "caps": caps})
+            self._write({"op": "hello", "proto": proto, "sut": sut, "caps": caps, **told})
 
     def end_run(self) -> None:
         """The bench's bye: this run's goals are forgotten, and bye is answered (nothing of the run

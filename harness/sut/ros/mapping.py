@@ -11,7 +11,7 @@ from typing import Annotated, Literal
 from pydantic import ConfigDict, Field, model_validator
 
 from harness.sut.ros.routes import GENERIC_SERVICE_TYPE, GENERIC_TYPE, Route, parse_route
-from harness.errors import UntimelyError
+from harness.errors import InputFileError, UntimelyError
 from harness.files import read_toml
 from harness.schema import Strict, cut, validated
 
@@ -26,6 +26,7 @@ DEFAULT_ACTION = "/{module}"
 # ROS 2: the return codes of a cancel request's response (action_msgs/srv/CancelGoal) and their
 # default reply codes: ERROR_NONE, the goal is canceling; the others, the cancel is refused.
 CANCEL_RESPONSES = ("ERROR_NONE", "ERROR_REJECTED", "ERROR_UNKNOWN_GOAL_ID", "ERROR_GOAL_TERMINATED")
+CANCEL_SUFFIX = "_cancel"  # the mission language's `cancel HANDLE` requests SERVICE_cancel of the handle's module
 DEFAULT_CANCEL_CODES = {"ERROR_NONE": "ok", "ERROR_REJECTED": "rejected", "ERROR_UNKNOWN_GOAL_ID": "rejected",
                         "ERROR_GOAL_TERMINATED": "rejected"}
 
@@ -101,6 +102,39 @@ class Mapping:
                     return text
         return self.status_codes[status]
 
+
+
+def check_cancels(mapping: Mapping, interface: dict) -> dict[str, str]:
+    """"module.Service" of each cancel -> the name of the action whose goals it cancels, once the
+    mapping is checked against the hello's interface, so that a target whose cancels cannot be
+    served is refused before any node starts (docs/ros2.md, "Cancels"): each [cancels] entry names
+    two services of the interface, the second an action; a `SERVICE_cancel` of an action's SERVICE
+    has a [cancels] entry (it would otherwise be a goal of its own); every [cancel_codes] code is
+    in the interface's catalogue."""
+    services = interface_services(interface)
+    qualified = {f"{module}.{service}" for module, service in services}
+    routes = mapping.routes([s for s in services if ".".join(s) not in mapping.cancels], interface_kinds(interface))
+    targets = {}
+    for canceller, target in mapping.cancels.items():
+        for name in (canceller, target):
+            if name not in qualified:
+                raise InputFileError(mapping.path, f'[cancels] "{canceller}"', f"{name} is no service of the "
+                                     "interface; name services of interface.toml, or add them there")
+        if routes.get(target) is None or routes[target].kind != "action":
+            raise InputFileError(mapping.path, f'[cancels] "{canceller}"', f"{target} is not served by an action, "
+                                 "so it has no goal to cancel; name an action's service")
+        targets[canceller] = routes[target].name
+    for name, route in routes.items():
+        cancel = f"{name}{CANCEL_SUFFIX}"
+        if route.kind == "action" and cancel in qualified and cancel not in mapping.cancels | mapping.overrides:
+            raise InputFileError(mapping.path, "[cancels]", f'{cancel} has no entry; add "{cancel}" = "{name}" '
+                                 f"to [cancels] (a request of it cancels a goal of {name})")
+    catalogue = interface.get("replies") or {}
+    for response, code in mapping.cancel_codes.items() if targets else ():
+        if code not in catalogue:
+            raise InputFileError(mapping.path, f"[cancel_codes] {response}", f"{code!r} is not in the interface's "
+                                 f"reply catalogue; give {response} a code of it, or add {code} to [replies]")
+    return targets
 
 
 def _told_apart(route: Route, other: Route) -> bool:

@@ -5,11 +5,12 @@ feedback may arrive after its result, and its result twice (once from the result
 through the status that carries it). A request gets at most one intermediate reply, only before
 its final, and at most one final; a goal that ends with no final code (LOST) gets none.
 
-Where the adapter promised `taken` replies (ROS 2 introspection), the server's event of receiving a
-request travels on a topic of its own, and may arrive after the response it preceded: a feedback
-or a response then proves the request was taken, and its `taken` reply goes first, as the protocol
-requires, at the instant the proof arrived (no later than the late event); the late event is
-dropped. No ROS import: the rules are checked without a master.
+A `taken` reply relays the server's own record of receiving the request (ROS 2 introspection),
+only when that record is the request's first news: it travels on a topic of its own, so it may
+arrive after the feedback or response it preceded, and the bench stamps a line when it reads it,
+so a late record cannot be placed honestly; it is dropped, and the request keeps its sending and
+receiving instants (with their epsilon). A `taken` reply is never made up from other replies.
+No ROS import: the rules are checked without a master.
 """
 from __future__ import annotations
 
@@ -19,27 +20,23 @@ from typing import Callable
 
 
 class Replies:
-    def __init__(self, write: Callable[[dict], None], taken_promised: bool = False):
-        self.write, self.taken_promised = write, taken_promised
+    def __init__(self, write: Callable[[dict], None]):
+        self.write = write
         self.lock = threading.Lock()
         self.given: dict[int, str] = {}  # request id -> its last reply: "taken", "intermediate" or "final"
 
     def feedback(self, rqst_id: int) -> None:
         with self.lock:
             if self.given.get(rqst_id, "taken") == "taken":
-                self._taken_first(rqst_id)
                 self.given[rqst_id] = "intermediate"
                 self.write({"op": "reply", "id": rqst_id, "kind": "intermediate"})
 
     def taken(self, rqst_id: int) -> None:
-        """The server took the request (ROS 2 introspection): a `taken` reply, once, before any other,
-        where the adapter promised them."""
+        """The server's record of receiving the request: a `taken` reply if nothing of the request
+        came before it, else none (a late record)."""
         with self.lock:
-            self._taken_first(rqst_id)
-
-    def _taken_first(self, rqst_id: int) -> None:
-        """The promised `taken` reply, unless the request has had a reply already."""
-        if self.taken_promised and rqst_id not in self.given:
+            if rqst_id in self.given:
+                return
             self.given[rqst_id] = "taken"
             self.write({"op": "reply", "id": rqst_id, "kind": "taken"})
 
@@ -52,6 +49,5 @@ class Replies:
                 print(f"ros adapter: request {rqst_id} ended {status} without a result: no final reply",
                       file=sys.stderr, flush=True)
                 return
-            self._taken_first(rqst_id)
             self.given[rqst_id] = "final"
             self.write({"op": "reply", "id": rqst_id, "kind": "final", "code": code})

@@ -17,12 +17,15 @@ from the mapping file (ros2.toml). Rules:
 - a `control` or `init` request on a service route is a call; its response is the final reply; a
   call has no id, so the node's ground truth names the n-th call of a service "SERVICE#n", as the
   adapter counts them (one client per service: they arrive in the order sent);
-- `taken` (where every route's server has introspection: services from Jazzy on, actions from
-  Kilted on): the server's introspection event of receiving the request, a goal's named by its id,
-  a call's by its sequence number, is relayed as a `taken` reply when it arrives, or goes just
-  before the request's feedback or response where these arrive first (harness/sut/ros/replies.py);
-- a request of a service the mapping's [cancels] names is a cancel request of the latest goal of
-  the service it names; the cancel's response is its final reply (cancels.py);
+- `taken`, only for the services whose server publishes introspection (found in the graph once
+  the node is up, introspection.py; the hello's `taken_services`): the server's event of receiving
+  the request, a goal's named by its id, a call's by its sequence number, is relayed as a `taken`
+  reply when it is the request's first news; one arriving after the feedback or response gives
+  none (harness/sut/ros/replies.py); no `taken` is ever made up;
+- a request of a service the mapping's [cancels] names is a cancel request, of the goal its
+  `goal` argument names or else of the latest goal of the service it names, sent to that action's
+  cancel_goal (the cancel service needs no route); the cancel's response is its final reply
+  (cancels.py);
 - liveness: the node's executor must answer NODE/get_parameters (probed every PROBE_PERIOD_S) within
   the mapping's heartbeat_stale_s, the node must echo the ping, and a probe sent with the ping must
   come back; otherwise the pings go unanswered (the trace is `hung`) and stderr says why.
@@ -38,20 +41,20 @@ from typing import Callable
 import rclpy
 from action_msgs.msg import GoalStatus
 from rcl_interfaces.srv import GetParameters
-from rclpy.action import ActionClient, ActionServer
+from rclpy.action import ActionClient
 from rclpy.callback_groups import ReentrantCallbackGroup
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.service_introspection import ServiceIntrospectionState
-from service_msgs.msg import ServiceEventInfo
 from std_msgs.msg import String
 from unique_identifier_msgs.msg import UUID
 
 from harness.sut.ros.bridge import Bridge
-from harness.sut.ros.mapping import Mapping, interface_kinds, interface_services
+from harness.sut.ros.mapping import Mapping, check_cancels, interface_kinds, interface_services
 from harness.sut.ros.replies import Replies
 from harness.sut.ros.routes import Route
-from harness.sut.ros2.cancels import cancel_taken, cancel_targets, send_cancel
+from harness.sut.ros2 import introspection
+from harness.sut.ros2.cancels import send_cancel
 from harness.sut.ros2.lifecycle import Lifecycle
 from harness.sut.ros2.teardown import release
 from harness.sut.ros2.types import fill, interface_name, route_class
@@ -61,14 +64,15 @@ STATUS_NAMES = {GoalStatus.STATUS_SUCCEEDED: "SUCCEEDED", GoalStatus.STATUS_ABOR
                 GoalStatus.STATUS_CANCELED: "CANCELED"}
 QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
 PROBE_PERIOD_S = 0.2
-# Service introspection came with Jazzy (rclpy 7), action introspection with Kilted (rclpy 9).
-ACTION_INTROSPECTION = hasattr(ActionServer, "configure_introspection")
 
 
 class Adapter(Bridge):
     def __init__(self, mapping: Mapping, interface: dict, time_scale: float, write: Callable[[dict], None]):
         super().__init__(mapping, interface, time_scale, write)
-        self.routes = mapping.routes(interface_services(interface), interface_kinds(interface))
+        # "module.Service" cancelled -> its action route; a cancel service has no route of its own
+        self.cancelled = check_cancels(mapping, interface)
+        self.routes = mapping.routes([s for s in interface_services(interface) if ".".join(s) not in mapping.cancels],
+                                     interface_kinds(interface))
         self.node = rclpy.create_node("untimely_adapter")
         group = ReentrantCallbackGroup()
         self.types = {route.name: route_class(route) for route in self.routes.values()}
@@ -78,23 +82,8 @@ class Adapter(Bridge):
                         for route in self.routes.values()}
         self.calls: dict[tuple[str, int], int] = {}  # (service, the call's sequence number) -> request id
         self.call_counts: dict[str, int] = {}  # service -> calls made this run (the node counts them too)
-        for route in self.routes.values():
-            kind = self.types[route.name]
-            if route.kind == "service":
-                self.node.create_subscription(kind.Event, f"{route.name}/_service_event",
-                                              lambda event, n=route.name: self._called(n, event), QOS,
-                                              callback_group=group)
-            elif ACTION_INTROSPECTION:
-                self.node.create_subscription(kind.Impl.SendGoalService.Event,
-                                              f"{route.name}/_action/send_goal/_service_event", self._goal_taken, QOS,
-                                              callback_group=group)
-        cancelled = set(cancel_targets(mapping, self.routes).values())  # checked on every distro
-        for name in cancelled if ACTION_INTROSPECTION else ():
-            self.node.create_subscription(self.types[name].Impl.CancelGoalService.Event,
-                                          f"{name}/_action/cancel_goal/_service_event",
-                                          lambda event: cancel_taken(self, event), QOS, callback_group=group)
-        # `taken` is a promise for every request: only where every route's server has introspection
-        self.taken = ACTION_INTROSPECTION or all(route.kind == "service" for route in self.routes.values())
+        self.introspected: set[str] = set()  # the event topics their servers publish (find_introspection)
+        introspection.subscribe(self, QOS, group)
         for topic, handler in ((mapping.world_topic, self._world), (mapping.internal_topic, self._internal),
                                (mapping.pong_topic, self._pong)):
             if topic:
@@ -110,6 +99,7 @@ class Adapter(Bridge):
         self.stale_said = False
         self.goals: dict[int, object] = {}  # request id -> ClientGoalHandle of this run
         self.latest: dict[str, UUID] = {}  # "module.Service" -> the id of its latest goal of this run
+        self.sent_goals: dict[int, tuple[str, UUID]] = {}  # request id -> ("module.Service", goal id), this run's
         self.cancelling: dict[str, list[int]] = {}  # goal id (hex) -> the cancel requests of it not yet taken
         self.unprobed: set[int] = set()  # the bench's pings whose own probe has not come back
         self.executor = MultiThreadedExecutor(num_threads=4)
@@ -117,9 +107,14 @@ class Adapter(Bridge):
         self.stopped = threading.Event()
         threading.Thread(target=self.executor.spin, name="executor", daemon=True).start()
 
+    def find_introspection(self) -> list[str]:
+        """Once the node is up: the "module.Service" whose servers publish introspection (the hello's
+        `taken_services`), whose events are relayed from now on."""
+        return introspection.find(self)
+
     def forget(self) -> None:
         self.goals, self.calls, self.call_counts, self.unprobed = {}, {}, {}, set()
-        self.latest, self.cancelling = {}, {}
+        self.latest, self.cancelling, self.sent_goals = {}, {}, {}
 
     def ping(self, message: dict) -> None:
         """The echo through the ping topic, and a round trip of its own through the node's executor
@@ -231,11 +226,11 @@ class Adapter(Bridge):
     # -- bench -> ROS 2 --------------------------------------------------------------------------
     def request(self, message: dict) -> None:
         rqst_id, module, service = message["id"], message["module"], message["service"]
+        if f"{module}.{service}" in self.cancelled:
+            return send_cancel(self, rqst_id, f"{module}.{service}", message["args"])
         route = self.routes.get(f"{module}.{service}")
         if route is None:
             raise UntimelyError(f"request {rqst_id} names {module}.{service}, which the hello's interface does not declare")
-        if f"{module}.{service}" in self.mapping.cancels:
-            return send_cancel(self, rqst_id, self.mapping.cancels[f"{module}.{service}"])
         kind = self.types[route.name]
         body = kind.Goal if route.kind == "action" else kind.Request
         body = fill(body(**({"service": service} if route.generic else {})), route, message["args"])
@@ -253,6 +248,7 @@ class Adapter(Bridge):
             goal_id = os.urandom(16)
             self.goal_ids[goal_id.hex()] = rqst_id
             uuid = self.latest[f"{module}.{service}"] = UUID(uuid=list(goal_id))
+            self.sent_goals[rqst_id] = (f"{module}.{service}", uuid)
             future = self.clients[route.name].send_goal_async(
                 body, feedback_callback=lambda _fb: replies.feedback(rqst_id), goal_uuid=uuid)
         future.add_done_callback(lambda f: self._accepted(replies, rqst_id, route, f))
@@ -263,21 +259,6 @@ class Adapter(Bridge):
             replies.ended(rqst_id, f"a failed call ({future.exception()})", None)
         else:
             replies.ended(rqst_id, "RESPONSE", route.response_code(future.result(), self.catalogue))
-
-    def _called(self, service: str, event) -> None:
-        if event.info.event_type == ServiceEventInfo.REQUEST_RECEIVED:
-            with self.lock:
-                rqst_id, replies = self.calls.pop((service, event.info.sequence_number), None), self.replies
-            if rqst_id is not None:
-                replies.taken(rqst_id)
-
-    def _goal_taken(self, event) -> None:
-        """The server's record of a goal request it received, with its contents: the goal id."""
-        if event.info.event_type == ServiceEventInfo.REQUEST_RECEIVED and event.request:
-            with self.lock:
-                rqst_id, replies = self.goal_ids.get(bytes(event.request[0].goal_id.uuid).hex()), self.replies
-            if rqst_id is not None:
-                replies.taken(rqst_id)
 
     def _accepted(self, replies: Replies, rqst_id: int, route: Route, future) -> None:
         handle = future.result()

@@ -1,13 +1,17 @@
 """Cancels: a request of a service that the mapping's [cancels] table names is no goal of its own
-but a cancel request (action_msgs/srv/CancelGoal) of the latest goal this run sent for the service
-it names, whether that goal runs, waits for its goal response, or has ended (docs/ros2.md).
+but a cancel request (action_msgs/srv/CancelGoal), sent to the cancel_goal service of the action
+serving the service it names; the cancel service needs no route (docs/ros2.md, "Cancels").
 
-The cancel's response is the request's final reply: its return code (ERROR_NONE: the goal is
-canceling; ERROR_REJECTED, ERROR_UNKNOWN_GOAL_ID, ERROR_GOAL_TERMINATED: refused) through the
-mapping's cancel_codes. The cancelled goal's own ending comes, as any goal's, with its result (a
-CANCELED status gives the result's code, else the mapping's CANCELED code). A cancel before any goal
-of the service names a goal id no server knows, so the server answers it (ERROR_UNKNOWN_GOAL_ID):
-no reply is invented. `taken` (Kilted): the server's introspection event of the cancel request.
+Which goal: the one its `goal` argument names (the request id, in this run, of a goal of that
+service: the mission language's `cancel HANDLE` sends it), else the latest goal of that service,
+whether that goal runs, waits for its goal response, or has ended. The cancel's response is the
+request's final reply: its return code (ERROR_NONE: the goal is canceling; ERROR_REJECTED,
+ERROR_UNKNOWN_GOAL_ID, ERROR_GOAL_TERMINATED: refused) through the mapping's cancel_codes. The
+cancelled goal's own ending comes, as any goal's, with its result (a CANCELED status gives the
+result's code, else the mapping's CANCELED code). A cancel before any goal of the service names a
+goal id no server knows, so the server answers it (ERROR_UNKNOWN_GOAL_ID): no reply is invented.
+`taken`: the server's introspection event of the cancel request, where it publishes one
+(introspection.cancel_taken).
 """
 from __future__ import annotations
 
@@ -15,7 +19,6 @@ import os
 
 from action_msgs.srv import CancelGoal
 from rclpy.action.client import ClientGoalHandle
-from service_msgs.msg import ServiceEventInfo
 from unique_identifier_msgs.msg import UUID
 
 from harness.sut.ros.replies import Replies
@@ -25,28 +28,30 @@ RESPONSES = {getattr(CancelGoal.Response, name): name for name in
              ("ERROR_NONE", "ERROR_REJECTED", "ERROR_UNKNOWN_GOAL_ID", "ERROR_GOAL_TERMINATED")}
 
 
-def cancel_targets(mapping, routes: dict) -> dict[str, str]:
-    """"module.Service" cancelled -> its action's name, checking that each is an action route of
-    the interface."""
-    targets = {}
-    for canceller, target in mapping.cancels.items():
-        route = routes.get(target)
-        if canceller not in routes or route is None or route.kind != "action":
-            raise UntimelyError(f"{mapping.path}: cancels: {canceller} = {target}: both must be services of the "
-                                "interface, the second mapped to an action; fix the [cancels] table")
-        targets[target] = route.name
-    return targets
-
-
-def send_cancel(adapter, rqst_id: int, target: str) -> None:
-    """The cancel of `target`'s latest goal of this run, its response relayed as the final reply."""
+def send_cancel(adapter, rqst_id: int, canceller: str, args: dict) -> None:
+    """The cancel of the goal `args` names (else the latest of the service `canceller` cancels),
+    its response relayed as the final reply."""
+    target = adapter.mapping.cancels[canceller]
     client = adapter.clients[adapter.routes[target].name]
     with adapter.lock:
         replies = adapter.replies
-        goal_id = adapter.latest.get(target) or UUID(uuid=list(os.urandom(16)))
+        goal_id = named_goal(adapter.sent_goals, rqst_id, canceller, target, args) if "goal" in args else \
+            adapter.latest.get(target) or UUID(uuid=list(os.urandom(16)))
         adapter.cancelling.setdefault(bytes(goal_id.uuid).hex(), []).append(rqst_id)
         future = ClientGoalHandle(client, goal_id, None).cancel_goal_async()
     future.add_done_callback(lambda f: _answered(adapter.mapping, replies, rqst_id, f))
+
+
+def named_goal(sent_goals: dict[int, tuple[str, object]], rqst_id: int, canceller: str, target: str, args: dict):
+    """The goal id of the request `args["goal"]` names, a goal of `target` sent in this run."""
+    goal = args["goal"]
+    # a request id, which a script's argument of type float carries as 7.0
+    whole = isinstance(goal, (int, float)) and not isinstance(goal, bool) and float(goal).is_integer()
+    sent = sent_goals.get(int(goal)) if whole else None
+    if sent is None or sent[0] != target:
+        raise UntimelyError(f"request {rqst_id} ({canceller}) cancels goal = {goal!r}, which is no request of "
+                            f"{target} sent in this run; name the request id of a goal of {target}")
+    return sent[1]
 
 
 def _answered(mapping, replies: Replies, rqst_id: int, future) -> None:
@@ -56,12 +61,3 @@ def _answered(mapping, replies: Replies, rqst_id: int, future) -> None:
     name = RESPONSES.get(future.result().return_code, f"return code {future.result().return_code}")
     replies.ended(rqst_id, name, mapping.cancel_codes.get(name))
 
-
-def cancel_taken(adapter, event) -> None:
-    """The server's record of a cancel request it received (Kilted's action introspection)."""
-    if event.info.event_type == ServiceEventInfo.REQUEST_RECEIVED and event.request:
-        with adapter.lock:
-            waiting = adapter.cancelling.get(bytes(event.request[0].goal_info.goal_id.uuid).hex())
-            rqst_id, replies = (waiting.pop(0) if waiting else None), adapter.replies
-        if rqst_id is not None:
-            replies.taken(rqst_id)

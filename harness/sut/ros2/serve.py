@@ -4,12 +4,14 @@ serves run after run (docs/ros2.md). Not started by hand: `python -m harness.sut
 
 Order: the bench's hello gives the time scale, passed to the node as $UNTIMELY_TIME_SCALE; once
 every mapped server and service answers, a lifecycle node has been configured and activated, and
-the node has echoed a first ping, the hello is answered and requests flow. With a lifecycle node
-the hello offers `reuse`: on `bye` the node is reset (deactivate, cleanup, configure, activate: a
-fresh layer), bye is answered, and the next hello starts the next run on the same node. With
-$UNTIMELY_ROSBAG set (a folder), the run's traffic is recorded into the MCAP bag FOLDER/trace-ID
-(ID: the hello's run), once every recorded topic has its publisher, and reuse is not offered. On end
-of input, SIGTERM, or `bye` without reuse, the node is stopped. A failure is an `error` line.
+the node has echoed a first ping, the hello is answered and requests flow; it names the services
+whose servers publish introspection (`taken_services`: their requests may get `taken` replies).
+With a lifecycle node the hello offers `reuse`: on `bye` the node is reset (deactivate, cleanup,
+configure, activate: a fresh layer), bye is answered, and the next hello starts the next run on
+the same node. With $UNTIMELY_ROSBAG set (a folder), the run's traffic is recorded into the MCAP
+bag FOLDER/trace-ID (ID: the hello's run), once every recorded topic has its publisher, and reuse
+is not offered. On end of input, SIGTERM, or `bye` without reuse, the node is stopped. A failure
+is an `error` line.
 """
 from __future__ import annotations
 
@@ -20,7 +22,7 @@ import time
 from pathlib import Path
 
 from harness.sut.ros.lines import LineWriter, read_hello, run_main, serve
-from harness.sut.ros.mapping import load_mapping
+from harness.sut.ros.mapping import check_cancels, load_mapping
 from harness.sut.processes import Child, stop_all
 from harness.sut.ros.recorder import recording_folder
 from harness.sut.protocol import PROTO
@@ -33,6 +35,7 @@ def run(args, out: LineWriter) -> None:
     first = hello = read_hello(sys.stdin)
     if hello is None:
         return
+    check_cancels(mapping, hello["interface"])  # before the node starts: a mapping it cannot serve is refused
     started = time.monotonic()
     node = Child("node", args.node, {**os.environ, "UNTIMELY_TIME_SCALE": repr(hello["time_scale"])})
     adapter = recorder = None
@@ -51,6 +54,7 @@ def run(args, out: LineWriter) -> None:
         if mapping.lifecycle:
             adapter.transition(BRING_UP, args.startup_timeout)
         adapter.start_probing()
+        taken_services = adapter.find_introspection()
         runs = 0
         while hello is not None:
             if mapping.ping_topic:
@@ -58,7 +62,7 @@ def run(args, out: LineWriter) -> None:
             runs += 1
             adapter.hello(PROTO, f"ROS 2 {os.environ.get('UNTIMELY_ROS2_DISTRO', '')} adapter (domain "
                                  f"{os.environ.get('ROS_DOMAIN_ID')}; node: {' '.join(args.node)}; up in {discovery:.2f} s; run {runs} of "
-                                 "this node)", ["reuse"] * reusable + ["taken"] * adapter.taken)
+                                 "this node)", ["reuse"] * reusable, taken_services)
             if not (serve(adapter, sys.stdin) and reusable) or node.failure():
                 break
             adapter.end_run()

@@ -52,10 +52,24 @@ def first_steps(run: Launcher, base: int = 0) -> None:
     run.expect(lambda m: m["op"] == "reply" and m["id"] == base + 31 and m["kind"] == "intermediate")
     run.send(request(base + 32, "rflex.Stop"))
     assert (run.final(base + 31), run.final(base + 32)) == ("interrupted", "ok")
-    taken = ["taken"] if "taken" in run.lines[0][1]["caps"] else []
-    for rqst_id in [1, *INITS, 20, 22, 30, 31, 32]:
-        kinds = [m["kind"] for m in run.replies(base + rqst_id)]
-        assert kinds == taken + (["intermediate", "final"] if rqst_id in (30, 31, 32) else ["final"]), (rqst_id, kinds)
+    assert_taken_only_where_published(run, {base + n: s for n, s in [(1, "ndd.GotoPosition"), *INITS.items(),
+                                          (20, "rflex.SetMode"), (22, "rflex.SetMode"), (30, "aspect.Reset"),
+                                          (31, "rflex.TrackSpeedStart"), (32, "rflex.Stop")]},
+                                     intermediate={base + 30, base + 31, base + 32})
+
+
+def assert_taken_only_where_published(run: Launcher, services: dict[int, str], intermediate: set[int]) -> None:
+    """Each request's replies in order: a `taken` first only where the hello names its service in
+    `taken_services` (its server publishes introspection), and there only when the server's event
+    came before the request's other replies (a late one gives none); some did on such a node."""
+    promised = set(next(m for _, m in run.lines if m["op"] == "hello")["taken_services"])
+    taken = 0
+    for rqst_id, service in services.items():
+        kinds = [m["kind"] for m in run.replies(rqst_id)]
+        rest = ["intermediate", "final"] if rqst_id in intermediate else ["final"]
+        assert kinds in ([rest, ["taken", *rest]] if service in promised else [rest]), (rqst_id, service, kinds)
+        taken += kinds[0] == "taken"
+    assert taken > 0 or not promised & set(services.values()), "no request got the taken its server publishes"
 
 
 @requires_ros2("jazzy")
@@ -231,15 +245,21 @@ def test_typed_routes_serve_the_inits_as_std_srvs_trigger():
 
 
 @requires_ros2("jazzy")
-def test_no_taken_on_jazzy_where_goals_have_no_introspection():
+def test_on_jazzy_taken_is_promised_for_the_services_only():
     """Jazzy's services have introspection, its actions none: with ros2.toml (exec services as
-    actions) the adapter cannot keep the promise of a `taken` for every request, so offers none."""
+    actions, the others services, all of them publishing introspection where the distro has it)
+    the hello names the control and init services only, and no goal gets a `taken`."""
     run = launcher()
     try:
         answer = run.start(time_scale=1.0)
+        interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
         assert "taken" not in answer["caps"], answer
+        assert set(answer["taken_services"]) == {q for q, s in interface.services.items() if s.kind != "exec"}, answer
+        run.send(request(2, "ndd.GotoPosition", x=9, y=4))  # before its module's Init: refused
+        assert run.final(2) == "wait_init"
         run.send(request(1, "ndd.Init"))
-        assert run.final(1) == "ok" and [m["kind"] for m in run.replies(1)] == ["final"]
+        assert run.final(1) == "ok"
+        assert_taken_only_where_published(run, {1: "ndd.Init", 2: "ndd.GotoPosition"}, intermediate=set())
         assert run.bye() == 0
     finally:
         run.kill()
@@ -247,13 +267,15 @@ def test_no_taken_on_jazzy_where_goals_have_no_introspection():
 
 @requires_ros2("kilted")
 def test_first_steps_on_kilted_with_taken_replies():
-    """On Kilted both actions and services have introspection: every request gets a `taken` reply,
-    from the server's event of receiving it (or, where that event comes late, from the feedback or
-    response that proves it), before any other reply (first_steps checks the order)."""
+    """On Kilted both actions and services have introspection, which the Dala node publishes: the
+    hello names every service, and a request gets a `taken` reply from the server's event of
+    receiving it, before any other reply, unless that event came late (first_steps checks)."""
     run = launcher(distro="kilted")
     try:
         answer = run.start(time_scale=1.0)
-        assert answer["op"] == "hello" and "ROS 2 kilted" in answer["sut"] and "taken" in answer["caps"], answer
+        interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
+        assert answer["op"] == "hello" and "ROS 2 kilted" in answer["sut"] and "taken" not in answer["caps"], answer
+        assert set(answer["taken_services"]) == set(interface.services), answer
         first_steps(run)
         children = descendants(run.process.pid)
         assert run.bye() == 0, "".join(run.stderr[-20:])
@@ -282,7 +304,8 @@ def test_a_cancel_ends_a_running_goal_and_one_after_success_is_refused(tmp_path,
     service it names: a running TrackSpeedStart is canceled (the cancel answers ERROR_NONE, the goal
     ends CANCELED with the layer's `interrupted`); a cancel of a Reset that succeeded is refused
     ERROR_GOAL_TERMINATED, one of a ContinuousShot never sent ERROR_UNKNOWN_GOAL_ID, each with the
-    mapping's reply code. On Kilted each cancel is `taken` first (the server's introspection)."""
+    mapping's reply code. On Kilted a cancel may be `taken` first (the server's introspection).
+    The Stop services need no route of their own: each is served by its action's cancel_goal."""
     if installed(ROOT, distro):
         pytest.skip(installed(ROOT, distro))
     mapping = tmp_path / "ros2.toml"
@@ -305,8 +328,7 @@ def test_a_cancel_ends_a_running_goal_and_one_after_success_is_refused(tmp_path,
         run.send(request(5, "sick.Stop"))
         refused = (run.final(4), run.final(5))
         assert refused == ("disallowed", "bad_params"), refused
-        if "taken" in run.lines[0][1]["caps"]:
-            assert all(run.replies(n)[0]["kind"] == "taken" for n in (2, 4, 5)), [run.replies(n) for n in (2, 4, 5)]
+        assert_taken_only_where_published(run, {2: "rflex.Stop", 4: "aspect.Stop", 5: "sick.Stop"}, intermediate=set())
         assert run.bye() == 0, "".join(run.stderr[-20:])
     finally:
         run.kill()
