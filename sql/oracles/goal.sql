@@ -45,7 +45,7 @@ case when not {{ running }} then (case when reply is null then 'omega' when clas
     from {{ name }}_x j
     join {{ name }}_x i on i.trace_id = j.trace_id and i.rqst_id <> j.rqst_id and i.class is distinct from 'R'
 ),
-{{ name }}_pairs as (
+{{ name }}_placed as (
     select m.trace_id, m.rqst_id, m.item, m.conflicts, m.shift, coalesce(m.sure, m.shift) as movable, m.i_final_t,
            {{ judge.near('coalesce(m.sure, m.shift)') }} as near, false as conflict_rejected
     from {{ name }}_met m left join epsilons e using (trace_id)
@@ -60,14 +60,14 @@ case when not {{ running }} then (case when reply is null then 'omega' when clas
            coalesce(bool_and(near) filter (where conflicts), false) as running_near,
            case when bool_or(conflicts) then max(coalesce(i_final_t, 'infinity')) filter (where conflicts)
                 else max(coalesce(i_final_t, 'infinity')) filter (where near) end as last_end_t
-    from {{ name }}_pairs
+    from {{ name }}_placed
     group by trace_id, rqst_id
 ),
 {{ name }}_facts as (
     select x.*, coalesce({{ 'reply = ' ~ (r_p | lit) if r_p else 'false' }}, false) as own_code, {{ 'true' if r_p else 'false' }} as coded,
            coalesce(r.running, false) as running, r.last_end_t, f.first_feedback_t, d.deadline, e.epsilon,
            least(f.first_feedback_t, case when x.class = 'T' then x.final_t end) as moved_t,
-           s.sent_t + d.deadline as due_t, least(r.last_end_t, n.end_t) as decided_t, r.c_shift,
+           s.sent_t, s.sent_t + d.deadline as due_t, least(r.last_end_t, n.end_t) as decided_t, r.c_shift,
            coalesce(r.some_near, false) as some_near, coalesce(r.running_near or not r.running and r.some_near, false) as running_near
     from {{ name }}_x x left join {{ name }}_running r using (trace_id, rqst_id)
     left join {{ name }}_feedback f using (trace_id, rqst_id)
@@ -80,6 +80,17 @@ case when not {{ running }} then (case when reply is null then 'omega' when clas
            some_near or {{ judge.near('abs(last_end_t - moved_t)', 'epsilon') }} as moved_near,
            some_near or {{ judge.near('abs(decided_t - due_t)', 'epsilon') }} as late_near
     from {{ name }}_facts
+),
+-- the items explain shows: the other goals, and the deadline of the executing ones' end
+{{ name }}_pairs as (
+    select trace_id, rqst_id, item, conflicts, shift, movable, conflict_rejected, null::varchar as detail
+    from {{ name }}_placed
+    union all
+    select trace_id, rqst_id, 'deadline', false, abs(decided_t - due_t), abs(decided_t - due_t), false,
+           printf('sent at %.6f s: the goals executing then due to end by %.6f s (deadline %g s), before it moves (%s); %s',
+                  sent_t, due_t, deadline, coalesce(printf('at %.6f s', moved_t), 'never'),
+                  case when last_end_t = 'infinity' then 'one never ended' else printf('the last ended at %.6f s', last_end_t) end)
+    from {{ name }}_verdict where running
 ),
 {{ name }}_judged as (
     select trace_id, rqst_id, module, service, reply, not running as c_holds, verdict,

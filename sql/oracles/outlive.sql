@@ -28,7 +28,7 @@ case when class = 'R' then 'op'
 -- each x(i) that ran with every ok of a y(j) that it was sent before: it conflicts when x(i) had
 -- not ended at that ok; its shift: to x(i)'s sending or its end (sure when x(i) ended first, as
 -- observed: rule 7; a goal without a reply in a trace that ended first may never have been taken)
-{{ name }}_pairs as (
+{{ name }}_placed as (
     select x.trace_id, x.rqst_id, y.rqst_id::varchar as item, y.final_t as left_t,
            not coalesce({{ base.before('x.final_', 'y.final_') }}, false) as conflicts,
            case when {{ base.before('x.final_', 'y.final_') }} then y.final_t - x.final_t
@@ -50,7 +50,7 @@ case when class = 'R' then 'op'
            coalesce(bool_and({{ judge.near('movable') }}) filter (where conflicts), false) as all_near,
            case when bool_or(conflicts) then max(shift) filter (where conflicts)
                 else min(shift) filter (where not conflicts) end as c_shift
-    from {{ name }}_pairs p left join epsilons e using (trace_id)
+    from {{ name }}_placed p left join epsilons e using (trace_id)
     group by p.trace_id, p.rqst_id
 ),
 {{ name }}_facts as (
@@ -66,6 +66,18 @@ case when class = 'R' then 'op'
     select *, coalesce({{ due.after('decided_t', 'due_t') }}, false) as late,
            some_near or {{ judge.near('abs(decided_t - due_t)', 'epsilon') }} as late_near
     from {{ name }}_facts
+),
+-- the items explain shows: the transitions, and the deadline of the goal's end
+{{ name }}_pairs as (
+    select trace_id, rqst_id, item, conflicts, shift, movable, conflict_rejected, null::varchar as detail
+    from {{ name }}_placed
+    union all
+    select trace_id, rqst_id, 'deadline', false, abs(decided_t - due_t), abs(decided_t - due_t), false,
+           printf('the node left the state at %.6f s: due to end by %.6f s (deadline %g s); %s at %.6f s',
+                  due_t - deadline, due_t, deadline,
+                  case when reply is null then 'no end; the trace ended' else 'it ended' end, decided_t)
+               || case when late then ': late' else ': in time' end
+    from {{ name }}_verdict where running
 ),
 {{ name }}_judged as (
     select trace_id, rqst_id, module, service, reply, case when class is distinct from 'R' then not running end as c_holds,
