@@ -77,7 +77,8 @@ case when not {{ running }} then (case when reply is null then 'omega' when clas
 {{ name }}_verdict as (
     select *, coalesce({{ due.after('last_end_t', 'moved_t') }}, false) as moved_first,
            coalesce({{ due.after('decided_t', 'due_t') }}, false) as late,
-           some_near or {{ judge.near('abs(last_end_t - moved_t)', 'epsilon') }} as moved_near,
+           some_near or {{ judge.near('abs(last_end_t - moved_t)', 'epsilon') }}
+               or moved_t is null and {{ judge.ended_first() }} as moved_near,  -- a feedback may have been lost
            some_near or {{ judge.near('abs(decided_t - due_t)', 'epsilon') }} as late_near
     from {{ name }}_facts
 ),

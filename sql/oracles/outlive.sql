@@ -41,6 +41,11 @@ case when class = 'R' then 'op'
     from {{ name }}_x x
     join {{ name }}_y y on y.trace_id = x.trace_id and y.reply = 'ok' and {{ base.before('x.', 'y.final_') }}
     where x.class is distinct from 'R'
+    union all  -- a y(j) without a reply in a trace that ended first: its ok may have been lost (rule 10)
+    select x.trace_id, x.rqst_id, y.rqst_id::varchar, null, false, null, 0, false
+    from {{ name }}_x x
+    join {{ name }}_y y on y.trace_id = x.trace_id and y.final_t is null and {{ judge.ended_first('y.trace_id') }}
+    where x.class is distinct from 'R' and (x.final_t is null or {{ base.before('y.', 'x.final_') }})
 ),
 -- per x(i): whether it executed when the node left the state, the first such instant, how far C is
 -- from changing, and whether any of those orders is unsure (then the first instant is too)
