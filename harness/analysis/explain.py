@@ -160,7 +160,8 @@ class Explainer:
         verdict, c_holds, margin, suspicious = verdict_row
         prop = self.properties[property_id]
         service, t, final_t, reply, cls, args = requests[(trace_id, rqst_id)]
-        condition = {True: "true", False: "false", None: "undefined (x(i) was rejected)"}[c_holds]
+        undefined = "no goal to cancel" if prop.type == "CAN" else "x(i) was rejected"
+        condition = {True: "true", False: "false", None: f"undefined ({undefined})"}[c_holds]
         lines = [f"{property_id} on request {rqst_id} of trace {trace_id}: {verdict}",
                  f"  x(i) {service}{f' {args}' if args and args != '{}' else ''} sent at {_seconds(t)} s; final reply "
                  + (f"{reply} (class {cls or 'not in the catalogue'}) at {_seconds(final_t)} s" if reply else "none"),

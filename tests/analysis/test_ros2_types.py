@@ -69,6 +69,15 @@ def test_explain_shows_the_deadline_in_words_beside_the_requests(file, label, pr
     assert "y arm." in text and shown in text
 
 
+def test_explain_says_why_a_cancels_condition_is_undefined():
+    fixture = load(HERE / "ros2_can.trace")
+    con = judged_store(fixture, EPSILON)
+    trace_id = next(n for n, case in enumerate(fixture.cases, 1) if case.label == "can_no_goal")
+    text = Explainer(con, fixture.interface, {p.id: p for p in fixture.properties}).explain(
+        [(trace_id, "CAN(arm.move)", 1)])[(trace_id, "CAN(arm.move)", 1)]
+    assert "C is undefined (no goal to cancel)" in text and text.endswith("nothing in the trace could make C false")
+
+
 @pytest.fixture(scope="module")
 def fuzzed():
     return judged_traces("ros2 fuzz", [(random_arm_trace(seed), None) for seed in range(400)], ARM.properties(),
