@@ -11,6 +11,7 @@ from harness.analysis.explain import Explainer
 from harness.errors import InputFileError
 from harness.target.interface import load_properties
 from harness.target.mission import load_mission
+from harness.trace import Trace
 from tests.support.intervals_truth import missed, outside
 from tests.support.ros2_fuzz import random_arm_trace
 from tests.support.traces import HERE, judged_store, judged_traces, load
@@ -76,6 +77,52 @@ def test_explain_says_why_a_cancels_condition_is_undefined():
     text = Explainer(con, fixture.interface, {p.id: p for p in fixture.properties}).explain(
         [(trace_id, "CAN(arm.move)", 1)])[(trace_id, "CAN(arm.move)", 1)]
     assert "C is undefined (no goal to cancel)" in text and text.endswith("nothing in the trace could make C false")
+
+
+DERIVED = """
+[[property]]
+id = "G"
+family = "G"
+type = "GOAL"
+x = ["arm.move"]
+
+[[property]]
+id = "O"
+family = "O"
+type = "OUTLIVE"
+x = ["arm.move"]
+y = ["arm.deactivate"]
+"""
+
+
+def _arm_trace(rows: list[tuple]) -> Trace:
+    """A trace of the arm from (t, kind, rqst_id, service, reply) rows."""
+    events = [(seq, t, kind, rqst_id, "arm", service, "{}" if kind == "request" else None, reply)
+              for seq, (t, kind, rqst_id, service, reply) in enumerate(rows, 1)]
+    return Trace(sut="arm", seed=0, events=events)
+
+
+def test_goal_and_outlive_derive_their_deadlines_from_the_first_reply_and_from_the_transitions(tmp_path):
+    """GOAL: 10 x the golden goal's time to its first feedback (0.15 s: 1.5 s); OUTLIVE: 10 x the
+    golden deactivate's latency (0.2 s: 2 s), not the goal's 5 s run."""
+    (tmp_path / "p.toml").write_text(DERIVED)
+    golden = [(0.0, "request", 1, "move", None), (0.15, "intermediate", 1, "move", None),
+              (5.0, "final", 1, "move", "ok"), (5.1, "request", 2, "deactivate", None),
+              (5.3, "final", 2, "deactivate", "ok")]
+    # a second move while the first runs, the first ending 1.4 s (trace 2) or 1.6 s (trace 3) after it;
+    # a deactivate whose ok leaves the first one running 1.9 s (trace 2) or 2.1 s (trace 3)
+    mutants = [[(0.0, "request", 1, "move", None), (1.0, "request", 2, "move", None),
+                (1.0 + end, "final", 1, "move", "aborted"), (3.0, "final", 2, "move", "ok"),
+                (3.5, "request", 3, "move", None), (4.0, "request", 4, "deactivate", None),
+                (4.1, "final", 4, "deactivate", "ok"), (4.1 + left, "final", 3, "move", "ok")]
+               for end, left in ((1.4, 1.9), (1.6, 2.1))]
+    con = judged_traces("derived", [(_arm_trace(golden), "golden"), *[(_arm_trace(m), None) for m in mutants]],
+                        load_properties(tmp_path / "p.toml", ARM.interface), EPSILON,
+                        interface=ARM.interface, golden=frozenset({1}))
+    verdicts = con.execute("""select trace_id, property_id, verdict from verdicts
+                              where trace_id > 1 and (property_id, rqst_id) in (('G', 2), ('O', 3))
+                              order by all""").fetchall()
+    assert verdicts == [(2, "G", "TP"), (2, "O", "TN"), (3, "G", "FN"), (3, "O", "FN")]
 
 
 @pytest.fixture(scope="module")
