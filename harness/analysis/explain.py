@@ -29,6 +29,7 @@ from harness.textable import format_table
 Key = tuple[int, str, int]  # (trace_id, property_id, rqst_id): one verdict row
 ARGUMENT_ITEM = "arg "  # how a value-domain oracle names an argument among its items (sql/oracles/val.sql)
 SPAN_ITEM = "state"  # how IN and OUT name the state x(i) stands in (sql/oracles/_span.sql)
+DEADLINE_ITEM = "deadline"  # how the ROS 2 types name their deadline, its events in `detail` (sql/oracles/_deadline.sql)
 
 
 def judged_files(con, properties: str | None = None) -> tuple[Path, Path]:
@@ -129,6 +130,8 @@ class Explainer:
                 what, events = f"q {pair['item']}", "ok at " + (", ".join(map(_seconds, found)) or "never")
             elif pair["item"] is None:  # a verdict no y request decided (x interrupted by nothing of y)
                 what, events = "no y request", "the trace holds no request of y"
+            elif pair["item"] == DEADLINE_ITEM:  # not C's: whether the end came by the deadline, in words
+                what, events = "deadline", pair["detail"]
             elif pair["item"] == SPAN_ITEM:  # IN's C holds inside the span, OUT's outside
                 inside = pair["conflicts"] == (prop.type == "OUT")
                 what, events = "state", ("inside" if inside else "outside") + " the span an ok of q enters, an ok of y leaves"
@@ -157,7 +160,8 @@ class Explainer:
         verdict, c_holds, margin, suspicious = verdict_row
         prop = self.properties[property_id]
         service, t, final_t, reply, cls, args = requests[(trace_id, rqst_id)]
-        condition = {True: "true", False: "false", None: "undefined (x(i) was rejected)"}[c_holds]
+        undefined = "no goal to cancel" if prop.type == "CAN" else "x(i) was rejected"
+        condition = {True: "true", False: "false", None: f"undefined ({undefined})"}[c_holds]
         lines = [f"{property_id} on request {rqst_id} of trace {trace_id}: {verdict}",
                  f"  x(i) {service}{f' {args}' if args and args != '{}' else ''} sent at {_seconds(t)} s; final reply "
                  + (f"{reply} (class {cls or 'not in the catalogue'}) at {_seconds(final_t)} s" if reply else "none"),
