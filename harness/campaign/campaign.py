@@ -35,7 +35,8 @@ from harness.sut.executive import run_script
 from harness.dispatch.executor import open_executor
 from harness.sut.definitions import from_configs
 from harness.sut.external.kept import kept_adapters
-from harness.dispatch.workers import Setup, script_label
+from harness.dispatch import transport
+from harness.dispatch.description import script_label
 from harness.schema import cut
 from harness.store.reads import observed_events
 from harness.store.sql import render_query
@@ -153,7 +154,7 @@ def main(request: CampaignRequest, runner=None) -> int:
     target = load_mission(request.mission)
     golden, properties = target.golden(), target.properties()  # refused before anything starts
     external = from_configs(config.external)
-    setup = Setup(runner or run_script, target.interface_file, target.world_file, request.max_delay,
+    setup = transport.setup(runner or run_script, target.interface_file, target.world_file, request.max_delay,
                   external, REALTIME_WALL_LIMIT_S if external else RUN_WALL_LIMIT_S)
     # A real-time run mostly waits: its slots may outnumber the cores.
     jobs = request.jobs or max([len(os.sched_getaffinity(0))] + [s.slots for s in external.values()])

@@ -12,7 +12,8 @@ from harness import store
 from harness.campaign.context import CampaignContext
 from harness.campaign.shrink import Behaviour, Original, Shrunk, original, shrunk, stored
 from harness.errors import UntimelyError
-from harness.dispatch.workers import Pool, Setup
+from harness.dispatch.description import Setup
+from harness.dispatch.workers import Pool
 from harness.store.record import ShrinkRecord, records
 from harness.target.interface import Interface, Property
 

@@ -16,7 +16,7 @@ from harness import store
 from harness.campaign import sharding
 from harness.errors import StoreError
 from harness.progress import Progress
-from harness.dispatch.workers import Task
+from harness.dispatch.description import Task
 from harness.store.record import CampaignRecord
 from harness.trace import Trace
 

@@ -34,7 +34,8 @@ from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
 from harness.sut.definitions import from_configs, load_suts_file, resolve
 from harness.trace import Trace
-from harness.dispatch.workers import Setup, Task
+from harness.dispatch import transport
+from harness.dispatch.description import Task
 from harness.store.record import CampaignRecord, RunRecord, ShrinkRecord, record_of
 
 MIN_SLEEP_S = 0.01  # sleeps are halved down to this
@@ -77,7 +78,7 @@ class Original:
 
     def run(self, body: str, runner=run_script) -> Trace:
         """Run a script on the trace's variant with its seed, as the campaign's workers do."""
-        setup = Setup(runner, self.mission / INTERFACE_FILE, self.mission / WORLD_FILE, self.max_delay,
+        setup = transport.setup(runner, self.mission / INTERFACE_FILE, self.mission / WORLD_FILE, self.max_delay,
                       from_configs(self.external))
         trace = setup.run(Task(self.trace_id, self.script_id, self.sut, self.seed, body), self.interface, self.slot)
         self.made.append((body, trace))

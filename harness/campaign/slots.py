@@ -25,7 +25,7 @@ from typing import Callable, Iterator
 
 from harness.errors import UntimelyError
 from harness.campaign.context import CampaignContext
-from harness.dispatch.workers import Setup, Task
+from harness.dispatch.description import Setup, Task
 from harness.trace import Trace
 
 
