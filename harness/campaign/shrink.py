@@ -25,6 +25,7 @@ from pathlib import Path
 from harness import DEFAULT_EPSILON_S, store
 from harness.errors import ScriptError, StoreError, UntimelyError
 from harness.files import make_folder
+from harness.store import campaign_reads
 from harness.sut.executive import run_script
 from harness.target.mission import INTERFACE_FILE, SUTS_FILE, WORLD_FILE
 from harness.target.interface import Interface, Property, load_interface
@@ -86,9 +87,7 @@ class Original:
 
 
 def original(con, trace_id: int, mission: str | None = None) -> Original:
-    found = con.execute("""select t.trace_id, t.script_id, t.sut, t.seed, t.outcome, s.body, c.mission, c.config
-                           from traces t left join scripts s using (script_id) join campaigns c
-                           on c.campaign_id = t.campaign_id where t.trace_id = ?""", [trace_id]).fetchone()
+    found = campaign_reads.trace_to_shrink(con, trace_id)
     if found is None:
         raise StoreError(f"no trace {trace_id} in the store; pick one from "
                          "python -m harness sql \"select * from bad_behaviours\"")

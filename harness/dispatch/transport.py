@@ -1,6 +1,6 @@
 """How a run reaches its SUT: every kind of SUT is a `Transport`, whose `run` plays one script and
 returns its trace. The simulated layer runs in this process in virtual time (`Simulated`); an
-adapter speaking untimely/1 runs in wall-clock time (`Adapter`), started for the run on stdio
+adapter speaking untimely/1 runs in wall-clock time (`ExternalTransport`), started for the run on stdio
 (`--sut NAME=cmd:COMMAND`; the ROS 1 and ROS 2 launchers are such commands) or reached over TCP
 (`NAME=tcp://HOST:PORT`), the channel that harness.sut.external.channel opens for its
 definition.
@@ -45,7 +45,7 @@ class Simulated:
 
 
 @dataclass(frozen=True)
-class Adapter:
+class ExternalTransport:
     """An external SUT over untimely/1, on the channel its definition names (stdio or TCP)."""
     sut: ExternalSut
 
@@ -58,7 +58,7 @@ class Adapter:
 
 
 def _external(name: str, setup: Setup) -> Transport | None:
-    return Adapter(setup.external[name]) if name in setup.external else None
+    return ExternalTransport(setup.external[name]) if name in setup.external else None
 
 
 def _simulated(name: str, setup: Setup) -> Transport:

@@ -68,6 +68,6 @@ def test_a_toy_transport_added_by_one_registry_entry_runs_a_campaign(tmp_path, m
 
 def test_the_built_in_kinds_run_the_variants_and_the_external_suts():
     setup = transport.setup(run_script, Path("i.toml"), Path("w.toml"), 0.002, {"toy": ExternalSut("toy", address="h:1")})
-    assert setup.transport("toy") == transport.Adapter(ExternalSut("toy", address="h:1"))
+    assert setup.transport("toy") == transport.ExternalTransport(ExternalSut("toy", address="h:1"))
     assert setup.transport("genom") == transport.Simulated("genom", run_script, Path("w.toml"), 0.002)
     assert setup.transport("echo").name == "echo" and not isinstance(setup.transport("echo"), Echo)
