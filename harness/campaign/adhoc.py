@@ -13,8 +13,7 @@ from harness.campaign.request import RunRequest
 from harness.errors import UntimelyError
 from harness.sut.executive import run_script
 from harness.files import existing_file
-from harness.dispatch.transport import transport
-from harness.dispatch.workers import Setup
+from harness.dispatch import transport
 from harness.target.interface import load_interface
 from harness.target.mission import INTERFACE_FILE, WORLD_FILE
 from harness.target.script import load_script
@@ -74,8 +73,8 @@ def run(args: RunRequest) -> int:
     # Opened before the run: a store another process writes is refused before a long real-time
     # run, and an external SUT is told the trace id it is making (its hello's `run`).
     con = store.connect(args.db)
-    setup = Setup(run_script, interface_path, world_file, args.max_delay, external)
-    trace = transport(sut, setup).run(script, args.seed, interface, 0, store.next_id(con, "traces", "trace_id"))
+    setup = transport.setup(run_script, interface_path, world_file, args.max_delay, external)
+    trace = setup.transport(sut).run(script, args.seed, interface, 0, store.next_id(con, "traces", "trace_id"))
     # the target folder: analyze, explain and shrink read its properties and files
     record = RunRecord(sut=sut, max_delay=args.max_delay, target=str(interface_path.resolve().parent),
                        **({"external": {sut: external[sut].config()}} if sut in external else {}))

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 from harness.campaign import shrink
 from harness.campaign.slots import Slots
-from harness.errors import UntimelyError
+from harness.errors import BudgetSpent, UntimelyError
 
 UNITS = {"s": 1.0, "m": 60.0, "h": 3600.0}
 DURATION = re.compile(r"(\d+(?:\.\d+)?)([smh])$")
@@ -66,13 +66,6 @@ class Budget:
 
     def left(self) -> float:
         return float("inf") if self.limit_s is None else self.limit_s - self.spent_s
-
-
-class BudgetSpent(UntimelyError):
-    """A shrink run that would not fit in the budget."""
-
-    def __init__(self, message: str = "the budget is spent"):
-        super().__init__(message)
 
 
 @dataclass

@@ -35,7 +35,7 @@ from harness.analysis.judge import Judge
 from harness.errors import UntimelyError
 from harness.mutator.focused import Plan, bound_s
 from harness.target.script import parse
-from harness.dispatch.workers import Task
+from harness.dispatch.description import Task
 from harness.textable import format_table
 
 PATIENCE = 40  # tests per variant without anything new, once every aim was exercised (budget.RULE)

@@ -12,7 +12,9 @@ from harness import store
 from harness.campaign.context import CampaignContext
 from harness.campaign.shrink import Behaviour, Original, Shrunk, original, shrunk, stored
 from harness.errors import UntimelyError
-from harness.dispatch.workers import Pool, Setup
+from harness.dispatch.description import Setup
+from harness.dispatch.workers import Pool
+from harness.store import campaign_reads
 from harness.store.record import ShrinkRecord, records
 from harness.target.interface import Interface, Property
 
@@ -57,10 +59,9 @@ def representatives(ctx: CampaignContext, say: Callable[[str], None]) -> None:
     con = ctx.con
     done = {(s.sut, s.verdict, s.property) for _, _, s in records(con, ShrinkRecord) if s.steps_after is not None}
     mine = {name: sut.config() for name, sut in ctx.setup.external.items()}
-    found = [(Behaviour(sut, verdict, property_id), trace_id) for sut, property_id, verdict, trace_id in con.execute(
-        "select sut, property_id, verdict, representative from bad_behaviours join variant_positions using (sut) "
-        "order by position, verdict = 'hung' desc, verdict, property_id").fetchall()
-        if (sut, verdict, property_id) not in done]
+    found = [(Behaviour(sut, verdict, property_id), trace_id)
+             for sut, property_id, verdict, trace_id in campaign_reads.representatives(con)
+             if (sut, verdict, property_id) not in done]
     todo = [ShrinkTask(n, behaviour, replace(original(con, trace_id), external=mine), ctx.properties)
             for n, (behaviour, trace_id) in enumerate(found)]
     results, next_shown = {}, 0

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
+from harness.errors import InternalSignal
 from harness.target.interface import Interface
 from harness.target.script import Script, Step
 from harness.sut.simulated.kernel import Environment, Event
@@ -43,7 +44,7 @@ class Probe:
     timeout_s: float = PROBE_TIMEOUT_S
 
 
-class LayerMisbehaved(Exception):
+class LayerMisbehaved(InternalSignal):
     """The layer broke the interface protocol (unknown code, second final reply, unknown request)."""
 
 

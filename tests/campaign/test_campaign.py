@@ -16,7 +16,8 @@ import pytest
 
 from harness import ROOT, cli, store
 from harness.campaign import campaign, runs
-from harness.dispatch import workers
+from harness.dispatch import transport, workers
+from harness.dispatch.description import Task
 from harness.errors import InputFileError, StoreError, UntimelyError
 from harness.progress import Progress
 from tests.support.campaigns import MARKER, arguments, dump, failing_runner, fake_layer_mission, fake_runner
@@ -196,9 +197,9 @@ def sleepy_runner(script, sut, seed, interface, world_file, max_delay):
 
 
 def test_a_run_past_the_wall_clock_watchdog_is_killed_and_recorded(mission):
-    tasks = [workers.Task(n, 1, sut, 0, (mission / "golden.mission").read_text())
+    tasks = [Task(n, 1, sut, 0, (mission / "golden.mission").read_text())
              for n, sut in enumerate(["slow", "genom", "bip-a"], 1)]
-    setup = workers.Setup(sleepy_runner, mission / "interface.toml", mission / "world.toml", 0.003, watchdog_s=1.0)
+    setup = transport.setup(sleepy_runner, mission / "interface.toml", mission / "world.toml", 0.003, watchdog_s=1.0)
     results = {}
     workers.run_all(tasks, setup, 2, lambda task, trace: results.update({task.sut: trace}))
     assert results["slow"].outcome == "crashed"
@@ -222,8 +223,8 @@ class SlowToStartRunner:
 
 @pytest.mark.slow
 def test_the_watchdog_counts_from_when_the_worker_is_ready_not_from_its_slow_start(mission):
-    tasks = [workers.Task(1, 1, "genom", 0, (mission / "golden.mission").read_text())]
-    setup = workers.Setup(SlowToStartRunner(), mission / "interface.toml", mission / "world.toml", 0.003,
+    tasks = [Task(1, 1, "genom", 0, (mission / "golden.mission").read_text())]
+    setup = transport.setup(SlowToStartRunner(), mission / "interface.toml", mission / "world.toml", 0.003,
                           watchdog_s=1.5)
     results = []
     workers.run_all(tasks, setup, 1, lambda task, trace: results.append(trace))

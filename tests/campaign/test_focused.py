@@ -168,17 +168,17 @@ def test_a_target_folder_outside_the_repository_with_an_external_adapter(tmp_pat
 def test_a_campaign_stopped_during_a_shrink_stores_its_runs_and_shrinks_again_when_resumed(tmp_path, monkeypatch):
     """Ctrl-C (or SIGTERM, the same KeyboardInterrupt) in the midst of a shrink: the runs it made are
     stored, marked interrupted, and counted when the campaign resumes, which shrinks that finding again."""
-    from harness.dispatch import workers
+    from harness.dispatch.description import Setup
     args = ["campaign", "--strategy", "focused", "--budget", "8m", "--shrink", "--sut", "genom",
             "--db", str(tmp_path / "s.duckdb")]
-    real, calls = workers.Setup.run, []
+    real, calls = Setup.run, []
 
     def stopped_on_the_fifth_shrink_run(setup, task, interface, slot):
         calls.append(task.trace_id)  # in this process, only shrinks run (the tests run in workers)
         if len(calls) == 5:
             raise KeyboardInterrupt
         return real(setup, task, interface, slot)
-    monkeypatch.setattr(workers.Setup, "run", stopped_on_the_fifth_shrink_run)
+    monkeypatch.setattr(Setup, "run", stopped_on_the_fifth_shrink_run)
     assert cli(args) == 130  # as after Ctrl-C
     monkeypatch.undo()
     con = store.connect(tmp_path / "s.duckdb", read_only=True)

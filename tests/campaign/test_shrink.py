@@ -17,7 +17,7 @@ from harness.campaign.context import CampaignContext
 from harness.campaign.representatives import representatives
 from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, shorter_sleeps, store_shrink
 from harness.sut.executive import run_script
-from harness.dispatch.workers import Setup
+from harness.dispatch import transport
 from harness.target.mission import load_mission
 from harness.store.sql import render_query
 
@@ -190,7 +190,7 @@ def test_a_shrink_that_fails_is_recorded_and_shown_and_the_others_go_on(tmp_path
     behaviours = con.execute("select sut, verdict, property_id from bad_behaviours order by all").fetchall()
     assert {sut for sut, *_ in behaviours} == {"genom", "bip-a"}
     target = load_mission(DEFAULT_MISSION_DIR)
-    setup = Setup(_runner_broken_on_genom, target.interface_file, target.world_file, 0.003)
+    setup = transport.setup(_runner_broken_on_genom, target.interface_file, target.world_file, 0.003)
     ctx = CampaignContext(con=con, db=str(db), target=target, golden=target.golden(), properties=target.properties(),
                           config={}, setup=setup, executor=None, jobs=2, shrink_to=tmp_path / "shrunk")
     lines = []
