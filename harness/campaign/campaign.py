@@ -21,7 +21,7 @@ from harness import DEFAULT_MISSION_DIR, store
 from harness.analysis import analyzer
 from harness.analysis.summary import analysis_summary
 from harness.analysis.provenance import last_epsilon
-from harness.campaign import budgeted, representatives, sharding, shrink
+from harness.campaign import budget, budgeted, representatives, sharding, shrink
 from harness.campaign.config import campaign_config, find_campaign
 from harness.campaign.context import CampaignContext
 from harness.campaign.request import CampaignRequest
@@ -131,7 +131,7 @@ def _focused(ctx: CampaignContext, start: float) -> None:
                                                                                config)[0].trace_id))
     plan = strategies.plan(config, ctx.golden, ctx.interface, ctx.properties, golden_trace)
     _judged(ctx, show=False)  # what the stored traces found
-    session = Session(Progress(len(config.sut) * len(plan.aims), unit="runs"), start)
+    session = Session(budget.progress(con, ctx.campaign_id, config.budget_s), start)
     with Batches(con, ctx.campaign_id, session, set(config.external)) as batches, \
             campaign_slots(ctx) as slots:
         focused_run = budgeted.FocusedRun(ctx, plan, golden_id, batches, slots)
