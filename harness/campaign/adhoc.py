@@ -21,6 +21,7 @@ from harness.target.script import load_script
 from harness.sut.definitions import resolve
 from harness.store.record import RunRecord
 from harness.trace import Trace
+from harness.textable import real_time_factor
 
 
 def mission_files(script_path: Path, interface: str | None = None, world: str | None = None) -> tuple[Path, Path]:
@@ -45,7 +46,6 @@ def summary(trace: Trace, replies: dict[str, str]) -> str:
     by_class = Counter()
     for code, n in finals.items():
         by_class[replies[code]] += n
-    speed = trace.sim_s / trace.wall_s if trace.wall_s else float("inf")
     lines = [
         f"outcome    {trace.outcome}" + (f"  ({trace.error})" if trace.error else ""),
         f"requests   {requests}, final replies {sum(finals.values())}, "
@@ -54,7 +54,7 @@ def summary(trace: Trace, replies: dict[str, str]) -> str:
         + "  (" + ", ".join(f"{code} {n}" for code, n in sorted(finals.items())) + ")",
         f"world      {len(trace.world_events)} event(s)"
         + "".join(f"\n             t={t:.3f} {kind} {detail}" for t, kind, detail in trace.world_events),
-        f"time       simulated {trace.sim_s:.1f} s, wall {trace.wall_s:.3f} s ({speed:,.0f}x real time)",
+        f"time       simulated {trace.sim_s:.1f} s, wall {trace.wall_s:.3f} s ({real_time_factor(trace.sim_s, trace.wall_s)} real time)",
     ]
     if trace.provenance:
         lines.append("interface  " + latency_line(trace.provenance))

@@ -41,6 +41,7 @@ from harness.store.reads import observed_events
 from harness.store.sql import render_query
 from harness.target.mission import GOLDEN_FILE, PROPERTIES_FILE, load_mission
 from harness.trace import Trace
+from harness.textable import real_time_factor
 
 RUN_WALL_LIMIT_S = 600.0  # of a simulated run; a real-time one has the executive's watchdogs
 REALTIME_WALL_LIMIT_S = 3 * 3600.0
@@ -102,7 +103,7 @@ def summary(con, campaign_id: int, session: Session) -> str:
     wall = time.monotonic() - session.start
     if session.runs:
         lines.append(f"this run  {session.runs} runs in {wall:.1f} s wall ({session.runs / wall:.1f} runs/s), "
-                     f"{session.sim_s:,.0f} simulated s: {session.sim_s / wall:,.0f}x real time")
+                     f"{session.sim_s:,.0f} simulated s: {real_time_factor(session.sim_s, wall)} real time")
     return "\n".join(lines)
 
 
