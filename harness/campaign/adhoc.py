@@ -25,10 +25,10 @@ from harness.textable import real_time_factor
 
 
 def mission_files(script_path: Path, interface: str | None = None, world: str | None = None) -> tuple[Path, Path]:
-    """The interface and world descriptions: those given, else those beside the mission script."""
-    folder = script_path.resolve().parent
-    return (Path(interface) if interface else folder / INTERFACE_FILE,
-            Path(world) if world else folder / WORLD_FILE)
+    """The interface and world descriptions: those given, else those of the target folder, the one of
+    the interface given (a shrunk reproducer's replay names it), else the mission script's."""
+    interface_path = Path(interface) if interface else script_path.resolve().parent / INTERFACE_FILE
+    return interface_path, Path(world) if world else interface_path.parent / WORLD_FILE
 
 
 def latency_line(provenance: dict) -> str:
@@ -54,7 +54,8 @@ def summary(trace: Trace, replies: dict[str, str]) -> str:
         + "  (" + ", ".join(f"{code} {n}" for code, n in sorted(finals.items())) + ")",
         f"world      {len(trace.world_events)} event(s)"
         + "".join(f"\n             t={t:.3f} {kind} {detail}" for t, kind, detail in trace.world_events),
-        f"time       simulated {trace.sim_s:.1f} s, wall {trace.wall_s:.3f} s ({real_time_factor(trace.sim_s, trace.wall_s)} real time)",
+        f"time       simulated {trace.sim_s:.1f} s, wall {trace.wall_s:.3f} s "
+        f"({real_time_factor(trace.sim_s, trace.wall_s)} real time)",
     ]
     if trace.provenance:
         lines.append("interface  " + latency_line(trace.provenance))
