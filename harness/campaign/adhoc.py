@@ -28,6 +28,8 @@ def mission_files(script_path: Path, interface: str | None = None, world: str | 
     """The interface and world descriptions: those given, else those of the target folder, the one of
     the interface given (a shrunk reproducer's replay names it), else the mission script's."""
     interface_path = Path(interface) if interface else script_path.resolve().parent / INTERFACE_FILE
+    if world is not None:  # refused as given, not as the layer.toml beside a missing file
+        existing_file(world, "world file not found; pass an existing world.toml")
     return interface_path, Path(world) if world else interface_path.parent / WORLD_FILE
 
 
