@@ -14,6 +14,7 @@ from harness.campaign.shrink import Behaviour, Original, Shrunk, original, shrun
 from harness.errors import UntimelyError
 from harness.dispatch.workers import Pool, Setup
 from harness.store.record import ShrinkRecord, records
+from harness.sut import processes
 from harness.target.interface import Interface, Property
 
 
@@ -29,6 +30,7 @@ class ShrinkTask:
         try:
             return shrunk(replace(self.orig, slot=slot), self.behaviour, self.properties, setup.runner)
         except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
+            processes.raise_if_stopping()
             return self.crashed(str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}")
 
     def crashed(self, error: str, wall_s: float = 0.0) -> Shrunk:
@@ -40,6 +42,7 @@ def _stored(con, task: ShrinkTask, result: Shrunk, out: Path) -> str:
     try:
         line = stored(con, task.behaviour, result, out)
     except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
+        processes.raise_if_stopping()  # but a stop that DuckDB made a RuntimeError does
         result = task.crashed(str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}")
     if result.error:
         behaviour = task.behaviour
