@@ -16,6 +16,7 @@ from harness.files import existing_file
 from harness.dispatch.transport import transport
 from harness.dispatch.workers import Setup
 from harness.target.interface import load_interface
+from harness.target.layer_description import LAYER_FILE
 from harness.target.mission import INTERFACE_FILE, WORLD_FILE
 from harness.target.script import load_script
 from harness.sut.definitions import resolve
@@ -28,9 +29,16 @@ def mission_files(script_path: Path, interface: str | None = None, world: str | 
     """The interface and world descriptions: those given, else those of the target folder, the one of
     the interface given (a shrunk reproducer's replay names it), else the mission script's."""
     interface_path = Path(interface) if interface else script_path.resolve().parent / INTERFACE_FILE
-    if world is not None:  # refused as given, not as the layer.toml beside a missing file
-        existing_file(world, "world file not found; pass an existing world.toml")
     return interface_path, Path(world) if world else interface_path.parent / WORLD_FILE
+
+
+def _world_given(world: str | None, world_file: Path, simulated: bool) -> None:
+    """A --world that names nothing a simulated run can use (no such file, no layer.toml beside it:
+    a target without a world is named by a path in its folder) is refused as the user gave it, not
+    as the layer.toml beside it."""
+    if world is not None and simulated and not world_file.is_file() and not (world_file.parent / LAYER_FILE).is_file():
+        existing_file(world, f"world file not found, and no {LAYER_FILE} beside it; pass the world.toml of a "
+                             "simulated target, or a path in the folder of its layer.toml")
 
 
 def latency_line(provenance: dict) -> str:
@@ -74,6 +82,7 @@ def run(args: RunRequest) -> int:
     if len(names) != 1:
         raise UntimelyError(f"--sut {args.sut!r}: run takes one SUT; a campaign takes several")
     sut = names[0]
+    _world_given(args.world, world_file, sut not in external)
     # Opened before the run: a store another process writes is refused before a long real-time
     # run, and an external SUT is told the trace id it is making (its hello's `run`).
     con = store.connect(args.db)

@@ -244,4 +244,4 @@ def test_a_missing_file_given_to_run_is_refused_naming_that_file(tmp_path, capsy
     other = ["--interface", INTERFACE] if flag == "--world" else []
     err = _fails(capsys, "run", DEFAULT_MISSION_DIR / "golden.mission", "--sut", "genom", *other, flag, missing,
                  "--db", tmp_path / "r.duckdb")
-    assert err.startswith(f"error: {missing}: ") and "layer.toml" not in err, err
+    assert err.startswith(f"error: {missing}: ") and "layer.toml: file not found" not in err, err
