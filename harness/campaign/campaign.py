@@ -21,7 +21,7 @@ from harness import DEFAULT_MISSION_DIR, store
 from harness.analysis import analyzer
 from harness.analysis.summary import analysis_summary
 from harness.analysis.provenance import last_epsilon
-from harness.campaign import budgeted, representatives, sharding, shrink
+from harness.campaign import budget, budgeted, representatives, sharding, shrink
 from harness.campaign.config import campaign_config, find_campaign
 from harness.campaign.context import CampaignContext
 from harness.campaign.request import CampaignRequest
@@ -43,6 +43,7 @@ from harness.store.reads import observed_events
 from harness.store.sql import render_query
 from harness.target.mission import GOLDEN_FILE, PROPERTIES_FILE, load_mission
 from harness.trace import Trace
+from harness.textable import real_time_factor
 
 RUN_WALL_LIMIT_S = 600.0  # of a simulated run; a real-time one has the executive's watchdogs
 REALTIME_WALL_LIMIT_S = 3 * 3600.0
@@ -102,7 +103,7 @@ def summary(con, campaign_id: int, tally: Tally) -> str:
     wall = time.monotonic() - tally.start
     if tally.runs:
         lines.append(f"this run  {tally.runs} runs in {wall:.1f} s wall ({tally.runs / wall:.1f} runs/s), "
-                     f"{tally.sim_s:,.0f} simulated s: {tally.sim_s / wall:,.0f}x real time")
+                     f"{tally.sim_s:,.0f} simulated s: {real_time_factor(tally.sim_s, wall)} real time")
     return "\n".join(lines)
 
 
@@ -130,7 +131,7 @@ def _focused(ctx: CampaignContext, start: float) -> None:
                                                                                config)[0].trace_id))
     plan = strategies.plan(config, ctx.golden, ctx.interface, ctx.properties, golden_trace)
     _judged(ctx, show=False)  # what the stored traces found
-    tally = Tally(Progress(len(config.sut) * len(plan.aims), unit="runs"), start)
+    tally = Tally(budget.progress(con, ctx.campaign_id, config.budget_s), start)
     with Batches(con, ctx.campaign_id, tally, set(config.external)) as batches, \
             campaign_slots(ctx) as slots:
         focused_run = budgeted.FocusedRun(ctx, plan, golden_id, batches, slots)

@@ -16,6 +16,7 @@ from harness.dispatch.description import Setup
 from harness.dispatch.workers import Pool
 from harness.store import campaign_reads
 from harness.store.record import ShrinkRecord, records
+from harness.sut import processes
 from harness.target.interface import Interface, Property
 
 
@@ -31,6 +32,7 @@ class ShrinkTask:
         try:
             return shrunk(replace(self.orig, slot=slot), self.behaviour, self.properties, setup.runner)
         except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
+            processes.raise_if_stopping()
             return self.crashed(str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}")
 
     def crashed(self, error: str, wall_s: float = 0.0) -> Shrunk:
@@ -42,6 +44,7 @@ def _stored(con, task: ShrinkTask, result: Shrunk, out: Path) -> str:
     try:
         line = stored(con, task.behaviour, result, out)
     except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
+        processes.raise_if_stopping()  # but a stop that DuckDB made a RuntimeError does
         result = task.crashed(str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}")
     if result.error:
         behaviour = task.behaviour

@@ -50,7 +50,7 @@ class Tally:
     def count(self, trace: Trace) -> None:
         self.runs += 1
         self.sim_s += trace.sim_s
-        self.progress.advance()
+        self.progress.ran(trace)
 
 
 def pending_tasks(con, campaign_id: int, config: CampaignRecord) -> list[Task]:

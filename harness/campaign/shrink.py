@@ -17,6 +17,7 @@ confirms it (--run-stored-command).
 """
 from __future__ import annotations
 
+import shlex
 import time
 from dataclasses import dataclass, field, replace
 from functools import cached_property
@@ -240,9 +241,18 @@ def store_interrupted(con, orig: Original, behaviour: Behaviour) -> None:
 def header(orig: Original, behaviour: Behaviour, script_id: int, path: Path, runs: int, steps_before: int) -> str:
     return (f"# Shrunk reproducer (script {script_id}): {behaviour}, from trace {orig.trace_id} "
             f"(script {orig.script_id}, {steps_before} steps) in {runs} runs.\n"
-            f"# Replay: python -m harness run {path} --sut {orig.sut} --seed {orig.seed} "
-            f"--max-delay {orig.max_delay:g} --interface {orig.mission / INTERFACE_FILE} "
-            f"--world {orig.mission / WORLD_FILE}\n")
+            f"# Replay: {replay_command(orig, path)}\n")
+
+
+def replay_command(orig: Original, path: Path) -> str:
+    """The command that replays a shrunk file as written from any folder: the installed `untimely`,
+    absolute paths, the target named by its interface (run takes the world and SUTs beside it), an
+    external SUT at the time scale it ran at."""
+    scale = orig.external.get(orig.sut, {}).get("time_scale")
+    words = ["untimely", "run", str(path.resolve()), "--sut", orig.sut, "--seed", str(orig.seed),
+             "--max-delay", f"{orig.max_delay:g}", "--interface", str((orig.mission / INTERFACE_FILE).resolve()),
+             *(["--time-scale", f"{scale:g}"] if scale is not None else [])]
+    return shlex.join(words)
 
 
 def write_mission(out: Path, orig: Original, behaviour: Behaviour, script_id: int, body: str, runs: int) -> Path:

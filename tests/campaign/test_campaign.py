@@ -20,6 +20,7 @@ from harness.dispatch import transport, workers
 from harness.dispatch.description import Task
 from harness.errors import InputFileError, StoreError, UntimelyError
 from harness.progress import Progress
+from harness.trace import Trace
 from tests.support.campaigns import MARKER, arguments, dump, failing_runner, fake_layer_mission, fake_runner
 
 
@@ -304,3 +305,24 @@ def test_a_resumed_campaign_judges_with_the_epsilon_of_the_last_analysis(mission
     assert "verdicts  materialised for every trace of" in capsys.readouterr().out
     con = store.connect(db, read_only=True)
     assert con.execute("select epsilon from analyses order by analysis_id").fetchall() == [(0.01,), (0.05,), (0.05,)]
+
+
+def test_progress_past_its_total_shows_it_full_with_no_negative_eta():
+    bar = Progress(8, stream=io.StringIO())
+    for _ in range(12):  # a total that turned out short: the bar stops at it
+        bar.advance()
+    assert bar.line().startswith("8/8 runs [##############################] 100%") and "ETA 0:00" in bar.line()
+
+
+def test_progress_in_mission_seconds_counts_each_trace_s_simulated_time():
+    stream = io.StringIO()
+    bar = Progress(4000, done=1000, stream=stream, unit="mission s", mission_time=True)
+    bar.ran(Trace("genom", 1, sim_s=1500.0))
+    assert bar.line().startswith("2,500/4,000 mission s [##################            ]  62%")
+
+
+def test_progress_without_a_total_shows_the_work_done_and_its_rate_only():
+    bar = Progress(None, stream=io.StringIO())
+    for _ in range(3):
+        bar.advance()
+    assert bar.line().startswith("3 runs ") and "ETA" not in bar.line() and "%" not in bar.line()

@@ -59,7 +59,12 @@ def test_the_budget_bounds_every_run_and_says_it_stopped_the_campaign(tmp_path, 
                 "--db", str(db)]) == 0
     total, stopped, budget = spent(db)
     assert stopped == "budget" and budget == 360 and 300 < total <= 360
-    assert "stopped   (budget) the next test does not fit in the budget" in capsys.readouterr().out
+    out, err = capsys.readouterr()
+    assert "stopped   (budget) the next test does not fit in the budget" in out
+    # the bar counts the budget's mission seconds, never past it, never a negative ETA
+    bars = [line.split() for line in err.splitlines() if "/360 mission s [" in line]
+    assert len(bars) >= 3 and all(0 < float(bar[0].split("/")[0]) <= 360 for bar in bars), err
+    assert not any("ETA -" in line or "runs [" in line and "/1 runs" not in line for line in err.splitlines()), err
     # every shrink run is a stored trace of a shrink of one of the campaign's traces, out of the tables
     con = store.connect(db, read_only=True)
     shrink_s, runs, originals, counted, found = con.execute("""
