@@ -28,7 +28,7 @@ from harness.files import make_folder
 from harness.report import html, pages, queries, sections, trace_pages
 from harness.report.index_tables import IndexTables
 from harness.store.database import connect
-from harness.store.reads import analyses_made, relations
+from harness.store.reads import analyses_made, relations, trace_count
 
 PARALLEL_FROM = 400  # trace pages per worker process; fewer are not worth starting one for
 # DuckDB's memory for the report's queries, from the store's size: beyond it, their hash tables
@@ -52,7 +52,7 @@ def main(db: str, out: str | None = None, traces: list[int] = ()) -> int:
     spill = tempfile.TemporaryDirectory(prefix="untimely-report-")
     try:
         queries.check_analysed(con, db)
-        limit = memory_limit_mb(con.execute("select count(*) from traces").fetchone()[0])
+        limit = memory_limit_mb(trace_count(con))
         con.execute(f"set memory_limit = '{limit}MB'; set threads = {THREADS}; set temp_directory = '{spill.name}'")
         make_folder(out, "the report")
         if traces:
