@@ -8,7 +8,7 @@ import shlex
 from dataclasses import dataclass
 from pathlib import Path
 
-from harness.target.ros2_graph import REFUSED, REPLIES, Derived, Ros2Target
+from harness.target.ros2_graph import CANCEL_CODES, REJECTED, REPLIES, Derived, Ros2Target
 from harness.target.draft import WAIT_TIMEOUT_S, Draft, properties_text
 from harness.target.scaffold import write_all_or_none
 from harness.target.script import Step
@@ -29,8 +29,9 @@ def value(item) -> str:
 def interface_text(target: Ros2Target) -> str:
     lines = [f"# The interface of the ROS 2 node(s) started by {target.command!r}, made by `untimely init",
              "# --from-ros2` from their graph (docs/ros2.md): a module per node; its action servers are exec",
-             "# services, its services and lifecycle transitions (on change_state) control services; the",
-             "# arguments are the goal's or request's number and string fields, within their type's range.",
+             "# services, its services, each action's cancel (S_cancel) and lifecycle transitions (on",
+             "# change_state) control services; the arguments are the goal's or request's number and string",
+             "# fields, within their type's range.",
              "", "[replies]"]
     lines += [f'{code} = "{cls}"  # {meaning}' for code, (cls, meaning) in REPLIES.items()]
     for module in dict.fromkeys(s.module for s in target.services):
@@ -50,8 +51,13 @@ def mapping_text(target: Ros2Target) -> str:
              "# brings the node up nor resets it, so every run starts the node afresh.",
              f"node = {value(node.name)}  # its executor must answer get_parameters, else the trace hangs",
              "lifecycle = false", f"heartbeat_stale_s = {HEARTBEAT_STALE_S}", "",
-             f"[status_codes]  # a goal's end: SUCCEEDED is ok; a rejected goal is {REFUSED}",
-             f'ABORTED = "aborted"', f'CANCELED = "canceled"', f'REJECTED = "{REFUSED}"']
+             f"[status_codes]  # a goal's end: SUCCEEDED is ok; a rejected goal is {REJECTED}",
+             'ABORTED = "aborted"', 'CANCELED = "canceled"', f'REJECTED = "{REJECTED}"']
+    if target.cancels:
+        lines += ["", "[cancels]  # a request of the first (a script's `cancel HANDLE`) cancels that goal of the second"]
+        lines += [f"{value(cancel)} = {value(action)}" for cancel, action in target.cancels.items()]
+        lines += ["", "[cancel_codes]  # a cancel's response (action_msgs/srv/CancelGoal) -> its reply code"]
+        lines += [f"{name} = {value(code)}" for name, code in CANCEL_CODES.items()]
     lines += [line for s in target.services for line in ("", f'[services."{s.qualified}"]', *_route(s))]
     return "\n".join(lines) + "\n"
 
@@ -84,7 +90,7 @@ def golden_text(target: Ros2Target) -> str:
              "# arguments (edit the values to your node's), then deactivated and shut down.", ""]
     modules = list(dict.fromkeys(s.module for s in target.services))
     steps = [f"{m}.{t}" for m in modules for t in ("configure", "activate") if _has(target, m, t)]
-    steps += [s for m in modules for s in target.of(m) if not s.transition]
+    steps += [s for m in modules for s in target.of(m) if not (s.transition or s.cancel)]
     steps += [f"{m}.{t}" for m in modules for t in ("deactivate", "shutdown") if _has(target, m, t)]
     for step in steps:
         name, args = (step, "") if isinstance(step, str) else (step.qualified, "".join(

@@ -11,7 +11,7 @@ from harness.errors import UntimelyError
 from harness.target.interface import load_interface, load_properties
 from harness.target.ros2_graph import derive
 from harness.target.ros2_texts import write
-from harness.target.script import load_script
+from harness.target.script import load_script, parse, validate
 
 TRIGGER = {"success": "boolean", "message": "string"}
 
@@ -49,6 +49,7 @@ def test_the_written_target_loads_and_its_golden_mission_uses_every_service(writ
     assert {name: s.kind for name, s in interface.services.items()} == {
         **{f"sequencer.{t}": "control" for t in ("configure", "cleanup", "activate", "deactivate", "shutdown")},
         "sequencer.countdown": "exec", "sequencer.fibonacci": "exec",
+        "sequencer.countdown_cancel": "control", "sequencer.fibonacci_cancel": "control",
         "sequencer.calibrate": "control", "sequencer.reset": "control", "sequencer.status": "control"}
     order = interface.services["sequencer.fibonacci"].args["order"]
     assert (order.type, order.min, order.max) == ("float", -2 ** 31, 2 ** 31 - 1)  # int32's range
@@ -56,7 +57,8 @@ def test_the_written_target_loads_and_its_golden_mission_uses_every_service(writ
     sent = [step.service for step in golden.steps if step.op == "send"]
     assert sent[:2] == ["sequencer.configure", "sequencer.activate"]
     assert sent[-2:] == ["sequencer.deactivate", "sequencer.shutdown"]
-    assert set(sent) == set(interface.services) - {"sequencer.cleanup"}
+    assert set(sent) == set(interface.services) - {"sequencer.cleanup", "sequencer.countdown_cancel",
+                                                   "sequencer.fibonacci_cancel"}
     assert [step.args for step in golden.steps if step.service == "sequencer.fibonacci"] == [(("order", "3"),)]
 
 
@@ -70,18 +72,47 @@ def test_the_mapping_routes_every_service_and_tells_the_transitions_apart(writte
     assert routes["sequencer.shutdown"].defaults == {"transition.label": "shutdown"}
     assert (routes["sequencer.fibonacci"].kind, routes["sequencer.fibonacci"].fields) == ("action", {"order": "order"})
     assert (routes["sequencer.reset"].success, routes["sequencer.reset"].failure) == ("success", "refused")
-    assert (mapping.node, mapping.lifecycle, mapping.status_codes["REJECTED"]) == ("/sequencer", False, "refused")
+    assert routes["sequencer.activate"].failure == "transition_refused"
+    assert (mapping.node, mapping.lifecycle, mapping.status_codes["REJECTED"]) == ("/sequencer", False, "rejected")
+
+
+def test_every_action_gets_its_cancel_with_codes_the_catalogue_tells_apart(written):
+    """init derives M.S_cancel for each action M.S: a control service routed to the action's
+    cancel_goal, named in [cancels], its responses' codes in [cancel_codes]; every code the mapping
+    can reply is in the catalogue, with ROS 2's outcomes in their classes."""
+    folder, _ = written
+    interface = load_interface(folder / "interface.toml")
+    mapping = load_mapping(folder / "ros2.toml")
+    assert mapping.cancels == {"sequencer.countdown_cancel": "sequencer.countdown",
+                               "sequencer.fibonacci_cancel": "sequencer.fibonacci"}
+    assert mapping.cancel_codes == {"ERROR_NONE": "ok", "ERROR_REJECTED": "cancel_rejected",
+                                    "ERROR_UNKNOWN_GOAL_ID": "unknown_goal", "ERROR_GOAL_TERMINATED": "goal_terminated"}
+    route = mapping.routes([("sequencer", "fibonacci_cancel")])["sequencer.fibonacci_cancel"]
+    assert (route.kind, route.name, route.type) == ("service", "/sequencer/fibonacci/_action/cancel_goal",
+                                                    "action_msgs/srv/CancelGoal")
+    assert interface.replies == {"ok": "T", "aborted": "Z", "canceled": "Z", "rejected": "R", "refused": "R",
+                                 "transition_refused": "R", "cancel_rejected": "R", "unknown_goal": "R",
+                                 "goal_terminated": "R"}
+    ros2_ends = ("SUCCEEDED", "ABORTED", "CANCELED", "REJECTED")  # PREEMPTED, RECALLED: ROS 1's
+    replied = {*mapping.cancel_codes.values(), *(mapping.status_codes[status] for status in ros2_ends),
+               *(r.failure for r in mapping.routes([(s.module, s.name) for s in interface.services.values()]).values()
+                 if r.success)}
+    assert replied <= set(interface.replies)
+    script = parse("send sequencer.fibonacci order=3 as g\ncancel g as c\nwait c\n", "m")
+    validate(script, interface)  # the derived interface runs the mission language's cancel
 
 
 def test_the_properties_state_the_lifecycle_rules(written):
     folder, _ = written
     interface = load_interface(folder / "interface.toml")
     properties = {p.id: p for p in load_properties(folder / "properties.toml", interface)}
-    active = properties["ACTIVE(sequencer)"]
-    assert (active.type, active.q, active.y, active.r_p) == (
-        "IN", ("sequencer.activate",), ("sequencer.deactivate", "sequencer.shutdown"), "refused")
-    assert set(active.x) == {"sequencer.countdown", "sequencer.fibonacci", "sequencer.calibrate",
-                             "sequencer.reset", "sequencer.status"}
+    goals, calls = properties["ACTIVE_GOALS(sequencer)"], properties["ACTIVE_CALLS(sequencer)"]
+    for active, code in ((goals, "rejected"), (calls, "refused")):  # each r_p the code its requests get
+        assert (active.family, active.type, active.q, active.y, active.r_p) == (
+            "ACTIVE", "IN", ("sequencer.activate",), ("sequencer.deactivate", "sequencer.shutdown"), code)
+    assert set(goals.x) == {"sequencer.countdown", "sequencer.fibonacci"}
+    assert set(calls.x) == {"sequencer.calibrate", "sequencer.reset", "sequencer.status"}
+    assert {p.r_p for p in properties.values() if p.family == "TRANSITION"} == {"transition_refused"}
     assert {(i, p.type) for i, p in properties.items() if p.family == "TRANSITION"} == {
         ("TRANSITION(sequencer.configure)", "OUT"), ("TRANSITION(sequencer.activate)", "IN"),
         ("TRANSITION(sequencer.cleanup)", "IN"), ("TRANSITION(sequencer.deactivate)", "IN"),
