@@ -4,6 +4,7 @@ golden.mission and properties.toml, each commented with where it comes from."""
 from __future__ import annotations
 
 import json
+import os
 import shlex
 from dataclasses import dataclass
 from pathlib import Path
@@ -11,6 +12,10 @@ from pathlib import Path
 from harness.target.ros2_graph import CANCEL_CODES, REJECTED, REPLIES, Derived, Ros2Target
 from harness.target.draft import WAIT_TIMEOUT_S, Draft, properties_text
 from harness.target.scaffold import write_all_or_none
+
+# The install prefixes of a user's interface packages (os.pathsep-separated) in a SUT's env; every
+# ROS 2 environment of the bench finds them (harness/sut/ros2/environment.py).
+INTERFACES_VARIABLE = "UNTIMELY_ROS2_INTERFACES"
 from harness.target.script import Step
 
 WRITTEN = ("interface.toml", "ros2.toml", "suts.toml", "golden.mission", "properties.toml")
@@ -66,16 +71,21 @@ def _route(service: Derived) -> list[str]:
     return [f"{key} = {value(item)}" for key, item in service.route.items() if item or key != "fields"]
 
 
-def suts_text(target: Ros2Target, distros: list[str], cwd: Path) -> str:
-    """One SUT per distro: COMMAND run from `cwd` in the distro's environment (its python3 first on PATH)."""
+def suts_text(target: Ros2Target, distros: dict[str, tuple[Path, ...]], cwd: Path) -> str:
+    """One SUT per distro (-> the install prefixes of the user's interface packages built for it):
+    COMMAND run from `cwd` in the distro's environment (its python3 first on PATH)."""
     node = shlex.join(["bash", "-c", f"cd {shlex.quote(str(cwd))} && exec {target.command}"])
     lines = ["# The node(s) on each installed ROS 2 distro (docs/reference/suts.md): `--sut NAME`. The adapter",
              "# starts the command below in the distro's environment, as sourcing its setup.bash would (its",
              "# python3 first on PATH), in a ROS 2 domain of its own confined to this machine."]
-    for distro in distros:
+    if any(distros.values()):
+        lines.append(f"# {INTERFACES_VARIABLE}: your interface packages built for the distro (`init --interfaces`).")
+    for distro, prefixes in distros.items():
         command = f"{{python}} -m harness.sut.ros2 --distro {distro} --mapping {{mission}}/ros2.toml -- {node}"
         lines += ["", f"[{_sut_name(target)}-{distro}]", f"command = {value(command)}",
                   "slots = 2", "time_scale = 1.0", "startup_s = 90.0", "probe_timeout_s = 5.0"]
+        if prefixes:
+            lines.append(f"env = {value({INTERFACES_VARIABLE: os.pathsep.join(str(p) for p in prefixes)})}")
     return "\n".join(lines) + "\n"
 
 
@@ -156,9 +166,11 @@ def properties_text_of(target: Ros2Target) -> str:
     return text + ("\n".join(lines) + "\n" if actions else "")
 
 
-def write(folder: Path, target: Ros2Target, distros: list[str], cwd: Path, golden: str | None = None) -> list[Path]:
-    """Write the target folder, all files or none; refuses to overwrite any file of it. `golden`:
-    the golden mission's text (a recorded session's), else the derived one."""
+def write(folder: Path, target: Ros2Target, distros: dict[str, tuple[Path, ...]], cwd: Path,
+          golden: str | None = None) -> list[Path]:
+    """Write the target folder, all files or none; refuses to overwrite any file of it. `distros`:
+    each installed distro -> the install prefixes of the user's interface packages built for it;
+    `golden`: the golden mission's text (a recorded session's), else the derived one."""
     texts = {"interface.toml": interface_text(target), "ros2.toml": mapping_text(target),
              "suts.toml": suts_text(target, distros, cwd), "golden.mission": golden or golden_text(target),
              "properties.toml": properties_text_of(target)}

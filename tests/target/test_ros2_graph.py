@@ -39,7 +39,7 @@ COMMAND = "python3 examples/ros2/sequencer.py"
 @pytest.fixture
 def written(tmp_path):
     target = derive(COMMAND, GRAPH)
-    write(tmp_path / "t", target, ["jazzy", "kilted"], tmp_path)
+    write(tmp_path / "t", target, {"jazzy": (), "kilted": ()}, tmp_path)
     return tmp_path / "t", target
 
 
@@ -158,7 +158,7 @@ def test_an_empty_or_malformed_graph_or_a_name_clash_is_refused(tmp_path):
 def test_an_existing_target_file_is_never_overwritten(written):
     folder, target = written
     with pytest.raises(UntimelyError, match="already holds interface.toml.*give another DIR"):
-        write(folder, target, ["jazzy"], folder)
+        write(folder, target, {"jazzy": ()}, folder)
 
 
 def test_init_takes_one_source_only(tmp_path, capsys):
