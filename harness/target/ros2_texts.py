@@ -94,10 +94,13 @@ def _sut_name(target: Ros2Target) -> str:
 
 
 def golden_text(target: Ros2Target) -> str:
-    """Bring-up in a valid order, each action and service once, then deactivate and shutdown."""
+    """Bring-up in a valid order, each action and service once, then deactivate and shutdown (the
+    lifecycle steps only for a lifecycle node)."""
+    managed = any(s.transition for s in target.services)
     lines = ["# The golden mission (docs/reference/mission-language.md), made by `untimely init --from-ros2`:",
-             "# each node configured and activated, every action and service once with well-formed",
-             "# arguments (edit the values to your node's), then deactivated and shut down.", ""]
+             *(["# each lifecycle node configured and activated, every action and service once with well-formed",
+                "# arguments (edit the values to your node's), then deactivated and shut down."] if managed else
+               ["# every action and service once with well-formed arguments (edit the values to your node's)."]), ""]
     modules = list(dict.fromkeys(s.module for s in target.services))
     steps = [f"{m}.{t}" for m in modules for t in ("configure", "activate") if _has(target, m, t)]
     steps += [s for m in modules for s in target.of(m) if not (s.transition or s.cancel)]

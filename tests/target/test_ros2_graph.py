@@ -10,7 +10,7 @@ from harness.sut.ros.mapping import load_mapping
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface, load_properties
 from harness.target.ros2_graph import derive
-from harness.target.ros2_texts import write
+from harness.target.ros2_texts import golden_text, write
 from harness.target.script import load_script, parse, validate
 
 TRIGGER = {"success": "boolean", "message": "string"}
@@ -137,6 +137,8 @@ def test_what_cannot_be_derived_is_said():
     node["actions"][1]["fields"] = None
     target = derive(COMMAND, graph)
     assert not target.properties
+    golden = golden_text(target)
+    assert "configure" not in golden and "every action and service once" in golden  # no lifecycle to speak of
     notes = "\n".join(target.notes)
     for words in ("/sequencer is not a lifecycle node", "field fast (boolean) is no argument",
                   "field path (sequence<double>) is no argument",
