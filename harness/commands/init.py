@@ -52,7 +52,7 @@ def execute(request: Request) -> int:
         raise UntimelyError("give --from-genom or --from-ros2, not both")
     if request.from_bag:
         if request.interfaces:
-            raise UntimelyError("--interfaces with --from-bag is not supported yet; init --from-ros2 --interfaces "
-                                "first, or build the packages into the distro's venv")
+            raise UntimelyError("--interfaces with --from-bag is not supported yet: write the target with "
+                                "--from-ros2 'COMMAND' --interfaces PKG_DIR alone, then edit its golden.mission")
         return from_bag.from_bag(Path(request.dir), request.from_ros2, request.from_bag)
     return ros2_init.from_ros2(Path(request.dir), request.from_ros2, interfaces=tuple(request.interfaces))

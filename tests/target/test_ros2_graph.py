@@ -1,6 +1,7 @@
 """The target derived from a ROS 2 graph (harness/target/ros2_graph.py, ros2_texts.py), without ROS:
 the graph is the JSON harness/sut/ros2/graph.py prints, written here by hand."""
 import copy
+import tomllib
 
 import pytest
 
@@ -167,3 +168,22 @@ def test_init_takes_one_source_only(tmp_path, capsys):
     assert main(["init", str(tmp_path / "t"), "--from-genom", "x.gen", "--from-ros2", COMMAND]) == 2
     assert "give --from-genom or --from-ros2, not both" in capsys.readouterr().err
     assert not (tmp_path / "t").exists()
+
+
+def test_interfaces_need_the_graph_and_not_a_bag_yet(tmp_path, capsys):
+    assert main(["init", str(tmp_path / "t"), "--interfaces", "pkg"]) == 2
+    assert "--interfaces pkg: give --from-ros2 'COMMAND' too" in capsys.readouterr().err
+    assert main(["init", str(tmp_path / "t"), "--from-ros2", COMMAND, "--from-bag", "b", "--interfaces", "pkg"]) == 2
+    assert "--interfaces with --from-bag is not supported yet" in capsys.readouterr().err
+    assert not (tmp_path / "t").exists()
+
+
+def test_each_suts_env_names_the_interfaces_built_for_its_distro(tmp_path):
+    prefixes = {"jazzy": (tmp_path / "a" / "install", tmp_path / "b" / "install"), "kilted": (tmp_path / "k",)}
+    write(tmp_path / "t", derive(COMMAND, GRAPH), prefixes, tmp_path)
+    suts = tomllib.loads((tmp_path / "t" / "suts.toml").read_text())
+    assert suts["sequencer-jazzy"]["env"] == {"UNTIMELY_ROS2_INTERFACES": f"{tmp_path}/a/install:{tmp_path}/b/install"}
+    assert suts["sequencer-kilted"]["env"] == {"UNTIMELY_ROS2_INTERFACES": f"{tmp_path}/k"}
+    written = derive(COMMAND, GRAPH)
+    write(tmp_path / "plain", written, {"jazzy": ()}, tmp_path)
+    assert "env" not in tomllib.loads((tmp_path / "plain" / "suts.toml").read_text())["sequencer-jazzy"]
