@@ -3,9 +3,8 @@ import pytest
 
 from harness.errors import ScriptError
 from harness.sut.executive import DRAIN_S, REACTION_S, Runner
-from harness.target.interface import load_interface
 from harness.target.script import parse, validate
-from tests.target.test_script import ARM
+from tests.support.arm_interface import arm_interface
 
 
 class FakeLayer:
@@ -132,8 +131,7 @@ def test_a_layer_that_takes_a_request_twice_crashes_the_trace(interface):
 def test_a_cancel_is_a_request_of_its_own_naming_the_goal_it_cancels(tmp_path):
     """`cancel g1` sends arm.move_cancel with goal = g1's request id, without blocking; `as c`
     names it for a wait; the layer receives the id as an integer."""
-    (tmp_path / "interface.toml").write_text(ARM)
-    arm = load_interface(tmp_path / "interface.toml")
+    arm = arm_interface(tmp_path)
     received = []
 
     class Recording(FakeLayer):
@@ -152,8 +150,7 @@ def test_a_cancel_is_a_request_of_its_own_naming_the_goal_it_cancels(tmp_path):
 
 
 def test_the_simulated_layer_refuses_a_script_with_a_cancel(tmp_path):
-    (tmp_path / "interface.toml").write_text(ARM)
-    arm = load_interface(tmp_path / "interface.toml")
+    arm = arm_interface(tmp_path)
     script = parse("send arm.move order=3 as g1\ncancel g1\n", "t.mission")
     validate(script, arm)
     with pytest.raises(ScriptError, match="t.mission:2: cancel g1: the simulated layer .* has no cancels"):

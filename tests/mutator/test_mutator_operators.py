@@ -9,10 +9,9 @@ from harness import DEFAULT_MISSION_DIR
 from harness.mutator import operators
 from harness.mutator.operators import Draw, chosen, generate, mutate
 from harness.mutator.timeline import Timeline
-from harness.target.interface import load_interface
 from harness.target.script import Script, load_script, parse, validate
 from harness.trace import Trace
-from tests.target.test_script import ARM
+from tests.support.arm_interface import arm_interface
 
 SMALL = """\
 send rflex.Init as ri
@@ -183,8 +182,7 @@ CANCELLING = "send arm.move order=3 as g1\nsleep 0.5\ncancel g1 as c\nsend arm.g
 
 @pytest.fixture
 def arm(tmp_path):
-    (tmp_path / "interface.toml").write_text(ARM)
-    return load_interface(tmp_path / "interface.toml")
+    return arm_interface(tmp_path)
 
 
 def test_the_request_operators_take_a_cancel_for_a_request(arm):

@@ -2,8 +2,8 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR
 from harness.errors import InputFileError, ScriptError
-from harness.target.interface import load_interface
 from harness.target.script import load_script, parse, validate
+from tests.support.arm_interface import arm_interface
 
 
 def check(text, interface):
@@ -86,23 +86,10 @@ def test_only_a_newline_ends_a_step_and_a_byte_order_mark_is_no_text(interface, 
         "send rflex.Init as ri  # a comment\u2028send sick.Init\fsend ndd.Init", "wait ri"]
 
 
-ARM = """[replies]
-ok = "T"
-canceled = "Z"
-rejected = "R"
-
-[modules.arm]
-services.move = { kind = "exec", args = { order = { type = "float" } } }
-services.move_cancel = { kind = "control" }
-services.home = { kind = "exec" }
-services.grip = { kind = "control" }
-"""
-
 
 @pytest.fixture
 def arm(tmp_path):
-    (tmp_path / "interface.toml").write_text(ARM)
-    return load_interface(tmp_path / "interface.toml")
+    return arm_interface(tmp_path)
 
 
 def test_a_cancel_renders_and_parses_back(arm):
