@@ -162,10 +162,11 @@ def properties_text_of(target: Ros2Target) -> str:
     actions = [s.qualified for s in target.services if s.kind == "exec"]
     lines = ["", "# Actions: what a goal does to a running goal of the same server (queue, preempt, run both or",
              "# reject) cannot be told from the graph or one golden run. ROS 2 lets the server choose; if yours",
-             "# preempts (the running goal ends canceled when a new one comes), uncomment its property:"]
+             "# preempts (the running goal ends aborted when a new one comes: a server can end a goal canceled",
+             "# only once a client has asked to cancel it), uncomment its property:"]
     for action in actions:
         lines += ["#", "# [[property]]", f'# id = "PREEMPT({action})"', '# family = "PREEMPT"', '# type = "EE"',
-                  f"# x = {value([action])}", f"# y = {value([action])}", '# z_p = "canceled"']
+                  f"# x = {value([action])}", f"# y = {value([action])}", '# z_p = "aborted"']
     return text + ("\n".join(lines) + "\n" if actions else "")
 
 

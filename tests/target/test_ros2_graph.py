@@ -120,6 +120,13 @@ def test_the_properties_state_the_lifecycle_rules(written):
         ("TRANSITION(sequencer.shutdown)", "OUT")}
     text = (folder / "properties.toml").read_text()
     assert "# [[property]]\n# id = \"PREEMPT(sequencer.fibonacci)\"" in text, "preemption: a commented choice"
+    uncommented = text.replace("\n# [[property]]\n# id = ", "\n[[property]]\nid = ")
+    uncommented = "\n".join(line[2:] if line.startswith(("# family", "# type", "# x =", "# y =", "# z_p")) else line
+                            for line in uncommented.splitlines())
+    (folder / "properties.toml").write_text(uncommented)
+    preempt = {p.id: p for p in load_properties(folder / "properties.toml", interface)}["PREEMPT(sequencer.fibonacci)"]
+    assert (preempt.type, preempt.x, preempt.y, preempt.z_p) == (
+        "EE", ("sequencer.fibonacci",), ("sequencer.fibonacci",), "aborted")  # uncommented, it loads: aborted is Z
     assert "lifecycle: activate is valid only from inactive" in text
 
 

@@ -96,7 +96,12 @@ def from_ros2(folder: Path, command: str, recorded: Callable[[Path, Ros2Target],
           f"SUTs: {', '.join(d for d in distros)}")
     for note in target.notes:
         print(f"  not derived: {note}")
-    print(f"next: untimely campaign --mission {folder} --strategy focused --budget 10m --sut "
-          + ",".join(f"{line.strip('[]')}" for line in (folder / SUTS_FILE).read_text().splitlines()
-                     if line.startswith("[")))
+    campaign = (f"untimely campaign --mission {folder} --strategy focused --budget 10m --sut "
+                + ",".join(f"{line.strip('[]')}" for line in (folder / SUTS_FILE).read_text().splitlines()
+                           if line.startswith("[")))
+    if not target.properties:  # a campaign judges properties: it would refuse to start
+        print(f"next: write at least one [[property]] in {folder / 'properties.toml'} (none could be derived), "
+              f"then: {campaign}")
+    else:
+        print(f"next: {campaign}")
     return 0
