@@ -32,9 +32,11 @@ class Service:
     def qualified(self) -> str:
         return f"{self.module}.{self.name}"
 
-    def typed(self, raw: dict[str, str]) -> dict:
-        """A request's argument values as carried in JSON (harness/target/domains.py)."""
-        return {k: carried(self.args[k], v) for k, v in raw.items()}
+    def typed(self, raw: dict) -> dict:
+        """A request's argument values as carried in JSON (harness/target/domains.py). A value of no
+        declared argument is one the executive adds itself (a cancel's goal, its request id), carried
+        as it is: a script's own are all declared (harness/target/script.py validates them)."""
+        return {k: carried(self.args[k], v) if k in self.args else v for k, v in raw.items()}
 
 
 @dataclass(frozen=True)
