@@ -3,7 +3,9 @@
     one dict per property, its `id`, `family` and parameters (x, y, q: "module.Service" lists; r_p,
     z_p: codes). A type's template that defines `one_pass(name)` reads these two CTEs, and its
     per-property `ctes` gives them one row each (the same chain, for explain and the fallback). -#}
-{% macro code(p, key) %}{{ p[key] | lit if p[key] is defined and p[key] else 'null' }}::varchar{% endmacro %}
+{#- A parameter a property leaves out is absent from its dict (NULL, no services); one a type's `ctes`
+    was not given is there, undefined: rendering it fails, naming it. -#}
+{% macro code(p, key) %}{{ p[key] | lit if key in p else 'null' }}::varchar{% endmacro %}
 
 {% macro tables(name, judged) -%}
 -- per property, its codes
@@ -13,7 +15,7 @@
 ),
 -- per property, the services of each of its roles (x, y, q)
 {{ name }}_services as (
-    select * from (values {% for p in judged %}{% set outer = loop %}{% for role in ['x', 'y', 'q'] %}{% for s in p[role] | default([]) %}{% set module, service = s.split('.', 1) %}({{ p.id | lit }}, {{ role | lit }}, {{ module | lit }}, {{ service | lit }}), {% endfor %}{% endfor %}{% endfor %}(null, null, null, null))
+    select * from (values {% for p in judged %}{% set outer = loop %}{% for role in ['x', 'y', 'q'] %}{% for s in (p[role] if role in p else []) %}{% set module, service = s.split('.', 1) %}({{ p.id | lit }}, {{ role | lit }}, {{ module | lit }}, {{ service | lit }}), {% endfor %}{% endfor %}{% endfor %}(null, null, null, null))
         as services(property_id, role, module, service) where property_id is not null
 )
 {%- endmacro %}
