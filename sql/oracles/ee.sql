@@ -5,7 +5,7 @@
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/_parameters.sql' as parameters %}
 {% import 'oracles/_judge.sql' as judge with context %}
-{% import 'oracles/_causes.sql' as causes with context %}
+{% import 'oracles/_causes_per_property.sql' as causes with context %}
 {% set interrupts = [['x', 'y']] %}{# a y may end an x activity with z_p: causes are searched among them #}
 
 {% macro ctes(name, x, y, z_p) -%}
