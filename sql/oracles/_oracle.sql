@@ -32,7 +32,7 @@ epsilons as (from {{ shared_epsilons }}),
 {% if judged | default(none) %}
 {{ table.tables('p', judged) }},
 {{ oracle.one_pass('p') }}
-select j.trace_id, j.property_id, f.family, j.rqst_id, j.module, j.service,
+select j.trace_id, f.id as property_id, f.family, j.rqst_id, j.module, j.service,
        j.c_holds, j.verdict, j.margin_s, len(j.alternatives) > 0 as suspicious,
        len(j.alternatives) = 0 as certain, j.alternatives
 from p_judged j join p_properties f using (property_id)

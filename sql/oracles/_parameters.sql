@@ -8,14 +8,15 @@
 {% macro code(p, key) %}{{ p[key] | lit if key in p else 'null' }}::varchar{% endmacro %}
 
 {% macro tables(name, judged) -%}
--- per property, its codes
+-- per property, its codes; `property_id` is its number here (an integer key groups faster than
+-- its text), `id` its id
 {{ name }}_properties as (
-    select * from (values {% for p in judged %}({{ p.id | lit }}, {{ p.family | lit }}, {{ code(p, 'r_p') }}, {{ code(p, 'z_p') }}){{ ', ' if not loop.last }}{% endfor %})
-        as properties(property_id, family, r_p, z_p)
+    select * from (values {% for p in judged %}({{ loop.index }}, {{ p.id | lit }}, {{ p.family | lit }}, {{ code(p, 'r_p') }}, {{ code(p, 'z_p') }}){{ ', ' if not loop.last }}{% endfor %})
+        as properties(property_id, id, family, r_p, z_p)
 ),
 -- per property, the services of each of its roles (x, y, q)
 {{ name }}_services as (
-    select * from (values {% for p in judged %}{% set outer = loop %}{% for role in ['x', 'y', 'q'] %}{% for s in (p[role] if role in p else []) %}{% set module, service = s.split('.', 1) %}({{ p.id | lit }}, {{ role | lit }}, {{ module | lit }}, {{ service | lit }}), {% endfor %}{% endfor %}{% endfor %}(null, null, null, null))
+    select * from (values {% for p in judged %}{% set outer = loop %}{% for role in ['x', 'y', 'q'] %}{% for s in (p[role] if role in p else []) %}{% set module, service = s.split('.', 1) %}({{ outer.index }}, {{ role | lit }}, {{ module | lit }}, {{ service | lit }}), {% endfor %}{% endfor %}{% endfor %}(null, null, null, null))
         as services(property_id, role, module, service) where property_id is not null
 )
 {%- endmacro %}
