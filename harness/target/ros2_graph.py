@@ -15,8 +15,13 @@ What the graph states, and what follows from it:
   service needs (GenoM's Init), while which transition comes when is what the properties state;
 - the arguments of a goal or request are its fields of a number or string type, with the range
   of the type; other fields (booleans, sequences, nested messages) keep their defaults;
-- the lifecycle's semantics (design article "Managed nodes") give the properties: no goal or call
-  served unless active; each transition only from the states that offer it;
+- the golden values: a goal's integer field named as a number of iterations (order, count, steps,
+  size, ...; COUNT_FIELD) gets LONG_RUN, within its type, so that the goal runs long enough for a
+  call, a cancel or a second goal to come while it executes; any other integer 3, a float 1.0;
+- ROS 2's model of a node (harness/target/ros2_properties.py) gives the properties: calls, cancels
+  and transitions answered while goals run, cancels honoured, one goal at a time per action, and
+  for a lifecycle node no goal or call served unless active, each transition only from the states
+  that offer it, no goal outliving the active state;
 - the reply codes keep ROS 2's outcomes apart (docs/ros2.md, "Targets from the ROS 2 graph"):
   a goal rejected, a call answered success = false and a transition refused are three R codes, so a
   property's r_p is the code its requests really get; a goal the server aborts is interrupted (Z).
@@ -28,10 +33,9 @@ from dataclasses import dataclass, field
 
 from harness.errors import UntimelyError
 from harness.target.domains import Argument
+from harness.target.ros2_properties import REFUSED, REJECTED, TRANSITION_REFUSED, properties_of
 from harness.target.script import CANCEL_SUFFIX
 
-# The refusals of a goal, of a call (`success = false`) and of a transition, told apart.
-REJECTED, REFUSED, TRANSITION_REFUSED = "rejected", "refused", "transition_refused"
 # A cancel's response (action_msgs/srv/CancelGoal return codes) -> its reply code.
 CANCEL_CODES = {"ERROR_NONE": "ok", "ERROR_REJECTED": "cancel_rejected", "ERROR_UNKNOWN_GOAL_ID": "unknown_goal",
                 "ERROR_GOAL_TERMINATED": "goal_terminated"}
@@ -47,21 +51,16 @@ REPLIES = {"ok": ("T", "the goal succeeded, the call answered success, the trans
 CANCEL_GOAL = "action_msgs/srv/CancelGoal"
 # lifecycle_msgs/msg/Transition ids; shutdown goes by its label (its id depends on the state).
 TRANSITIONS = {"configure": 1, "cleanup": 2, "activate": 3, "deactivate": 4, "shutdown": None}
-# Each transition's source states as a span of IN or OUT (sql/oracles/in.sql, out.sql): the type,
-# the transitions whose ok enters the span, those whose ok leaves it, and the rule in words.
-FROM_STATES = {
-    "configure": ("OUT", ["configure", "shutdown"], ["cleanup"], "only from unconfigured"),
-    "activate": ("IN", ["configure", "deactivate"], ["activate", "cleanup", "shutdown"], "only from inactive"),
-    "cleanup": ("IN", ["configure", "deactivate"], ["activate", "cleanup", "shutdown"], "only from inactive"),
-    "deactivate": ("IN", ["activate"], ["deactivate", "shutdown"], "only from active"),
-    "shutdown": ("OUT", ["shutdown"], [], "from any state but finalized"),
-}
 CHANGE_STATE = "lifecycle_msgs/srv/ChangeState"
 INFRASTRUCTURE = re.compile(r"^(rcl_interfaces|type_description_interfaces|lifecycle_msgs)/")
 INTEGERS = {f"{sign}int{bits}": (-(2 ** (bits - 1)) if sign == "" else 0, 2 ** (bits - (sign == "")) - 1)
             for sign in ("", "u") for bits in (8, 16, 32, 64)} | {"byte": (0, 255), "char": (0, 255), "octet": (0, 255)}
 FLOATS = ("float", "double")
 STRINGS = re.compile(r"^w?string(<=\d+)?$")
+# A goal's integer field that counts iterations, by its name (whole words of snake or camel case).
+COUNT_FIELD = re.compile(r"(^|_)(order|count|steps?|size|iterations?|repeats?|times|cycles|loops|length|n)(_|$)",
+                         re.IGNORECASE)
+LONG_RUN = 10  # the ROS 2 tutorial's Fibonacci order: about 10 feedback periods, long enough to matter
 
 
 @dataclass(frozen=True)
@@ -151,8 +150,10 @@ def short_name(node: NodeGraph, endpoint: Endpoint) -> str:
     return identifier(endpoint.name[len(prefix):] if endpoint.name.startswith(prefix) else endpoint.name)
 
 
-def arguments(endpoint: Endpoint, notes: list[str]) -> tuple[tuple[Argument, ...], dict[str, str], dict[str, str]]:
-    """The arguments its fields give (the type's range), a well-formed value each, and the fields."""
+def arguments(endpoint: Endpoint, notes: list[str],
+              goal: bool = False) -> tuple[tuple[Argument, ...], dict[str, str], dict[str, str]]:
+    """The arguments its fields give (the type's range), a well-formed value each (a goal's count
+    LONG_RUN), and the fields."""
     args, golden, fields = [], {}, {}
     if endpoint.fields is None:
         notes.append(f"{endpoint.name}: its type {endpoint.type} could not be imported in the distro's venv; "
@@ -162,7 +163,8 @@ def arguments(endpoint: Endpoint, notes: list[str]) -> tuple[tuple[Argument, ...
         if ros_type in INTEGERS:
             low, high = INTEGERS[ros_type]
             args.append(Argument(name, "float", float(low), float(high)))
-            golden[name] = str(min(max(3, low), high))
+            counts = goal and COUNT_FIELD.search(re.sub(r"(?<=[a-z])(?=[A-Z])", "_", name))
+            golden[name] = str(min(max(LONG_RUN if counts else 3, low), high))
         elif ros_type in FLOATS:
             args.append(Argument(name, "float"))
             golden[name] = "1.0"
@@ -184,7 +186,7 @@ def derive(command: str, data: dict) -> Ros2Target:
         if node.managed:
             target.services += [_transition(node, module, name, number) for name, number in TRANSITIONS.items()]
         for action in node.actions:
-            args, golden, fields = arguments(action, target.notes)
+            args, golden, fields = arguments(action, target.notes, goal=True)
             name = short_name(node, action)
             target.services.append(Derived(module, name, "exec", args, golden,
                                            {"action": action.name, "type": action.type, "fields": fields}))
@@ -211,32 +213,11 @@ def _transition(node: NodeGraph, module: str, name: str, number: int | None) -> 
                                                    "failure": TRANSITION_REFUSED})
 
 
-# The requests a node serves only while active, by the code that refuses them (ACTIVE's r_p).
-GATED = {"goals": (REJECTED, "its goals are rejected"), "calls": (REFUSED, "its calls answer success = false")}
-
-
 def _properties(target: Ros2Target, node: NodeGraph, module: str) -> None:
+    target.properties += properties_of(module, target.of(module), node.managed)
     if not node.managed:
         target.notes.append(f"{node.name} is not a lifecycle node (no lifecycle_msgs change_state and get_state): "
-                            "no lifecycle property; add yours to properties.toml")
-        return
-    served = {"goals": [s.qualified for s in target.of(module) if s.kind == "exec"],
-              "calls": [s.qualified for s in target.of(module) if s.kind == "control" and not (s.transition or s.cancel)]}
-    for what, (code, refusal) in GATED.items():
-        if served[what]:
-            target.properties.append({
-                "id": f"ACTIVE_{what.upper()}({module})", "family": "ACTIVE", "type": "IN", "x": served[what],
-                "q": [f"{module}.activate"], "y": [f"{module}.deactivate", f"{module}.shutdown"], "r_p": code,
-                "why": (f"lifecycle (Managed nodes): a node does no processing unless active, so {refusal} "
-                        "before activate and after deactivate or shutdown. Leave out of x what your node serves in "
-                        "every state")})
-    for name, (kind, enter, leave, words) in FROM_STATES.items():
-        target.properties.append({
-            "id": f"TRANSITION({module}.{name})", "family": "TRANSITION", "type": kind, "x": [f"{module}.{name}"],
-            "q": [f"{module}.{t}" for t in enter], **({"y": [f"{module}.{t}" for t in leave]} if leave else {}),
-            "r_p": TRANSITION_REFUSED,
-            "why": (f"lifecycle: {name} is valid {words}; requested from another state it is refused (success = "
-                    f"false: {TRANSITION_REFUSED}) and the node goes on serving (a node that stops answering makes the trace hung)")})
+                            "no lifecycle property; add your node's states' rules to properties.toml")
 
 
 def _check_unique(target: Ros2Target) -> None:

@@ -100,7 +100,9 @@ def golden_text(target: Ros2Target) -> str:
     lines = ["# The golden mission (docs/reference/mission-language.md), made by `untimely init --from-ros2`:",
              *(["# each lifecycle node configured and activated, every action and service once with well-formed",
                 "# arguments (edit the values to your node's), then deactivated and shut down."] if managed else
-               ["# every action and service once with well-formed arguments (edit the values to your node's)."]), ""]
+               ["# every action and service once with well-formed arguments (edit the values to your node's)."]),
+             "# A goal's count field (order, count, steps, size, ...) is 10, within its type: a goal that runs a",
+             "# while, so that the focused tests' calls, cancels and second goals come while it executes.", ""]
     modules = list(dict.fromkeys(s.module for s in target.services))
     steps = [f"{m}.{t}" for m in modules for t in ("configure", "activate") if _has(target, m, t)]
     steps += [s for m in modules for s in target.of(m) if not (s.transition or s.cancel)]
@@ -158,16 +160,9 @@ def _has(target: Ros2Target, module: str, name: str) -> bool:
 
 
 def properties_text_of(target: Ros2Target) -> str:
-    text = properties_text(Draft(f"the ROS 2 graph of {target.command!r}", {}, target.properties))
-    actions = [s.qualified for s in target.services if s.kind == "exec"]
-    lines = ["", "# Actions: what a goal does to a running goal of the same server (queue, preempt, run both or",
-             "# reject) cannot be told from the graph or one golden run. ROS 2 lets the server choose; if yours",
-             "# preempts (the running goal ends aborted when a new one comes: a server can end a goal canceled",
-             "# only once a client has asked to cancel it), uncomment its property:"]
-    for action in actions:
-        lines += ["#", "# [[property]]", f'# id = "PREEMPT({action})"', '# family = "PREEMPT"', '# type = "EE"',
-                  f"# x = {value([action])}", f"# y = {value([action])}", '# z_p = "aborted"']
-    return text + ("\n".join(lines) + "\n" if actions else "")
+    """ROS 2's model of each node (harness/target/ros2_properties.py), each property commented with
+    why it was derived and how to turn it off."""
+    return properties_text(Draft(f"the ROS 2 graph of {target.command!r}", {}, target.properties))
 
 
 def write(folder: Path, target: Ros2Target, distros: dict[str, tuple[Path, ...]], cwd: Path,

@@ -45,7 +45,7 @@ def test_the_golden_mission_keeps_the_sessions_order_arguments_and_gaps(tmp_path
     steps = [line for line in text.splitlines() if line and not line.startswith("#")]
     assert steps == ["send seq.fib order=7 as seq_fib_1", "sleep 0.2", "send seq.status as seq_status_1",
                      "wait seq_status_1 timeout=30", "wait seq_fib_1 timeout=30", "sleep 0.5",
-                     "send seq.fib order=3 as seq_fib_2  # arguments not in the bag: the derived values"]
+                     "send seq.fib order=10 as seq_fib_2  # arguments not in the bag: the derived values"]
     write(tmp_path / "t", target, {"jazzy": ()}, tmp_path, text)
     load_script(tmp_path / "t" / "golden.mission", load_interface(tmp_path / "t" / "interface.toml"))
 

@@ -60,7 +60,7 @@ def test_the_written_target_loads_and_its_golden_mission_uses_every_service(writ
     assert sent[-2:] == ["sequencer.deactivate", "sequencer.shutdown"]
     assert set(sent) == set(interface.services) - {"sequencer.cleanup", "sequencer.countdown_cancel",
                                                    "sequencer.fibonacci_cancel"}
-    assert [step.args for step in golden.steps if step.service == "sequencer.fibonacci"] == [(("order", "3"),)]
+    assert [step.args for step in golden.steps if step.service == "sequencer.fibonacci"] == [(("order", "10"),)]
 
 
 def test_the_mapping_routes_every_service_and_tells_the_transitions_apart(written):
@@ -119,15 +119,75 @@ def test_the_properties_state_the_lifecycle_rules(written):
         ("TRANSITION(sequencer.cleanup)", "IN"), ("TRANSITION(sequencer.deactivate)", "IN"),
         ("TRANSITION(sequencer.shutdown)", "OUT")}
     text = (folder / "properties.toml").read_text()
-    assert "# [[property]]\n# id = \"PREEMPT(sequencer.fibonacci)\"" in text, "preemption: a commented choice"
-    uncommented = text.replace("\n# [[property]]\n# id = ", "\n[[property]]\nid = ")
-    uncommented = "\n".join(line[2:] if line.startswith(("# family", "# type", "# x =", "# y =", "# z_p")) else line
-                            for line in uncommented.splitlines())
-    (folder / "properties.toml").write_text(uncommented)
-    preempt = {p.id: p for p in load_properties(folder / "properties.toml", interface)}["PREEMPT(sequencer.fibonacci)"]
-    assert (preempt.type, preempt.x, preempt.y, preempt.z_p) == (
-        "EE", ("sequencer.fibonacci",), ("sequencer.fibonacci",), "aborted")  # uncommented, it loads: aborted is Z
     assert "lifecycle: activate is valid only from inactive" in text
+
+
+ACTIONS = ("sequencer.countdown", "sequencer.fibonacci")
+CANCELS = ("sequencer.countdown_cancel", "sequencer.fibonacci_cancel")
+CALLS = ("sequencer.calibrate", "sequencer.reset", "sequencer.status")
+TRANSITIONS = tuple(f"sequencer.{t}" for t in ("configure", "cleanup", "activate", "deactivate", "shutdown"))
+
+
+def ros2_model(properties: dict) -> dict:
+    """The properties of ROS 2's model of a node, as (type, x, y, z_p, r_p) with x and y as sets."""
+    return {i: (p.type, set(p.x), set(p.y), p.z_p, p.r_p) for i, p in properties.items()
+            if p.type in ("RSP", "CAN", "GOAL", "OUTLIVE")}
+
+
+def test_a_lifecycle_node_gets_the_ros2_model_with_its_deadlines_left_to_the_golden_runs(written):
+    folder, _ = written
+    interface = load_interface(folder / "interface.toml")
+    properties = {p.id: p for p in load_properties(folder / "properties.toml", interface)}
+    assert ros2_model(properties) == {
+        "RSP(sequencer)": ("RSP", {*CALLS, *CANCELS, *TRANSITIONS}, set(ACTIONS), None, None),
+        **{f"CAN({a})": ("CAN", {f"{a}_cancel"}, {a}, "canceled", None) for a in ACTIONS},
+        **{f"GOAL({a})": ("GOAL", {a}, set(), None, None) for a in ACTIONS},  # any rejection code enforces it
+        "OUTLIVE(sequencer)": ("OUTLIVE", set(ACTIONS), {"sequencer.deactivate", "sequencer.cleanup",
+                                                         "sequencer.shutdown"}, None, None)}
+    assert all(p.deadline is None for p in properties.values())  # derived from the golden runs
+    text = (folder / "properties.toml").read_text()
+    assert "PREEMPT" not in text.replace("replaces the commented PREEMPT", ""), "GOAL supersedes the PREEMPT choice"
+    comments = [block.split("\n[[property]]")[0] for block in text.split("\n\n# ")[1:]]
+    assert len(comments) == len(properties) and all("delete this [[property]]" in c for c in comments), comments
+    assert "as Nav2's action servers do" in text and "in parallel, or queues them, by design" in text
+
+
+def test_a_plain_node_gets_responsiveness_cancels_and_one_goal_at_a_time(tmp_path):
+    graph = copy.deepcopy(GRAPH)
+    graph["nodes"][0]["services"] = [s for s in graph["nodes"][0]["services"] if "lifecycle" not in s["type"]]
+    target = derive(COMMAND, graph)
+    write(tmp_path / "t", target, {"jazzy": ()}, tmp_path)
+    interface = load_interface(tmp_path / "t" / "interface.toml")
+    properties = {p.id: p for p in load_properties(tmp_path / "t" / "properties.toml", interface)}
+    assert ros2_model(properties) == {
+        "RSP(sequencer)": ("RSP", {*CALLS, *CANCELS}, set(ACTIONS), None, None),
+        **{f"CAN({a})": ("CAN", {f"{a}_cancel"}, {a}, "canceled", None) for a in ACTIONS},
+        **{f"GOAL({a})": ("GOAL", {a}, set(), None, None) for a in ACTIONS}}
+    assert set(properties) == set(ros2_model(properties)), "no lifecycle property for a plain node"
+    golden = (tmp_path / "t" / "golden.mission").read_text()
+    assert "configure" not in golden and "send sequencer.countdown order=10 as" in golden
+
+
+def test_a_node_with_services_only_gets_responsiveness_and_a_node_without_any_none():
+    services = {"nodes": [{"name": "/cam", "actions": [], "services": [
+        endpoint("/cam/snap", "std_srvs/srv/Trigger", {}, TRIGGER)]}]}
+    assert [(p["id"], p["x"], p["y"]) for p in derive("cam", services).properties] == [
+        ("RSP(cam)", ["cam.snap"], [])]
+    assert derive("idle", {"nodes": [{"name": "/idle", "actions": [], "services": []}]}).properties == []
+
+
+@pytest.mark.parametrize(("field", "ros_type", "goal", "expected"), [
+    ("order", "int32", True, "10"), ("count", "uint8", True, "10"), ("num_steps", "int64", True, "10"),
+    ("batchSize", "int16", True, "10"), ("n", "int8", True, "10"), ("speed", "int32", True, "3"),
+    ("border", "int32", True, "3"), ("order", "int32", False, "3"), ("order", "double", True, "1.0")])
+def test_a_goals_count_field_makes_it_run_long_enough_to_matter(field, ros_type, goal, expected):
+    """A goal's integer field named as a number of iterations gets LONG_RUN (the ROS 2 tutorial's
+    order=10), clamped to its type; any other field, and any service's, keeps its small value."""
+    kind = "actions" if goal else "services"
+    node = {"name": "/n", "actions": [], "services": []}
+    node[kind].append(endpoint("/n/go", "p/action/Go" if goal else "p/srv/Go", {field: ros_type}))
+    (service,) = [s for s in derive("n", {"nodes": [node]}).services if not s.cancel]
+    assert service.golden == {field: expected}
 
 
 def test_one_sut_per_distro_runs_the_command_in_the_distros_environment(written, tmp_path):
@@ -144,7 +204,7 @@ def test_what_cannot_be_derived_is_said():
     node["actions"][0]["fields"] = {"order": "int32", "fast": "boolean", "path": "sequence<double>"}
     node["actions"][1]["fields"] = None
     target = derive(COMMAND, graph)
-    assert not target.properties
+    assert not [p for p in target.properties if p["family"] in ("ACTIVE", "TRANSITION", "OUTLIVE")]
     golden = golden_text(target)
     assert "configure" not in golden and "every action and service once" in golden  # no lifecycle to speak of
     notes = "\n".join(target.notes)
