@@ -4,6 +4,7 @@ them; harness.target.genom.derive drafts one from a GenoM3 description)."""
 from __future__ import annotations
 
 import json
+import textwrap
 from dataclasses import dataclass, field
 
 # The catalogue every draft starts from: (class, what it means).
@@ -90,12 +91,17 @@ def interface_text(draft: Draft) -> str:
     return "\n".join(lines) + "\n"
 
 
-def properties_text(draft: Draft) -> str:
+BASIC_TYPES = "a basic type PC, ES, EE, EX, MX_R, MX_I or VAL"
+
+
+def properties_text(draft: Draft, types: str = BASIC_TYPES) -> str:
+    """properties.toml: each property after its comment (its "why", wrapped, and its cites)."""
     lines = ["# The safety properties the oracles judge (docs/reference/properties.md): one [[property]] each,",
-             "# of a basic type PC, ES, EE, EX, MX_R, MX_I or VAL over services of interface.toml.",
+             f"# of {types} over services of interface.toml.",
              "# Edit, then `untimely analyze` judges every stored trace again (nothing is re-run)."]
     for p in draft.properties:
-        lines += ["", f"# {p['why']}"] + [f"#   from {cite}" for cite in p.get("cites", ())] + ["[[property]]"]
+        lines += ["", *(f"# {line}" for line in textwrap.wrap(p["why"], 98))]
+        lines += [f"#   from {cite}" for cite in p.get("cites", ())] + ["[[property]]"]
         lines += _entry(p, ("id", "family", "type", "x", "q", "y", "r_p", "z_p"))
     return "\n".join(lines) + "\n"
 

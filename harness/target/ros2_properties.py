@@ -20,7 +20,7 @@ FROM_STATES = {
 # The requests a node serves only while active, by the code that refuses them (ACTIVE's r_p).
 GATED = {"goals": (REJECTED, "its goals are rejected"), "calls": (REFUSED, "its calls answer success = false")}
 LEAVING = ("deactivate", "cleanup", "shutdown")  # the transitions that leave the active state behind
-OFF = "To turn it off, delete this [[property]]"
+OFF = "delete this [[property]] to turn it off"
 
 
 def properties_of(module: str, services: list, managed: bool) -> list[dict]:
@@ -45,7 +45,7 @@ def _responsive(module: str, answered: list[str], goals: list[str]) -> list[dict
                      "while its goals execute (a callback that runs a goal to its end on a single-threaded "
                      "executor blocks them: give the goal a thread, or a reentrant callback group). The deadline: "
                      "10 times their largest latency in the golden runs, at least 1 s; set `deadline = SECONDS` "
-                     f"to fix it. Leave out of x a request your node may answer late. {OFF}")}]
+                     f"to fix it. Leave out of x a request your node may answer late, or {OFF}")}]
 
 
 def _cancel_honoured(goal: str) -> dict:
@@ -71,7 +71,7 @@ def _gated(module: str, served: dict[str, list[str]]) -> list[dict]:
              "q": [f"{module}.activate"], "y": [f"{module}.deactivate", f"{module}.shutdown"], "r_p": code,
              "why": (f"lifecycle (Managed nodes): a node does no processing unless active, so {refusal} "
                      "before activate and after deactivate or shutdown. Leave out of x what your node serves in "
-                     f"every state; {OFF.lower()}")}
+                     f"every state, or {OFF}")}
             for what, (code, refusal) in GATED.items() if served[what]]
 
 
@@ -81,7 +81,7 @@ def _transitions(module: str) -> list[dict]:
              "r_p": TRANSITION_REFUSED,
              "why": (f"lifecycle: {name} is valid {words}; requested from another state it is refused (success = "
                      f"false: {TRANSITION_REFUSED}) and the node goes on serving (a node that stops answering "
-                     f"makes the trace hung). {OFF}")}
+                     f"makes the trace hung). If your node offers it from more states, {OFF}")}
             for name, (kind, enter, leave, words) in FROM_STATES.items()]
 
 

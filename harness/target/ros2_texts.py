@@ -162,7 +162,8 @@ def _has(target: Ros2Target, module: str, name: str) -> bool:
 def properties_text_of(target: Ros2Target) -> str:
     """ROS 2's model of each node (harness/target/ros2_properties.py), each property commented with
     why it was derived and how to turn it off."""
-    return properties_text(Draft(f"the ROS 2 graph of {target.command!r}", {}, target.properties))
+    return properties_text(Draft(f"the ROS 2 graph of {target.command!r}", {}, target.properties),
+                           "a basic type (PC, ES, EE, EX, MX_R, MX_I, VAL), IN, OUT or a ROS 2 type (RSP, CAN, GOAL, OUTLIVE)")
 
 
 def write(folder: Path, target: Ros2Target, distros: dict[str, tuple[Path, ...]], cwd: Path,

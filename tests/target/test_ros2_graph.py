@@ -147,9 +147,10 @@ def test_a_lifecycle_node_gets_the_ros2_model_with_its_deadlines_left_to_the_gol
     assert all(p.deadline is None for p in properties.values())  # derived from the golden runs
     text = (folder / "properties.toml").read_text()
     assert "PREEMPT" not in text.replace("replaces the commented PREEMPT", ""), "GOAL supersedes the PREEMPT choice"
-    comments = [block.split("\n[[property]]")[0] for block in text.split("\n\n# ")[1:]]
+    comments = [block.split("\n[[property]]")[0].replace("\n# ", " ") for block in text.split("\n\n# ")[1:]]
     assert len(comments) == len(properties) and all("delete this [[property]]" in c for c in comments), comments
-    assert "as Nav2's action servers do" in text and "in parallel, or queues them, by design" in text
+    flat = text.replace("\n# ", " ")  # the comments, unwrapped
+    assert "as Nav2's action servers do" in flat and "in parallel, or queues them, by design" in flat
 
 
 def test_a_plain_node_gets_responsiveness_cancels_and_one_goal_at_a_time(tmp_path):
