@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import json
 
-from harness.sut.ros.mapping import Mapping
-from harness.sut.ros.routes import Route, read_field
+from harness.sut.roscommon.mapping import Mapping
+from harness.sut.roscommon.routes import Route, read_field
 from harness.errors import UntimelyError
 from harness.target.interface import Interface
 

@@ -19,12 +19,12 @@ import os
 import shutil
 import sys
 
-from harness.sut.ros.lines import LineWriter, read_hello, run_main, serve
-from harness.sut.ros.mapping import interface_services, load_mapping
+from harness.sut.roscommon.lines import LineWriter, read_hello, run_main, serve
+from harness.sut.roscommon.mapping import interface_services, load_mapping
 from harness.sut.processes import Child, stop_all
 from harness.sut.ros.master import ros_home, start_master
-from harness.sut.ros.recorder import (recorded_topics, recording_folder, start_recorder, stop_recorder,
-                                          wait_connected)
+from harness.sut.ros.recorder import recorded_topics, start_recorder, stop_recorder, wait_connected
+from harness.sut.roscommon.recording import recording_folder
 from harness.errors import UntimelyError
 from harness.sut.protocol import PROTO
 

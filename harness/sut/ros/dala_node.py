@@ -41,10 +41,10 @@ from actionlib_msgs.msg import GoalStatus
 from std_msgs.msg import String
 from std_srvs.srv import Trigger, TriggerResponse
 
-from harness.sut.ros.mapping import load_mapping
-from harness.sut.ros.node_args import dala_arguments
+from harness.sut.roscommon.mapping import load_mapping
+from harness.sut.roscommon.node_args import dala_arguments
 from harness.sut.ros.messages import action_classes, service_class
-from harness.sut.ros.routes import Route, read_field
+from harness.sut.roscommon.routes import Route, read_field
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.sut.simulated.host import LayerHost

@@ -44,9 +44,9 @@ from rclpy.service_introspection import ServiceIntrospectionState
 from rclpy.task import Future
 from std_msgs.msg import String
 
-from harness.sut.ros.mapping import load_mapping
-from harness.sut.ros.node_args import dala_arguments
-from harness.sut.ros.routes import Route, read_field
+from harness.sut.roscommon.mapping import load_mapping
+from harness.sut.roscommon.node_args import dala_arguments
+from harness.sut.roscommon.routes import Route, read_field
 from harness.sut.ros2.teardown import release
 from harness.sut.ros2.types import route_class
 from harness.errors import UntimelyError

@@ -21,10 +21,10 @@ import sys
 import time
 from pathlib import Path
 
-from harness.sut.ros.lines import LineWriter, read_hello, run_main, serve
-from harness.sut.ros.mapping import check_cancels, load_mapping
+from harness.sut.roscommon.lines import LineWriter, read_hello, run_main, serve
+from harness.sut.roscommon.mapping import check_cancels, load_mapping
 from harness.sut.processes import Child, stop_all
-from harness.sut.ros.recorder import recording_folder
+from harness.sut.roscommon.recording import recording_folder
 from harness.sut.protocol import PROTO
 
 RECORDER_DRAIN_S = 1.0  # within the bench's 2 s of grace after bye
