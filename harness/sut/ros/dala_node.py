@@ -45,7 +45,7 @@ from harness.sut.roscommon.mapping import load_mapping
 from harness.sut.roscommon.node_args import dala_arguments
 from harness.sut.ros.messages import action_classes, service_class
 from harness.sut.roscommon.layer_face import LayerFace
-from harness.sut.roscommon.routes import Route, read_field
+from harness.sut.roscommon.routes import Route, generic_arguments, read_field
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.sut.simulated.host import LayerHost
@@ -180,12 +180,8 @@ class DalaNode(LayerFace):
         def receive(handle) -> None:
             goal = handle.get_goal()
             if route.generic:
-                target = services.get(goal.service)
-                try:
-                    args = json.loads(goal.args_json or "{}")
-                except ValueError:
-                    args = None
-                if target is None or not isinstance(args, dict):
+                target, args = services.get(goal.service), generic_arguments(goal)
+                if target is None or args is None:
                     problem = f"{route.name} serves {sorted(services)}; goal {goal.service!r} {goal.args_json!r}"
                     handle.set_rejected(result_class(code=problem), problem)
                     return

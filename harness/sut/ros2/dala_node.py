@@ -46,7 +46,7 @@ from std_msgs.msg import String
 from harness.sut.roscommon.mapping import load_mapping
 from harness.sut.roscommon.node_args import dala_arguments
 from harness.sut.roscommon.layer_face import LayerFace
-from harness.sut.roscommon.routes import Route, read_field
+from harness.sut.roscommon.routes import Route, generic_arguments, read_field
 from harness.sut.ros2.teardown import release
 from harness.sut.ros2.types import route_class
 from harness.errors import UntimelyError
@@ -202,11 +202,7 @@ class DalaNode(LayerFace, LifecycleNode):
     def _arguments(message, route: Route) -> dict | None:
         if not route.generic:
             return {arg: read_field(message, path) for arg, path in route.fields.items()}
-        try:
-            args = json.loads(message.args_json or "{}")
-        except ValueError:
-            return None
-        return args if isinstance(args, dict) else None
+        return generic_arguments(message)
 
     def _publish_json(self, publisher, payload: dict) -> None:
         publisher.publish(String(data=json.dumps(payload)))
