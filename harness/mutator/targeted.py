@@ -93,7 +93,7 @@ def falsifiers(prop: Property) -> list[Falsifier]:
 def disturbers(prop: Property, interface: Interface) -> list[Falsifier]:
     """For each x of a property whose template says its activities may be interrupted (EE, EX,
     MX_I): its module's services that neither are x nor dominate it."""
-    if not interruptions()[prop.type]:
+    if not interruptions().get(prop.type):  # a type without a template here (a Property made in code) has none
         return []
     found = []
     for x in prop.x:
