@@ -164,3 +164,18 @@ def test_the_goal_that_must_run_is_sent_in_its_state(tmp_path, situation, expect
     that must run is sent with its own context, the node brought up first."""
     for test in made_for(plan(tmp_path, LIFECYCLE, ROS2_TYPES), situation):
         assert sends(test) == ["arm.configure", "arm.activate"] + expected
+
+
+def test_a_targeted_mutants_fresh_goal_goes_where_the_node_was_brought_up(tmp_path):
+    """targeted.py places a fresh r where its preconditions hold: now also after the golden's activate."""
+    import random
+    from harness.mutator.targeted import Falsifier, Planner
+    p = plan(tmp_path, LIFECYCLE + INTERLOCK)
+    golden, trace = golden_run()
+    properties = load_properties(tmp_path / "properties.toml", p.interface)
+    planner = Planner(golden, Timeline(golden, trace, p.interface.replies), p.interface, properties,
+                      random.Random(5))
+    fresh = Falsifier("during", send=("arm.grip",), running=("arm.move",))
+    sites = [planner.site(fresh) for _ in range(60)]
+    positions = [position for position, steps, what in sites if "a new arm.move" in what]
+    assert positions and min(positions) == 4  # after `wait h2` (activate's), never before
