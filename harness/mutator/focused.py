@@ -13,7 +13,8 @@ r runs. A test for it is
      plus a second). A module's inits need each other (each is an init of the others' module):
      that cycle is sent in the golden's order too; a cycle of PC properties alone (x needs q ok
      before, q needs x) is refused, as no service of it can be sent first;
-  2. the perturbation: s alone (q never sent, or s with its exceptional value), q then s (s lands
+  2. the perturbation: s alone (q never sent, or s with its exceptional value, or after q in the
+     context ended ok: IN and OUT properties' left states), q then s (s lands
      while q runs), r then s (in r's start phase), or r, a sleep shorter than r's shortest golden
      run, then s;
   3. after SETTLE_S, the request that ended r or s in the golden run if it never ends by itself
@@ -58,18 +59,18 @@ SHOWN_CHARS = 20  # of an exceptional value, in a situation (an over-long text i
 class Aim:
     properties: tuple[str, ...]  # the properties whose condition it falsifies (or probes)
     send: str  # s
-    phase: str  # "without" q, "during" q, r's "start", r "running", or a "value" alone
+    phase: str  # "without" q, "during" q, "after" q ended ok, r's "start", r "running", or a "value" alone
     other: str  # q or r ("" for a value alone)
     disturb: bool = False
     value: tuple[str, str, str | None] | None = None  # s's (argument, class, word; None: left out)
 
     @property
     def timed(self) -> bool:
-        return self.phase not in ("without", "value")
+        return self.phase not in ("without", "after", "value")
 
     def situation(self) -> str:
         what = {"without": "{s} with {o} never sent", "during": "{s} while {o} runs (before it ended ok)",
-                "start": "{s} in the start phase of {o}", "running": "{s} while {o} runs", "value": "{s}"}[self.phase]
+                "after": "{s} after {o} ended ok", "start": "{s} in the start phase of {o}", "running": "{s} while {o} runs", "value": "{s}"}[self.phase]
         send = self.send
         if self.value:
             argument, kind, word = self.value
@@ -104,6 +105,8 @@ def aims(properties: list[Property], interface: Interface) -> list[Aim]:
                     keys += _value_keys(f, s, interface)
                 elif f.kind == "before_ok":
                     keys += [(s, phase, q, f.disturb, None) for q in f.need for phase in ("without", "during")]
+                elif f.kind == "after_ok":
+                    keys += [(s, "after", q, f.disturb, None) for q in f.need]
                 else:
                     keys += [(s, phase, r, f.disturb, None) for r in f.running for phase in ("start", "running")]
         per_property.append([(prop.id, k) for k in keys])
@@ -241,8 +244,9 @@ class Builder:
         return [s for s in wanted if s in own or s not in self.leaves.get(aim.other, ())]
 
     def test(self, aim: Aim, rng: random.Random, repeat: bool) -> list[Step]:
-        if aim.phase == "value":
-            steps = self.context(self.closure([aim.send]), rng)
+        if aim.phase in ("value", "after"):  # q's context and q (awaited) before s
+            after = [aim.other] if aim.phase == "after" else []
+            steps = self.context(self.closure([aim.send, *after]) + after, rng)
         elif aim.phase in ("without", "during"):
             wanted = self.closure([aim.send], without=aim.other)
             if aim.phase == "during":

@@ -135,14 +135,17 @@ def test_the_state_is_entered_the_goldens_way_and_the_outside_needs_nothing(tmp_
     assert sends(test) == ["arm.configure", "arm.activate", "arm.move"]
 
 
-def test_a_transition_while_a_goal_runs_keeps_the_goals_state(tmp_path):
-    """cleanup needs inactive (configure, activate, deactivate the golden's way), move needs active:
-    with move running, deactivate (which leaves move's state) is left out of the context."""
-    p = plan(tmp_path, LIFECYCLE)
-    (test,) = made_for(p, "arm.move in the start phase of arm.deactivate")
-    assert sends(test) == ["arm.configure", "arm.activate", "arm.deactivate", "arm.move"]  # deactivate runs: r
-    (test,) = made_for(p, "arm.deactivate in the start phase of arm.move")
-    assert sends(test) == ["arm.configure", "arm.activate", "arm.move", "arm.deactivate"]
+@pytest.mark.parametrize("situation, expected", [
+    # IN: x once a y left its state, and while a y runs; OUT: x once a q entered the span
+    ("arm.move after arm.deactivate ended ok", ["configure", "activate", "deactivate", "move"]),
+    ("arm.move in the start phase of arm.deactivate", ["configure", "activate", "deactivate", "move"]),
+    ("arm.activate after arm.cleanup ended ok", ["configure", "activate", "deactivate", "cleanup", "activate"]),
+    ("arm.activate after arm.activate ended ok", ["configure", "activate", "activate"]),
+    ("arm.configure after arm.configure ended ok", ["configure", "configure"])])
+def test_a_span_propertys_state_is_left_the_goldens_way(tmp_path, situation, expected):
+    (test,) = made_for(plan(tmp_path, LIFECYCLE), situation)
+    assert sends(test) == [f"arm.{name}" for name in expected]
+    assert all(line.startswith("wait c") for line in test if line.startswith("wait"))  # the context awaited
 
 
 ROS2_TYPES = (Property("RSP(arm.home)", "RSP", "RSP", ("arm.home",), ("arm.move",)),
@@ -179,3 +182,5 @@ def test_a_targeted_mutants_fresh_goal_goes_where_the_node_was_brought_up(tmp_pa
     sites = [planner.site(fresh) for _ in range(60)]
     positions = [position for position, steps, what in sites if "a new arm.move" in what]
     assert positions and min(positions) == 4  # after `wait h2` (activate's), never before
+    after = {planner.site(Falsifier("after_ok", send=("arm.move",), need=("arm.deactivate",)))[0] for _ in range(20)}
+    assert min(after) == 12  # after `wait h6` (deactivate's)
