@@ -9,7 +9,8 @@ PC's Q (every q ended ok), one entry suffices, and which one is the golden's: th
 whose ok was the latest of the span's services before the golden's first send of x (activate
 enters "inactive" from configure on the way up, from deactivate on the way down). A golden that
 never sends x, or sends it outside its state, gives the first entering service the golden ends ok,
-else the first one named. Generic: only the properties and the golden run's timeline are read.
+else the first one named. A targeted mutant's fresh request goes where the golden run was in its
+state (`Spans.hold`). Generic: only the properties and the golden run's timeline are read.
 """
 from __future__ import annotations
 
@@ -37,19 +38,25 @@ def entry_needs(properties: list[Property], timeline: Timeline) -> dict[str, set
     return needs
 
 
+def _latest_ok(timeline: Timeline, services, before_t: float, step: int):
+    """The last of `services` whose ok the golden observed before `before_t`, sent before `step`."""
+    oks = [a for a in timeline.activities if a.step < step and a.reply == "ok" and a.end is not None
+           and a.end < before_t and a.service in services]
+    return max(oks, key=lambda a: a.end, default=None)
+
+
 def _golden_entry(timeline: Timeline, x: str, enter, leave, starts_inside: bool) -> str | None:
-    oks = [a for a in timeline.activities if a.reply == "ok" and a.end is not None and a.service in (*enter, *leave)]
     first = next((a for a in timeline.activities if a.service == x), None)
     if first is not None:
-        before = [a for a in oks if a.end < first.start]
-        latest = max(before, key=lambda a: a.end, default=None)
+        latest = _latest_ok(timeline, (*enter, *leave), first.start, first.step)
         if latest is None and starts_inside:
             return None
         if latest is not None and latest.service in enter:
             return latest.service
     if starts_inside:  # the golden sent x after leaving its state: the trace's start is that state
         return None
-    return next((a.service for a in oks if a.service in enter), enter[0] if enter else None)
+    return next((a.service for a in timeline.activities if a.service in enter and a.reply == "ok"),
+                enter[0] if enter else None)
 
 
 def leavers(properties: list[Property]) -> dict[str, set[str]]:
@@ -59,3 +66,23 @@ def leavers(properties: list[Property]) -> dict[str, set[str]]:
         for x in prop.x:
             found.setdefault(x, set()).update(_enter_leave(prop)[1])
     return found
+
+
+class Spans:
+    """Where in the golden run each service is in the state its span properties need."""
+
+    def __init__(self, properties: list[Property], timeline: Timeline):
+        self.timeline = timeline
+        self.of: dict[str, list[tuple]] = {}  # x -> (entering, leaving, starts inside) per property
+        for prop in (p for p in properties if p.type in SPANS):
+            for x in prop.x:
+                self.of.setdefault(x, []).append((*_enter_leave(prop), not SPANS[prop.type]))
+
+    def hold(self, p: int, service: str) -> bool:
+        """Whether, at position p, the latest ok among each span's services is an entry (or there is
+        none, where the state is the trace's start)."""
+        for enter, leave, starts_inside in self.of.get(service, ()):
+            latest = _latest_ok(self.timeline, (*enter, *leave), self.timeline.start[p], p)
+            if not (latest.service in enter if latest else starts_inside):
+                return False
+        return True

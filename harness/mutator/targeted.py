@@ -17,8 +17,8 @@ basic type says what falsifies its condition (docs/reference/verdicts.md):
 "While r runs" is either a place where the golden run had r running (after an optional sleep,
 so the activity is past its start), or a fresh r followed, after an optional sleep, by the
 request: without the sleep it lands in r's start phase. A fresh request is placed where its own
-preconditions (the Q of the PC properties it is an x of, and the service whose ok entered the state
-an IN or OUT property of it needs: harness/mutator/states.py) had ended ok, so the layer accepts it.
+preconditions hold (the Q of the PC properties it is an x of had ended ok, and the golden run was in
+the state its IN and OUT properties need: harness/mutator/states.py), so the layer accepts it.
 For EE-type properties a quarter of the aims instead send a request of x's module that does not
 dominate x while x runs (an Init during an activity): C stays true, a layer that interrupts
 anyway shows a false positive.
@@ -36,7 +36,7 @@ from typing import Callable
 from harness.target.interface import Interface, Property
 from harness.target.property_types import interruptions
 from harness.mutator.operators import Draw, Mutant, plausible, random_request, step_text, validated
-from harness.mutator.states import entry_needs
+from harness.mutator.states import Spans
 from harness.target.script import Script, Step
 from harness.mutator.timeline import Timeline
 from harness.mutator.values import falsifying_request
@@ -129,8 +129,7 @@ class Planner:
             if p.type == "PC":
                 for x in p.x:
                     self.needs.setdefault(x, set()).update(p.q)
-        for x, entries in entry_needs(properties, timeline).items():  # the state an IN or OUT property needs
-            self.needs.setdefault(x, set()).update(entries)
+        self.spans = Spans(properties, timeline)  # the states IN and OUT properties need
 
     def _request(self, service: str, f: Falsifier | None = None) -> Step:
         """A request of `service`, its values legal, or illegal as `f` wants them."""
@@ -142,7 +141,7 @@ class Planner:
         return falsified[0] if falsified else step
 
     def _ready(self, p: int, service: str) -> bool:
-        return self.needs.get(service, set()) <= self.timeline.ended_ok(p)
+        return self.needs.get(service, set()) <= self.timeline.ended_ok(p) and self.spans.hold(p, service)
 
     def _sleep(self, running: str) -> list[Step]:
         if self.rng.random() < START_PHASE_SHARE:
