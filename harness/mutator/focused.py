@@ -14,9 +14,8 @@ r runs. A test for it is
      that cycle is sent in the golden's order too; a cycle of PC properties alone (x needs q ok
      before, q needs x) is refused, as no service of it can be sent first;
   2. the perturbation: s alone (q never sent, or s with its exceptional value, or after q in the
-     context ended ok: IN and OUT properties' left states), q then s (s lands
-     while q runs), r then s (in r's start phase), or r, a sleep shorter than r's shortest golden
-     run, then s;
+     context ended ok: an IN or OUT property's state left), q then s (s lands while q runs), r
+     then s (in r's start phase), or r, a sleep shorter than r's shortest golden run, then s;
   3. after SETTLE_S, the request that ended r or s in the golden run if it never ends by itself
      (the golden's Stop); then the executive's drain (DRAIN_S) awaits the outstanding finals.
 So a test's mission time has an upper bound known before it runs (`bound_s`), which is what
@@ -70,7 +69,8 @@ class Aim:
 
     def situation(self) -> str:
         what = {"without": "{s} with {o} never sent", "during": "{s} while {o} runs (before it ended ok)",
-                "after": "{s} after {o} ended ok", "start": "{s} in the start phase of {o}", "running": "{s} while {o} runs", "value": "{s}"}[self.phase]
+                "after": "{s} after {o} ended ok", "start": "{s} in the start phase of {o}",
+                "running": "{s} while {o} runs", "value": "{s}"}[self.phase]
         send = self.send
         if self.value:
             argument, kind, word = self.value
