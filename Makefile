@@ -23,7 +23,7 @@ SEED    ?= 2012
 JOBS    ?= 0
 STRATEGY ?= random
 
-.PHONY: venv system ros ros-cpp ros2 test test-fast bench campaign analyze report paper clean
+.PHONY: venv system ros ros-cpp ros2 test test-fast counts bench campaign analyze report paper clean
 
 venv: $(STAMP)
 
@@ -102,6 +102,10 @@ test: system $(STAMP) ros ros-cpp ros2
 # test that needs what `make test` installs (ROS, chromium, Node.js) is slow or skips, saying why.
 test-fast: $(STAMP)
 	$(PY) -m pytest -m "not slow"
+
+# The suite's counts that README.md and docs/contributing.md state, collected and written there.
+counts: $(STAMP)
+	$(PY) -m tests.support.counts
 
 bench: $(STAMP) ros ros2
 	$(PY) bench/run.py

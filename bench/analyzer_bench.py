@@ -33,6 +33,8 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from calibration import Calibration, calibrate  # noqa: E402
+from many_properties import repeated  # noqa: E402
+from time_split import time_split  # noqa: E402
 from harness import DEFAULT_MISSION_DIR  # noqa: E402
 from harness.analysis.analyzer import materialise  # noqa: E402
 from harness.target.interface import load_interface, load_properties  # noqa: E402
@@ -43,6 +45,9 @@ from harness.store.sql import render_bench  # noqa: E402
 BASELINE = Path(__file__).resolve().parent / "baseline.toml"
 SLOWER = 1.25  # a figure this much over its baseline is called slower: more than the loop's own spread
 LARGE = 10_000_000  # events of the large store, which the target of 130 loops is for
+MANY = 100  # properties of the growth figure: the Dala properties repeated with other parameters
+# reelay's own C++ benchmark: one past-time MTL property on one core, in million events per second
+REELAY_CPP = (1.7, 6.5)
 SCALING_CORES = 16  # the issue's many-core figure: at least 10x from 1 to 16 threads
 # Reply shares (percent, cumulative): mostly ok, some interruptions and rejections, some unanswered.
 REPLIES = [(70, "ok"), (78, "interrupted"), (82, "interrupted_excl"), (87, "wait_init"),
@@ -90,6 +95,15 @@ class Judged:
         """Million property-events judged per second."""
         return self.events * self.properties / self.wall_s / 1e6
 
+    @property
+    def mpe_cpu_s(self) -> float:
+        """Million property-events judged per CPU second (what a loaded machine disturbs least)."""
+        return self.events * self.properties / self.cpu_s / 1e6
+
+
+def _analyse(con, properties) -> None:
+    materialise(con, properties, 0.01, load_interface(DEFAULT_MISSION_DIR / "interface.toml"))
+
 
 def judge(path: Path, properties, threads: int) -> Judged:
     """Judge the store with DuckDB on `threads` threads, between two calibration loops."""
@@ -97,7 +111,7 @@ def judge(path: Path, properties, threads: int) -> Judged:
     con = connect(path)
     con.execute(f"set threads = {int(threads)}")
     started, cpu = time.perf_counter(), time.process_time()
-    materialise(con, properties, 0.01, load_interface(DEFAULT_MISSION_DIR / "interface.toml"))
+    _analyse(con, properties)
     wall_s, cpu_s = time.perf_counter() - started, time.process_time() - cpu
     events = con.execute("select count(*) from events").fetchone()[0]
     con.close()
@@ -129,7 +143,7 @@ def report(what: str, runs: list[Judged], baseline: dict, limit: float | None = 
     target = "" if limit is None else f"; target <= {limit:.0f}: {'met' if judged.loops <= limit else 'NOT met'}"
     print(f"{what}, DuckDB on {on_threads(judged.threads)}, median of {len(runs)}: {judged.events:,} events x "
           f"{judged.properties} properties in {judged.wall_s:.2f} s ({judged.cpu_s:.2f} s CPU) = "
-          f"{judged.mpe_s:.2f} M property-events/s\n"
+          f"{judged.mpe_s:.2f} M property-events/s, {judged.mpe_cpu_s:.2f} M per CPU second\n"
           f"    {judged.loops:.1f} loops of {judged.loop.wall_s * 1000:.0f} ms "
           f"({beside(judged.loops, recorded.get('loops'))}{target}); CPU {judged.cpu_loops:.1f} loops of {judged.loop.cpu_s * 1000:.0f} ms "
           f"({beside(judged.cpu_loops, recorded.get('cpu_loops'))})\n"
@@ -149,6 +163,32 @@ def scaling(results: dict[str, list[Judged]]) -> None:
         print(f"; the {SCALING_CORES}-thread figure (target >= 10x one thread) needs {SCALING_CORES} cores: this "
               f"machine has {os.cpu_count()}, not measured here", end="")
     print(flush=True)
+
+
+def growth(path: Path, properties, repeat: int, results: dict[str, list[Judged]]) -> None:
+    """The large store judged with MANY properties on one thread, beside the figure with the mission's."""
+    few = median(results["large store, 1 thread"])
+    many = median([judge(path, repeated(properties, MANY), threads=1) for _ in range(max(repeat, 1))])
+    ratio = many.properties / few.properties
+    print(f"growth: {many.properties} properties (the mission's repeated with other parameters, bench/many_properties.py) "
+          f"on 1 thread in {many.cpu_s:.1f} s CPU ({many.mpe_cpu_s:.1f} M property-events per CPU second), "
+          f"{many.cpu_s / few.cpu_s:.2f}x the CPU of {few.properties} properties for {ratio:.0f}x the properties "
+          f"({'less' if many.cpu_s / few.cpu_s < ratio else 'NOT less'} than linear)", flush=True)
+
+
+def beside_reelay(path: Path, results: dict[str, list[Judged]]) -> None:
+    """Per property and CPU second on one core: the large store's figures beside reelay's, quoted from
+    its own C++ benchmark and measured through its Python binding (bench/reelay_bench.py) on `path`."""
+    from reelay_bench import reelay_events_s
+    binding = statistics.median(reelay_events_s(path)[0] for _ in range(3)) / 1e6
+    low, high = REELAY_CPP
+    for name in ("large store, 1 thread", f"large store, {on_threads(os.cpu_count() or 1)}"):
+        if name in results:
+            j = median(results[name])
+            print(f"{name}: {j.mpe_cpu_s:.1f} M property-events per CPU second = {j.mpe_cpu_s / high:.1f}x to "
+                  f"{j.mpe_cpu_s / low:.1f}x reelay's C++ ({low}-{high} M events/s per property on one core, its own "
+                  f"benchmark), {j.mpe_cpu_s / binding:.1f}x its Python binding measured here ({binding:.2f} M/s)",
+                  flush=True)
 
 
 def readme(results: dict[str, list[Judged]]) -> None:
@@ -208,11 +248,15 @@ def main() -> int:
             print(f"(built the {what}, {built:,} events, in {time.perf_counter() - started:.1f} s)", flush=True)
             # the target is the issue's, for 10 million events: a smaller store says nothing of it
             stores.append((what, path, 130 if what == "large store" and args.events >= LARGE else None))
+        large = next(path for what, path, _ in stores if what == "large store")
         for what, path, limit in stores:
             for threads in sorted({os.cpu_count() or 1, 1}, reverse=True):
                 runs = [judge(path, properties, threads) for _ in range(max(args.repeat, 1))]
                 results[f"{what}, {on_threads(threads)}"] = runs
                 report(what, runs, baseline, limit if threads > 1 else None)
+        print(time_split(large, properties, 1, _analyse), flush=True)
+        growth(large, properties, args.repeat, results)
+        beside_reelay(next(path for what, path, _ in stores if what == "campaign-sized store"), results)
     scaling(results)
     readme(results)
     if args.record:

@@ -7,7 +7,9 @@ import time
 
 from harness import DEFAULT_MISSION_DIR
 from harness.sut.definitions import resolve
-from harness.dispatch.workers import Setup, Task, run_all
+from harness.dispatch import transport
+from harness.dispatch.description import Setup, Task
+from harness.dispatch.workers import run_all
 
 TIME_SCALE = 10.0
 ROUNDS = 2  # runs per slot
@@ -16,7 +18,7 @@ ROUNDS = 2  # runs per slot
 def golden_runs(count: int, time_scale: float) -> tuple[Setup, list[Task]]:
     """`count` runs of the golden mission through `sim-reference` at `time_scale`."""
     _, external = resolve("sim-reference", DEFAULT_MISSION_DIR, time_scale)
-    setup = Setup(None, DEFAULT_MISSION_DIR / "interface.toml", DEFAULT_MISSION_DIR / "world.toml", 0.0, external)
+    setup = transport.setup(None, DEFAULT_MISSION_DIR / "interface.toml", DEFAULT_MISSION_DIR / "world.toml", 0.0, external)
     body = (DEFAULT_MISSION_DIR / "golden.mission").read_text()
     return setup, [Task(n, 1, "sim-reference", n, body) for n in range(1, count + 1)]
 

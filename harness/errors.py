@@ -1,4 +1,6 @@
-"""One base exception for the bench; every message quotes the bad value and says what to do."""
+"""Every error the bench reports to a user, on one base (UntimelyError): each message quotes the bad
+value and says what to do. Beside them, the one base of the bench's internal signals
+(InternalSignal): raised and caught inside the bench, never shown to a user as they are."""
 
 
 class UntimelyError(Exception):
@@ -27,3 +29,16 @@ class PropertyError(UntimelyError):
 
 class StoreError(UntimelyError):
     """The trace store refuses an operation (wrong campaign, corrupt or missing data)."""
+
+
+class BudgetSpent(UntimelyError):
+    """A focused campaign's shrink run that would not fit in its budget (the shrink's failure)."""
+
+    def __init__(self, message: str = "the budget is spent"):
+        super().__init__(message)
+
+
+class InternalSignal(Exception):
+    """Base of what the bench raises to tell another part of itself how something ended (a SUT
+    that stopped reading, a protocol line that is not one, a kernel process interrupted); each is
+    caught and turned into an outcome or an UntimelyError before a user sees it."""

@@ -49,3 +49,12 @@ def format_table(columns: list[str], rows: list[tuple], null: str = "NULL") -> s
         return "  ".join(v.rjust(w) if num else v.ljust(w)
                          for v, w, num in zip(values, widths, numeric)).rstrip()
     return "\n".join([line(columns), "  ".join("-" * w for w in widths)] + [line(r) for r in texts])
+
+
+def real_time_factor(sim_s: float, wall_s: float) -> str:
+    """Mission seconds per wall second, e.g. "1,234x", "0.87x" (a real-time run: its own factor,
+    never rounded to 0x), "-" without wall time."""
+    if not wall_s:
+        return "-"
+    speed = sim_s / wall_s
+    return f"{speed:,.0f}x" if speed >= 10 else f"{speed:.2g}x"

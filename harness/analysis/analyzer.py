@@ -16,7 +16,8 @@ import duckdb
 
 from harness import SQL_DIR
 from harness.analysis import diff
-from harness.analysis.oracles import Shared, oracle_statements, render_shared, render_unknown, verdict_values
+from harness.analysis.oracles import (Judging, Shared, one_pass, render_one_pass, render_property, render_shared,
+                                      render_unknown, verdict_values)
 from harness.analysis.provenance import default_properties, last_epsilon, sources
 from harness.analysis.summary import analysis_summary
 from harness.errors import InputFileError, PropertyError, StoreError
@@ -64,6 +65,16 @@ class Oracle:
                              f"{message}{where}")
 
 
+@dataclass
+class OnePass:
+    """The statement inserting the verdicts of every property of one type from one events source
+    (render_one_pass), and each property's own oracle, which an analysis runs instead when it fails."""
+    props: list[Property]
+    source: str
+    sql: str
+    alone: list[Oracle]
+
+
 def _shared_names(events: str) -> tuple[str, str, str]:
     return events, f"{events}_causes", f"{events}_epsilons"
 
@@ -78,7 +89,7 @@ class Rendered:
     """An analysis's statements: what its oracles share (made first), then every oracle; and the
     values the verdicts' text columns may hold (verdict_values)."""
     shared: dict[str, str]  # events table -> the statement making what its oracles share
-    oracles: list[Oracle]
+    oracles: list[Oracle | OnePass]
     named: dict[str, set[str]]
 
     def on(self, events_tables: set[str]) -> Rendered:
@@ -87,14 +98,33 @@ class Rendered:
                         [o for o in self.oracles if o.source in events_tables], self.named)
 
 
+def _of_types(properties: list[Property]) -> list[list[Property]]:
+    """The properties judged in one query each: every property of a type with a one-pass form
+    together (at its first property's place), any other alone."""
+    together: dict[str, list[Property]] = {}
+    for p in properties:
+        together.setdefault(p.type if one_pass(p) else f"alone {p.id}", []).append(p)
+    return list(together.values())
+
+
+def _oracles(properties: list[Property], epsilon: float, interface: Interface | None, events: str,
+             target: str) -> list[Oracle | OnePass]:
+    judging = Judging(events, epsilon, interface, properties, shared=_shared(events))
+    found = []
+    for props in _of_types(properties):
+        if one_pass(props[0]):
+            sql, alone = render_one_pass(props, judging, staged(target))
+            found.append(OnePass(props, events, sql, [Oracle(p, events, target, a) for p, a in zip(props, alone)]))
+        else:
+            found.append(Oracle(props[0], events, target, render_property(props[0], judging, into=staged(target))))
+    return found
+
+
 def render_oracles(properties: list[Property], epsilon: float, interface: Interface | None = None) -> Rendered:
     if not properties:
         raise PropertyError("no properties to judge; give a properties file with [[property]] entries")
     return Rendered({events: render_shared(properties, events, epsilon, interface, _shared(events)) for events, _ in SOURCES},
-                    [Oracle(p, events, target, sql)
-                     for events, target in SOURCES
-                     for p, sql in zip(properties, oracle_statements(properties, epsilon, interface, events,
-                                                                     staged(target), _shared(events)))],
+                    [o for events, target in SOURCES for o in _oracles(properties, epsilon, interface, events, target)],
                     verdict_values(properties))
 
 
@@ -127,11 +157,22 @@ def _judge(con, rendered: Rendered) -> list[OracleFailure]:
     failures = []
     _stage(con, rendered)
     for oracle in rendered.oracles:
-        error = try_statement(con, oracle.sql)
-        if error is not None:
-            failures.append(oracle.failure(error))
-            con.execute(render_unknown(oracle.prop, oracle.source, staged(oracle.target)))
+        _run(con, oracle, failures)
     return failures
+
+
+def _run(con, oracle: Oracle | OnePass, failures: list[OracleFailure]) -> None:
+    """One oracle's rows staged, or 'unknown' rows and its failure; a failing one-pass query is
+    replaced by its properties' own queries, so that only a failing property gets 'unknown' rows."""
+    error = try_statement(con, oracle.sql)
+    if error is None:
+        return
+    if isinstance(oracle, OnePass):
+        for alone in oracle.alone:
+            _run(con, alone, failures)
+        return
+    failures.append(oracle.failure(error))
+    con.execute(render_unknown(oracle.prop, oracle.source, staged(oracle.target)))
 
 
 def materialise(con: duckdb.DuckDBPyConnection, properties: list[Property], epsilon: float,

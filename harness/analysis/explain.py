@@ -29,6 +29,7 @@ from harness.textable import format_table
 Key = tuple[int, str, int]  # (trace_id, property_id, rqst_id): one verdict row
 ARGUMENT_ITEM = "arg "  # how a value-domain oracle names an argument among its items (sql/oracles/val.sql)
 SPAN_ITEM = "state"  # how IN and OUT name the state x(i) stands in (sql/oracles/_span.sql)
+DEADLINE_ITEM = "deadline"  # how the ROS 2 types name their deadline, its events in `detail` (sql/oracles/_deadline.sql)
 
 
 def judged_files(con, properties: str | None = None) -> tuple[Path, Path]:
@@ -78,12 +79,17 @@ class Explainer:
         if not keys:
             return {}
         traces = sql_id_list({t for t, _, _ in keys})
+        # a request the SUT replied `taken` to stands at that reply (view requests): its sending is another instant
+        taken = ("left join taken_events k on k.trace_id = r.trace_id and k.rqst_id = r.rqst_id", "k.t is not null"
+                 ) if self.taken else ("", "false")
         cursor = self.con.execute(f"""select r.trace_id, r.rqst_id, r.module || '.' || r.service as service, r.t,
-                                             r.final_t, r.reply, r.class, e.args
+                                             r.final_t, r.reply, r.class, e.args, e.t, {taken[1]}
                                       from requests r left join events e
                                         on e.trace_id = r.trace_id and e.rqst_id = r.rqst_id and e.kind = 'request'
-                                      where r.trace_id in ({traces})""")
-        requests = {(r[0], r[1]): r[2:] for r in cursor.fetchall()}
+                                      {taken[0]} where r.trace_id in ({traces})""")
+        found = cursor.fetchall()
+        requests = {(r[0], r[1]): r[2:8] for r in found}
+        self.sent = {(r[0], r[1]): r[8] for r in found if r[9]}  # the requests placed at their taken reply
         verdicts = {(t, p, r): rest for t, p, r, *rest in self.con.execute(
             """select trace_id, property_id, rqst_id, verdict, c_holds, margin_s, suspicious from verdicts
                semi join (select unnest(?::integer[]) as trace_id, unnest(?::varchar[]) as property_id,
@@ -129,6 +135,8 @@ class Explainer:
                 what, events = f"q {pair['item']}", "ok at " + (", ".join(map(_seconds, found)) or "never")
             elif pair["item"] is None:  # a verdict no y request decided (x interrupted by nothing of y)
                 what, events = "no y request", "the trace holds no request of y"
+            elif pair["item"] == DEADLINE_ITEM:  # not C's: whether the end came by the deadline, in words
+                what, events = "deadline", pair["detail"]
             elif pair["item"] == SPAN_ITEM:  # IN's C holds inside the span, OUT's outside
                 inside = pair["conflicts"] == (prop.type == "OUT")
                 what, events = "state", ("inside" if inside else "outside") + " the span an ok of q enters, an ok of y leaves"
@@ -142,7 +150,8 @@ class Explainer:
             else:
                 service, t, final_t, reply, cls, _ = requests[(trace_id, int(pair["item"]))]
                 what = f"y {service} #{pair['item']}"
-                events = f"sent {_seconds(t)}, {reply or 'no final'} ({cls or '-'}) at {_seconds(final_t)}"
+                events = f"{self._instants((trace_id, int(pair['item'])), t, '')}, {reply or 'no final'} " \
+                    f"({cls or '-'}) at {_seconds(final_t)}"
             shift = None if pair["shift"] == float("inf") else pair["shift"]
             # the distance whose order is not sure (rule 7): a pair may say an order is sure whatever its shift
             movable = pair.get("movable", pair["shift"])
@@ -152,14 +161,23 @@ class Explainer:
                          shift, "yes" if near else "no"))
         return rows
 
+    def _instants(self, request: tuple[int, int], t: float, at: str, unit: str = "") -> str:
+        """When a request was sent, and taken where the SUT replied `taken` to it (its instant `t`
+        is then that reply's): "sent at 1.0 s, taken at 1.2 s"."""
+        if request not in self.sent:
+            return f"sent{at} {_seconds(t)}{unit}"
+        return f"sent{at} {_seconds(self.sent[request])}{unit}, taken{at} {_seconds(t)}{unit}"
+
     def _text(self, key: Key, verdict_row: tuple, requests: dict, oks: dict, pairs: list[dict]) -> str:
         trace_id, property_id, rqst_id = key
         verdict, c_holds, margin, suspicious = verdict_row
         prop = self.properties[property_id]
         service, t, final_t, reply, cls, args = requests[(trace_id, rqst_id)]
-        condition = {True: "true", False: "false", None: "undefined (x(i) was rejected)"}[c_holds]
+        undefined = "no goal to cancel" if prop.type == "CAN" else "x(i) was rejected"
+        condition = {True: "true", False: "false", None: f"undefined ({undefined})"}[c_holds]
         lines = [f"{property_id} on request {rqst_id} of trace {trace_id}: {verdict}",
-                 f"  x(i) {service}{f' {args}' if args and args != '{}' else ''} sent at {_seconds(t)} s; final reply "
+                 f"  x(i) {service}{f' {args}' if args and args != '{}' else ''} "
+                 f"{self._instants((trace_id, rqst_id), t, ' at', ' s')}; final reply "
                  + (f"{reply} (class {cls or 'not in the catalogue'}) at {_seconds(final_t)} s" if reply else "none"),
                  f"  C is {condition}; margin {_seconds(margin)} s; "
                  + ("suspicious" if suspicious else "not suspicious") + f" (epsilon {self.epsilon:g} s)"]

@@ -116,40 +116,51 @@ class Judging:
     shared: Shared | None = None
 
 
+def _checked(judging: Judging, into: str | None) -> None:
+    """Refuses a table name or an epsilon that a query cannot be rendered with."""
+    _table_name(judging.events, "events source")
+    if into is not None:
+        _table_name(into, "verdicts table")
+    if judging.shared is not None:
+        _table_name(judging.shared.requests, "requests table")
+        _table_name(judging.shared.causes, "causes table")
+        _table_name(judging.shared.epsilons, "epsilons table")
+    epsilon = judging.epsilon
+    if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
+        raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
+
+
+def _render(props: list[Property], judging: Judging, into: str | None, **context) -> str:
+    """sql/oracles/_oracle.sql over the requests the properties `props` (all of one type) read."""
+    _checked(judging, into)
+    interface, shared = judging.interface, judging.shared
+    enders = [e for e in interrupters([*props, *judging.peers]) if any(e[0] in p.x or e[0] in p.y for p in props)]
+    scopes = [_scope(p, [e for e in enders if e[0] in p.x or e[0] in p.y]) for p in props]
+    modules = sorted({m for ms, _ in scopes for m in ms})
+    services = None if any(ss is None for _, ss in scopes) else sorted({s for _, ss in scopes for s in ss})
+    if shared is not None:  # the shared search found the causes: the oracle reads only its own services
+        services = sorted({s for p in props for s in _services(_parameters(p))})
+    return ENV.get_template("oracles/_oracle.sql").render(
+        template=_template(props[0]), into=into, shared=shared and shared.requests,
+        shared_causes=shared and shared.causes, shared_epsilons=shared and shared.epsilons,
+        services=services, events=judging.events, epsilon=round(float(judging.epsilon), 6), enders=enders,
+        runs=judging.runs, taken=judging.taken, modules=modules,
+        until_stopped=interface.until_stopped if interface else [],
+        control=interface.of_kind("control") if interface else [],
+        **({"domains": {name: {a.name: a.spec() for a in s.args.values()}
+                        for name, s in interface.services.items()}} if interface else {}), **context)
+
+
 def render_property(prop: Property, judging: Judging = Judging(), explain: list[tuple[int, int]] = (),
                     into: str | None = None) -> str:
     """The oracle query of one property over the events table `judging.events`: the verdicts
     columns. `explain`: (trace_id, rqst_id) pairs; then the query of the pairs that decided their
     conditions. `into`: a verdicts table; then the statement inserting the rows into it."""
-    events, epsilon, interface, shared = judging.events, judging.epsilon, judging.interface, judging.shared
-    _table_name(events, "events source")
-    if into is not None:
-        _table_name(into, "verdicts table")
-    if shared is not None:
-        _table_name(shared.requests, "requests table")
-        _table_name(shared.causes, "causes table")
-        _table_name(shared.epsilons, "epsilons table")
-    if not (isinstance(epsilon, (int, float)) and math.isfinite(epsilon) and epsilon >= 0):
-        raise PropertyError(f"epsilon = {epsilon!r}; give a margin in seconds, >= 0")
-    parameters = _parameters(prop)
-    enders = [e for e in interrupters([prop, *judging.peers]) if e[0] in prop.x or e[0] in prop.y]
     template = _template(prop)
     try:
-        modules, services = _scope(prop, enders)
-        if shared is not None:  # the shared search found the causes: the oracle reads only its own services
-            services = _services(parameters)
-        return ENV.get_template("oracles/_oracle.sql").render(
-            template=template, into=into, shared=shared and shared.requests, shared_causes=shared and shared.causes,
-            shared_epsilons=shared and shared.epsilons,
-            services=services, id=prop.id, family=prop.family, events=events,
-            epsilon=round(float(epsilon), 6), parameters=parameters, enders=enders, runs=judging.runs, taken=judging.taken,
-            modules=modules,
-            until_stopped=interface.until_stopped if interface else [],
-            control=interface.of_kind("control") if interface else [],
-            **({"domains": {name: {a.name: a.spec() for a in s.args.values()}
-                            for name, s in interface.services.items()}} if interface else {}),
-            explain=dict(traces=sorted({int(t) for t, _ in explain}),
-                         requests=[f"({int(t)}, {int(r)})" for t, r in explain]) if explain else None)
+        return _render([prop], judging, into, id=prop.id, family=prop.family, parameters=_parameters(prop),
+                       explain=dict(traces=sorted({int(t) for t, _ in explain}),
+                                    requests=[f"({int(t)}, {int(r)})" for t, r in explain]) if explain else None)
     except jinja2.TemplateNotFound as e:
         if e.name != template:
             raise
@@ -164,6 +175,23 @@ def render_property(prop: Property, judging: Judging = Judging(), explain: list[
     except TypeError as e:
         raise PropertyError(f"property {prop.id!r} of type {prop.type}: {e} "
                             "(the type does not use it); remove it from the property's entry") from None
+
+
+def one_pass(prop: Property) -> bool:
+    """Whether the template of the property's type judges all its properties in one query (it
+    defines the macro `one_pass`, sql/oracles/_parameters.sql); a type without it is judged
+    property by property."""
+    return _declares(prop, "one_pass", None) is not None
+
+
+def render_one_pass(props: list[Property], judging: Judging, into: str) -> tuple[str, list[str]]:
+    """The statement inserting the verdicts of every property of `props`, all of one type whose
+    template has a one-pass form, into `into` (one query over their parameter table); and each
+    property's own statement (render_property), which refuses any it cannot judge and is what an
+    analysis falls back to when the one query fails."""
+    alone = [render_property(p, judging, into=into) for p in props]
+    judged = [{"id": p.id, "family": p.family, **_parameters(p)} for p in props]
+    return _render(props, judging, into, judged=judged), alone
 
 
 def oracle_statements(properties: list[Property], epsilon: float, interface: Interface | None, events: str,

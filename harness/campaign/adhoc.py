@@ -13,21 +13,31 @@ from harness.campaign.request import RunRequest
 from harness.errors import UntimelyError
 from harness.sut.executive import run_script
 from harness.files import existing_file
-from harness.dispatch.transport import transport
-from harness.dispatch.workers import Setup
+from harness.dispatch import transport
 from harness.target.interface import load_interface
+from harness.target.layer_description import LAYER_FILE
 from harness.target.mission import INTERFACE_FILE, WORLD_FILE
 from harness.target.script import load_script
 from harness.sut.definitions import resolve
 from harness.store.record import RunRecord
 from harness.trace import Trace
+from harness.textable import real_time_factor
 
 
 def mission_files(script_path: Path, interface: str | None = None, world: str | None = None) -> tuple[Path, Path]:
-    """The interface and world descriptions: those given, else those beside the mission script."""
-    folder = script_path.resolve().parent
-    return (Path(interface) if interface else folder / INTERFACE_FILE,
-            Path(world) if world else folder / WORLD_FILE)
+    """The interface and world descriptions: those given, else those of the target folder, the one of
+    the interface given (a shrunk reproducer's replay names it), else the mission script's."""
+    interface_path = Path(interface) if interface else script_path.resolve().parent / INTERFACE_FILE
+    return interface_path, Path(world) if world else interface_path.parent / WORLD_FILE
+
+
+def _world_given(world: str | None, world_file: Path, simulated: bool) -> None:
+    """A --world that names nothing a simulated run can use (no such file, no layer.toml beside it:
+    a target without a world is named by a path in its folder) is refused as the user gave it, not
+    as the layer.toml beside it."""
+    if world is not None and simulated and not world_file.is_file() and not (world_file.parent / LAYER_FILE).is_file():
+        existing_file(world, f"world file not found, and no {LAYER_FILE} beside it; pass the world.toml of a "
+                             "simulated target, or a path in the folder of its layer.toml")
 
 
 def latency_line(provenance: dict) -> str:
@@ -45,7 +55,6 @@ def summary(trace: Trace, replies: dict[str, str]) -> str:
     by_class = Counter()
     for code, n in finals.items():
         by_class[replies[code]] += n
-    speed = trace.sim_s / trace.wall_s if trace.wall_s else float("inf")
     lines = [
         f"outcome    {trace.outcome}" + (f"  ({trace.error})" if trace.error else ""),
         f"requests   {requests}, final replies {sum(finals.values())}, "
@@ -54,7 +63,8 @@ def summary(trace: Trace, replies: dict[str, str]) -> str:
         + "  (" + ", ".join(f"{code} {n}" for code, n in sorted(finals.items())) + ")",
         f"world      {len(trace.world_events)} event(s)"
         + "".join(f"\n             t={t:.3f} {kind} {detail}" for t, kind, detail in trace.world_events),
-        f"time       simulated {trace.sim_s:.1f} s, wall {trace.wall_s:.3f} s ({speed:,.0f}x real time)",
+        f"time       simulated {trace.sim_s:.1f} s, wall {trace.wall_s:.3f} s "
+        f"({real_time_factor(trace.sim_s, trace.wall_s)} real time)",
     ]
     if trace.provenance:
         lines.append("interface  " + latency_line(trace.provenance))
@@ -71,11 +81,12 @@ def run(args: RunRequest) -> int:
     if len(names) != 1:
         raise UntimelyError(f"--sut {args.sut!r}: run takes one SUT; a campaign takes several")
     sut = names[0]
+    _world_given(args.world, world_file, sut not in external)
     # Opened before the run: a store another process writes is refused before a long real-time
     # run, and an external SUT is told the trace id it is making (its hello's `run`).
     con = store.connect(args.db)
-    setup = Setup(run_script, interface_path, world_file, args.max_delay, external)
-    trace = transport(sut, setup).run(script, args.seed, interface, 0, store.next_id(con, "traces", "trace_id"))
+    setup = transport.setup(run_script, interface_path, world_file, args.max_delay, external)
+    trace = setup.transport(sut).run(script, args.seed, interface, 0, store.next_id(con, "traces", "trace_id"))
     # the target folder: analyze, explain and shrink read its properties and files
     record = RunRecord(sut=sut, max_delay=args.max_delay, target=str(interface_path.resolve().parent),
                        **({"external": {sut: external[sut].config()}} if sut in external else {}))

@@ -18,7 +18,9 @@ from dataclasses import dataclass, field
 
 from harness.campaign import shrink
 from harness.campaign.slots import Slots
-from harness.errors import UntimelyError
+from harness.errors import BudgetSpent, UntimelyError
+from harness.progress import Progress
+from harness.store.sql import render_query
 
 UNITS = {"s": 1.0, "m": 60.0, "h": 3600.0}
 DURATION = re.compile(r"(\d+(?:\.\d+)?)([smh])$")
@@ -68,13 +70,6 @@ class Budget:
         return float("inf") if self.limit_s is None else self.limit_s - self.spent_s
 
 
-class BudgetSpent(UntimelyError):
-    """A shrink run that would not fit in the budget."""
-
-    def __init__(self, message: str = "the budget is spent"):
-        super().__init__(message)
-
-
 @dataclass
 class MeteredOriginal(shrink.Original):
     """A trace to shrink whose re-runs are counted against the campaign's budget (shrinks run
@@ -94,3 +89,12 @@ class MeteredOriginal(shrink.Original):
         with self.account:
             self.budget.spent_s += trace.sim_s - self.bound
         return trace
+
+
+def progress(con, campaign_id: int, budget_s: float | None) -> Progress:
+    """A focused campaign's bar: the mission seconds of its budget, from what it has spent (a
+    resumed campaign's included); without a budget, the runs it makes (the rule's end is not known)."""
+    if budget_s is None:
+        return Progress(None)
+    traces_s, shrink_s = con.execute(render_query("campaign_spent"), {"campaign": campaign_id}).fetchone()
+    return Progress(budget_s, traces_s + shrink_s, unit="mission s", mission_time=True)

@@ -9,11 +9,10 @@ stopping point and traces, the slots kept busy.
 Resumable and a function of the arguments only: rounds are fixed (not a function of --jobs), a
 variant's rule is applied to its tests in order, and a resumed campaign replays its stored
 traces' findings (view trace_findings) through the same rounds before it runs anything new.
-Every run is a stored trace, shrink runs included (table shrink_runs): what the campaign has
-spent is the sum of their mission seconds, read from the store when it starts or resumes and
-after every round (sql/report/campaign_spent.sql). The table campaign_budgets records the budget,
-the rule, the shrink runs' share of that sum and why the campaign stopped.
-"""
+Every run is a stored trace, shrink runs included (table shrink_runs): what the campaign has spent
+is the sum of their mission seconds, read from the store when it starts or resumes and after every
+round (sql/report/campaign_spent.sql); its progress bar counts them (budget.progress). The table
+campaign_budgets records the budget, the rule, the shrink runs' share of that sum, why it stopped."""
 from __future__ import annotations
 
 import json
@@ -35,7 +34,7 @@ from harness.analysis.judge import Judge
 from harness.errors import UntimelyError
 from harness.mutator.focused import Plan, bound_s
 from harness.target.script import parse
-from harness.dispatch.workers import Task
+from harness.dispatch.description import Task
 from harness.textable import format_table
 
 PATIENCE = 40  # tests per variant without anything new, once every aim was exercised (budget.RULE)
@@ -277,6 +276,7 @@ class FocusedRun:
                 print(f"          {line}")
                 continue
             spent = sum(trace.sim_s for _, trace in result.orig.made)
+            self.batches.session.progress.spent(spent)
             print(f"          shrunk in {spent:,.0f} mission s: " + line.split(": ", 1)[1])
 
     def _stop(self, reason: str, tests: int) -> str:

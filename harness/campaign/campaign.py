@@ -21,39 +21,42 @@ from harness import DEFAULT_MISSION_DIR, store
 from harness.analysis import analyzer
 from harness.analysis.summary import analysis_summary
 from harness.analysis.provenance import last_epsilon
-from harness.campaign import budgeted, representatives, sharding, shrink
+from harness.campaign import budget, budgeted, representatives, sharding, shrink
 from harness.campaign.config import campaign_config, find_campaign
 from harness.campaign.context import CampaignContext
 from harness.campaign.request import CampaignRequest
-from harness.campaign.runs import Batches, Session, pending_tasks, tasks
+from harness.campaign.runs import Batches, Tally, pending_tasks, tasks
 from harness.campaign.slots import campaign_slots
 from harness.files import read_text
 from harness.mutator import strategies
 from harness.mutator.operators import Mutant
 from harness.progress import Progress
+from harness.store import campaign_reads
 from harness.sut.executive import run_script
 from harness.dispatch.executor import open_executor
 from harness.sut.definitions import from_configs
 from harness.sut.external.kept import kept_adapters
-from harness.dispatch.workers import Setup, script_label
+from harness.dispatch import transport
+from harness.dispatch.description import script_label
 from harness.schema import cut
 from harness.store.reads import observed_events
 from harness.store.sql import render_query
 from harness.target.mission import GOLDEN_FILE, PROPERTIES_FILE, load_mission
 from harness.trace import Trace
+from harness.textable import real_time_factor
 
 RUN_WALL_LIMIT_S = 600.0  # of a simulated run; a real-time one has the executive's watchdogs
 REALTIME_WALL_LIMIT_S = 3 * 3600.0
 SHOW_GENERATION = 2_000  # from this many mutants on, generating them shows its progress
 
 
-def _create(ctx: CampaignContext, golden_id: int, mutants: list[Mutant], session: Session) -> int:
+def _create(ctx: CampaignContext, golden_id: int, mutants: list[Mutant], tally: Tally) -> int:
     """The golden runs on every variant, then the campaign, its scripts and those traces, stored together."""
     config, golden_runs, golden_text = ctx.config, [], read_text(ctx.mission / GOLDEN_FILE)
 
     def keep(task, trace):
         golden_runs.append((task, trace))
-        session.count(trace)
+        tally.count(trace)
     ctx.executor.run_all(sharding.part(tasks([(golden_id, golden_text)], golden_id, config), config.shard), keep)
     with store.transaction(ctx.con):
         campaign_id = store.next_id(ctx.con, "campaigns", "campaign_id")
@@ -87,10 +90,8 @@ def _generate(ctx: CampaignContext, golden_id: int) -> list[Mutant]:
     return mutants
 
 
-def summary(con, campaign_id: int, session: Session) -> str:
-    scripts, valid, distinct = con.execute(
-        "select count(*), count(*) filter (where valid), count(distinct body) from scripts "
-        "where campaign_id = ?", [campaign_id]).fetchone()
+def summary(con, campaign_id: int, tally: Tally) -> str:
+    scripts, valid, distinct = campaign_reads.script_counts(con, campaign_id)
     lines = [f"scripts   {scripts}: golden + {scripts - 1} mutants, {valid - 1} valid, "
              f"{scripts - valid} invalid (stored, not run), {distinct} distinct bodies"]
     for sut, runs, completed, hung, crashed, sim in con.execute(
@@ -99,15 +100,15 @@ def summary(con, campaign_id: int, session: Session) -> str:
                      f"{sim:,.0f} simulated s")
     lines += [f"crashed   {runs} run(s) on {sut}: {reason}" for campaign, sut, reason, runs in
               con.execute(render_query("crash_reasons")).fetchall() if campaign == campaign_id]
-    wall = time.monotonic() - session.start
-    if session.runs:
-        lines.append(f"this run  {session.runs} runs in {wall:.1f} s wall ({session.runs / wall:.1f} runs/s), "
-                     f"{session.sim_s:,.0f} simulated s: {session.sim_s / wall:,.0f}x real time")
+    wall = time.monotonic() - tally.start
+    if tally.runs:
+        lines.append(f"this run  {tally.runs} runs in {wall:.1f} s wall ({tally.runs / wall:.1f} runs/s), "
+                     f"{tally.sim_s:,.0f} simulated s: {real_time_factor(tally.sim_s, wall)} real time")
     return "\n".join(lines)
 
 
 def _judged(ctx: CampaignContext, show: bool = True) -> None:
-    """Verdicts for every stored trace (new traces, or a session stopped while judging)."""
+    """Verdicts for every stored trace (new traces, or an invocation stopped while judging)."""
     if not analyzer.judges_every_trace(ctx.con):
         epsilon = last_epsilon(ctx.con)  # a resumed campaign keeps the epsilon its verdicts were made with
         analyzer.materialise(ctx.con, ctx.properties, epsilon, ctx.interface, ctx.mission / PROPERTIES_FILE)
@@ -122,17 +123,16 @@ def _focused(ctx: CampaignContext, start: float) -> None:
     """A focused campaign: the golden on every variant, then tests until it stops (harness.campaign.budgeted)."""
     con, config = ctx.con, ctx.config
     if ctx.campaign_id is None:
-        session = Session(Progress(len(config.sut)), start)
-        _create(ctx, store.next_id(con, "scripts", "script_id"), [], session)
-        session.progress.close()
-    golden_id = con.execute("select min(script_id) from scripts where campaign_id = ?",
-                            [ctx.campaign_id]).fetchone()[0]
+        tally = Tally(Progress(len(config.sut)), start)
+        _create(ctx, store.next_id(con, "scripts", "script_id"), [], tally)
+        tally.progress.close()
+    golden_id = campaign_reads.golden_script_id(con, ctx.campaign_id)
     golden_trace = Trace(config.sut[0], 0, events=observed_events(con, tasks([(golden_id, "")], golden_id,
                                                                                config)[0].trace_id))
     plan = strategies.plan(config, ctx.golden, ctx.interface, ctx.properties, golden_trace)
     _judged(ctx, show=False)  # what the stored traces found
-    session = Session(Progress(len(config.sut) * len(plan.aims), unit="runs"), start)
-    with Batches(con, ctx.campaign_id, session, set(config.external)) as batches, \
+    tally = Tally(budget.progress(con, ctx.campaign_id, config.budget_s), start)
+    with Batches(con, ctx.campaign_id, tally, set(config.external)) as batches, \
             campaign_slots(ctx) as slots:
         focused_run = budgeted.FocusedRun(ctx, plan, golden_id, batches, slots)
         try:
@@ -140,8 +140,8 @@ def _focused(ctx: CampaignContext, start: float) -> None:
         except KeyboardInterrupt:  # Ctrl-C or a stop signal: what the running shrinks made is stored
             focused_run.store_interrupted()
             raise
-    session.progress.close()
-    print(summary(con, ctx.campaign_id, session))
+    tally.progress.close()
+    print(summary(con, ctx.campaign_id, tally))
     print(budgeted.stopped_line(focused_run, reason))
     _judged(ctx)
     print("\nfindings (view findings):\n" + budgeted.findings_table(con))
@@ -153,7 +153,7 @@ def main(request: CampaignRequest, runner=None) -> int:
     target = load_mission(request.mission)
     golden, properties = target.golden(), target.properties()  # refused before anything starts
     external = from_configs(config.external)
-    setup = Setup(runner or run_script, target.interface_file, target.world_file, request.max_delay,
+    setup = transport.setup(runner or run_script, target.interface_file, target.world_file, request.max_delay,
                   external, REALTIME_WALL_LIMIT_S if external else RUN_WALL_LIMIT_S)
     # A real-time run mostly waits: its slots may outnumber the cores.
     jobs = request.jobs or max([len(os.sched_getaffinity(0))] + [s.slots for s in external.values()])
@@ -173,34 +173,31 @@ def _warn_of_a_default_target(ctx: CampaignContext) -> None:
     another one: say so, with its first error, rather than let Dala's properties judge it."""
     if ctx.mission.resolve() != DEFAULT_MISSION_DIR.resolve():
         return
-    for sut, error in ctx.con.execute("""select sut, arg_min(error, trace_id) from traces where campaign_id = ?
-                                         group by sut having bool_and(outcome = 'crashed')""",
-                                      [ctx.campaign_id]).fetchall():
+    for sut, error in campaign_reads.all_crashed(ctx.con, ctx.campaign_id):
         if sut in ctx.config.external:
             print(f"every run of {sut} crashed on the default target {DEFAULT_MISSION_DIR} (first: "
                   f"{cut(error or 'no reason given')}); if {sut} is made for another target, pass --mission "
                   "FOLDER with its interface.toml and golden.mission", file=sys.stderr)
 
 
-def _session(ctx: CampaignContext, start: float) -> tuple[Session, list]:
-    """This session's runs: a new campaign's (its golden runs made and stored), or a resumed one's."""
+def _tally(ctx: CampaignContext, start: float) -> tuple[Tally, list]:
+    """This invocation's runs: a new campaign's (its golden runs made and stored), or a resumed one's."""
     con, config, variants = ctx.con, ctx.config, len(ctx.config.sut)
     if ctx.campaign_id is None:
         golden_id = store.next_id(con, "scripts", "script_id")
         mutants = _generate(ctx, golden_id)
         runs = variants * (1 + sum(m.valid for m in mutants))
-        session = Session(Progress(sharding.share(runs, config.shard)), start)
-        _create(ctx, golden_id, mutants, session)
-        return session, pending_tasks(con, ctx.campaign_id, config)
+        tally = Tally(Progress(sharding.share(runs, config.shard)), start)
+        _create(ctx, golden_id, mutants, tally)
+        return tally, pending_tasks(con, ctx.campaign_id, config)
     pending = pending_tasks(con, ctx.campaign_id, config)
-    total = sharding.share(variants * con.execute("select count(*) from scripts where campaign_id = ? and valid",
-                                                  [ctx.campaign_id]).fetchone()[0], config.shard)
+    total = sharding.share(variants * len(campaign_reads.valid_scripts(con, ctx.campaign_id)), config.shard)
     if pending:
         print(f"resuming campaign {ctx.campaign_id} in {ctx.db}: {total - len(pending)} of {total} runs "
               f"stored, {len(pending)} to go", file=sys.stderr)
     else:
         print(f"campaign {ctx.campaign_id} in {ctx.db} is complete ({total} runs stored); nothing to run")
-    return Session(Progress(total, total - len(pending)), start), pending
+    return Tally(Progress(total, total - len(pending)), start), pending
 
 
 def _run(ctx: CampaignContext) -> int:
@@ -209,13 +206,13 @@ def _run(ctx: CampaignContext) -> int:
     if ctx.config.strategy == "focused":
         _focused(ctx, start)
         return 0
-    session, pending = _session(ctx, start)
+    tally, pending = _tally(ctx, start)
     if pending:
-        with Batches(ctx.con, ctx.campaign_id, session, set(ctx.config.external)) as batches:
+        with Batches(ctx.con, ctx.campaign_id, tally, set(ctx.config.external)) as batches:
             ctx.executor.run_all(pending, batches.add)
-    if session.runs:
-        session.progress.close()
-    print(summary(ctx.con, ctx.campaign_id, session))
+    if tally.runs:
+        tally.progress.close()
+    print(summary(ctx.con, ctx.campaign_id, tally))
     _warn_of_a_default_target(ctx)
     _judged(ctx)
     if ctx.shrink_to:

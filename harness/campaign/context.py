@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from harness.dispatch.executor import Executor
-from harness.dispatch.workers import Setup
+from harness.dispatch.description import Setup
 from harness.store.record import CampaignRecord
 from harness.target.interface import Interface, Property
 from harness.target.mission import Mission

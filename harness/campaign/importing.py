@@ -6,8 +6,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from harness.store import campaign_reads
 from harness.store.database import connect
-from harness.store.importer import Rows, import_file, import_rows
+from harness.store.importer import ImportRows, import_file, import_rows
 from harness.sut.bags import is_bag, read_bags
 from harness.target.interface import Interface, load_interface
 from harness.textable import counted
@@ -18,7 +19,7 @@ def import_path(con, path: str | Path, interface: Interface, ros: str | None = N
     the interface): (campaign_id, first trace id, traces)."""
     path = Path(path)
     if is_bag(path):
-        return import_rows(con, path, interface, Rows(*read_bags(path, interface, ros)))
+        return import_rows(con, path, interface, ImportRows(*read_bags(path, interface, ros)))
     return import_file(con, path, interface)
 
 
@@ -28,8 +29,7 @@ def main(db: str, file: str, interface: str, ros: str | None = None) -> int:
     con = connect(db)
     path = Path(file)
     campaign_id, first, count = import_path(con, path, interface, ros)
-    events = con.execute("select count(*) from events where trace_id between ? and ?",
-                         [first, first + count - 1]).fetchone()[0]
+    events = campaign_reads.event_count(con, first, first + count - 1)
     print(f"Imported {counted(count, 'trace')} ({counted(events, 'event')}) from {path} as campaign {campaign_id}, "
           f"trace ids {first}-{first + count - 1}. Run python -m harness analyze --db {db} to judge them.")
     return 0

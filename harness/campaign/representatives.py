@@ -12,8 +12,11 @@ from harness import store
 from harness.campaign.context import CampaignContext
 from harness.campaign.shrink import Behaviour, Original, Shrunk, original, shrunk, stored
 from harness.errors import UntimelyError
-from harness.dispatch.workers import Pool, Setup
+from harness.dispatch.description import Setup
+from harness.dispatch.workers import Pool
+from harness.store import campaign_reads
 from harness.store.record import ShrinkRecord, records
+from harness.sut import processes
 from harness.target.interface import Interface, Property
 
 
@@ -29,6 +32,7 @@ class ShrinkTask:
         try:
             return shrunk(replace(self.orig, slot=slot), self.behaviour, self.properties, setup.runner)
         except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
+            processes.raise_if_stopping()
             return self.crashed(str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}")
 
     def crashed(self, error: str, wall_s: float = 0.0) -> Shrunk:
@@ -40,6 +44,7 @@ def _stored(con, task: ShrinkTask, result: Shrunk, out: Path) -> str:
     try:
         line = stored(con, task.behaviour, result, out)
     except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
+        processes.raise_if_stopping()  # but a stop that DuckDB made a RuntimeError does
         result = task.crashed(str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}")
     if result.error:
         behaviour = task.behaviour
@@ -57,10 +62,9 @@ def representatives(ctx: CampaignContext, say: Callable[[str], None]) -> None:
     con = ctx.con
     done = {(s.sut, s.verdict, s.property) for _, _, s in records(con, ShrinkRecord) if s.steps_after is not None}
     mine = {name: sut.config() for name, sut in ctx.setup.external.items()}
-    found = [(Behaviour(sut, verdict, property_id), trace_id) for sut, property_id, verdict, trace_id in con.execute(
-        "select sut, property_id, verdict, representative from bad_behaviours join variant_positions using (sut) "
-        "order by position, verdict = 'hung' desc, verdict, property_id").fetchall()
-        if (sut, verdict, property_id) not in done]
+    found = [(Behaviour(sut, verdict, property_id), trace_id)
+             for sut, property_id, verdict, trace_id in campaign_reads.representatives(con)
+             if (sut, verdict, property_id) not in done]
     todo = [ShrinkTask(n, behaviour, replace(original(con, trace_id), external=mine), ctx.properties)
             for n, (behaviour, trace_id) in enumerate(found)]
     results, next_shown = {}, 0

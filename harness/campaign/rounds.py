@@ -6,7 +6,7 @@ from __future__ import annotations
 from concurrent.futures import Future
 from dataclasses import dataclass, field
 
-from harness.dispatch.workers import Task
+from harness.dispatch.description import Task
 from harness.trace import Trace
 
 ROUND_TESTS = 8

@@ -16,7 +16,8 @@ from harness import store
 from harness.campaign import sharding
 from harness.errors import StoreError
 from harness.progress import Progress
-from harness.dispatch.workers import Task
+from harness.dispatch.description import Task
+from harness.store import campaign_reads
 from harness.store.record import CampaignRecord
 from harness.trace import Trace
 
@@ -39,8 +40,8 @@ def tasks(scripts: list[tuple[int, str]], golden_id: int, config: CampaignRecord
 
 
 @dataclass
-class Session:
-    """What this invocation ran (a resumed campaign's earlier runs are not counted)."""
+class Tally:
+    """The tally of what this invocation ran (a resumed campaign's earlier runs are not counted)."""
     progress: Progress
     start: float
     runs: int = 0
@@ -49,16 +50,14 @@ class Session:
     def count(self, trace: Trace) -> None:
         self.runs += 1
         self.sim_s += trace.sim_s
-        self.progress.advance()
+        self.progress.ran(trace)
 
 
 def pending_tasks(con, campaign_id: int, config: CampaignRecord) -> list[Task]:
-    scripts = con.execute("select script_id, body from scripts where campaign_id = ? and valid "
-                          "order by script_id", [campaign_id]).fetchall()
+    scripts = campaign_reads.valid_scripts(con, campaign_id)
     golden_id = scripts[0][0]
     every = tasks(scripts, golden_id, config)
-    owners = dict(con.execute("select trace_id, campaign_id from traces where trace_id >= ?",
-                              [every[0].trace_id]).fetchall())
+    owners = campaign_reads.trace_owners(con, every[0].trace_id)
     for task in every:
         if owners.get(task.trace_id, campaign_id) != campaign_id:
             raise StoreError(f"trace id {task.trace_id}, which campaign {campaign_id} needs for script "
@@ -69,11 +68,11 @@ def pending_tasks(con, campaign_id: int, config: CampaignRecord) -> list[Task]:
 
 class Batches:
     """Traces committed together: when BATCH_RUNS have come in, when the oldest has waited BATCH_S,
-    at once for a real-time run (it took wall-clock time to make), and at the end of the session.
-    A session ended by an exception (Ctrl-C included) still commits the traces it holds."""
+    at once for a real-time run (it took wall-clock time to make), and at the end of the invocation.
+    An invocation ended by an exception (Ctrl-C included) still commits the traces it holds."""
 
-    def __init__(self, con, campaign_id: int, session: Session, realtime: set[str]):
-        self.con, self.campaign_id, self.session, self.realtime = con, campaign_id, session, realtime
+    def __init__(self, con, campaign_id: int, tally: Tally, realtime: set[str]):
+        self.con, self.campaign_id, self.tally, self.realtime = con, campaign_id, tally, realtime
         self.held: list[tuple[int, int, Trace, None]] = []
         self.oldest = 0.0
 
@@ -81,7 +80,7 @@ class Batches:
         if not self.held:
             self.oldest = time.monotonic()
         self.held.append((task.trace_id, task.script_id, trace, None))
-        self.session.count(trace)
+        self.tally.count(trace)
         if (len(self.held) >= BATCH_RUNS or time.monotonic() - self.oldest >= BATCH_S
                 or task.sut in self.realtime):
             self.commit()
@@ -92,7 +91,7 @@ class Batches:
                 with store.transaction(self.con):
                     store.insert_traces(self.con, self.campaign_id, self.held)
         except BaseException:  # a stop signal as the commit returns: stored, so not to be stored again
-            if self.con.execute("select count(*) from traces where trace_id = ?", [self.held[0][0]]).fetchall()[0][0]:
+            if campaign_reads.is_stored(self.con, self.held[0][0]):
                 self.held = []
             raise
         self.held = []

@@ -21,6 +21,7 @@ from harness.analysis.summary import analysis_summary
 from harness.analysis.explain import judged_files
 from harness.analysis.provenance import last_epsilon
 from harness.errors import StoreError, UntimelyError
+from harness.store import campaign_reads
 from harness.store import merge as store_merge
 from harness.store.database import connect
 from harness.store.record import CampaignRecord, ShrinkRecord, record_of, records
@@ -79,11 +80,10 @@ def _campaign(con, path: str) -> tuple[CampaignRecord, int, int]:
 def _missing(con, path: str, campaign_id: int, config: CampaignRecord) -> None:
     """Refuses a shard that lacks runs of its part (an unfinished or cut-short campaign), naming them."""
     variants = len(config.sut)
-    scripts = [s for (s,) in con.execute("select script_id from scripts where campaign_id = ? and valid",
-                                         [campaign_id]).fetchall()]
+    scripts = [s for s, _ in campaign_reads.valid_scripts(con, campaign_id)]
     wanted = [t for t in (trace_id(s, v, variants) for s in scripts for v in range(variants))
               if owns(config.shard, t)]
-    stored = {t for (t,) in con.execute("select trace_id from traces where campaign_id = ?", [campaign_id]).fetchall()}
+    stored = campaign_reads.campaign_trace_ids(con, campaign_id)
     missing = sorted(t for t in wanted if t not in stored)
     if missing:
         shown = ", ".join(map(str, missing[:10])) + (f" and {len(missing) - 10} more" if len(missing) > 10 else "")
@@ -154,7 +154,7 @@ def merge(out: str, stores: list[str], properties: str | None = None) -> int:
         for leftover in (out, out.with_name(out.name + ".wal")):
             leftover.unlink(missing_ok=True)  # no half-merged store
         raise
-    traces = con.execute("select count(*) from traces").fetchone()[0]
+    traces = campaign_reads.trace_count(con)
     print(f"merged {len(paths)} shards into {out}: {traces} traces, judged against {properties_file} "
           f"(epsilon {epsilon:g} s)\n")
     if shrinks:

@@ -17,6 +17,7 @@ confirms it (--run-stored-command).
 """
 from __future__ import annotations
 
+import shlex
 import time
 from dataclasses import dataclass, field, replace
 from functools import cached_property
@@ -25,6 +26,7 @@ from pathlib import Path
 from harness import DEFAULT_EPSILON_S, store
 from harness.errors import ScriptError, StoreError, UntimelyError
 from harness.files import make_folder
+from harness.store import campaign_reads
 from harness.sut.executive import run_script
 from harness.target.mission import INTERFACE_FILE, SUTS_FILE, WORLD_FILE
 from harness.target.interface import Interface, Property, load_interface
@@ -34,7 +36,8 @@ from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
 from harness.sut.definitions import from_configs, load_suts_file, resolve
 from harness.trace import Trace
-from harness.dispatch.workers import Setup, Task
+from harness.dispatch import transport
+from harness.dispatch.description import Task
 from harness.store.record import CampaignRecord, RunRecord, ShrinkRecord, record_of
 
 MIN_SLEEP_S = 0.01  # sleeps are halved down to this
@@ -77,7 +80,7 @@ class Original:
 
     def run(self, body: str, runner=run_script) -> Trace:
         """Run a script on the trace's variant with its seed, as the campaign's workers do."""
-        setup = Setup(runner, self.mission / INTERFACE_FILE, self.mission / WORLD_FILE, self.max_delay,
+        setup = transport.setup(runner, self.mission / INTERFACE_FILE, self.mission / WORLD_FILE, self.max_delay,
                       from_configs(self.external))
         trace = setup.run(Task(self.trace_id, self.script_id, self.sut, self.seed, body), self.interface, self.slot)
         self.made.append((body, trace))
@@ -85,9 +88,7 @@ class Original:
 
 
 def original(con, trace_id: int, mission: str | None = None) -> Original:
-    found = con.execute("""select t.trace_id, t.script_id, t.sut, t.seed, t.outcome, s.body, c.mission, c.config
-                           from traces t left join scripts s using (script_id) join campaigns c
-                           on c.campaign_id = t.campaign_id where t.trace_id = ?""", [trace_id]).fetchone()
+    found = campaign_reads.trace_to_shrink(con, trace_id)
     if found is None:
         raise StoreError(f"no trace {trace_id} in the store; pick one from "
                          "python -m harness sql \"select * from bad_behaviours\"")
@@ -240,9 +241,18 @@ def store_interrupted(con, orig: Original, behaviour: Behaviour) -> None:
 def header(orig: Original, behaviour: Behaviour, script_id: int, path: Path, runs: int, steps_before: int) -> str:
     return (f"# Shrunk reproducer (script {script_id}): {behaviour}, from trace {orig.trace_id} "
             f"(script {orig.script_id}, {steps_before} steps) in {runs} runs.\n"
-            f"# Replay: python -m harness run {path} --sut {orig.sut} --seed {orig.seed} "
-            f"--max-delay {orig.max_delay:g} --interface {orig.mission / INTERFACE_FILE} "
-            f"--world {orig.mission / WORLD_FILE}\n")
+            f"# Replay: {replay_command(orig, path)}\n")
+
+
+def replay_command(orig: Original, path: Path) -> str:
+    """The command that replays a shrunk file as written from any folder: the installed `untimely`,
+    absolute paths, the target named by its interface (run takes the world and SUTs beside it), an
+    external SUT at the time scale it ran at."""
+    scale = orig.external.get(orig.sut, {}).get("time_scale")
+    words = ["untimely", "run", str(path.resolve()), "--sut", orig.sut, "--seed", str(orig.seed),
+             "--max-delay", f"{orig.max_delay:g}", "--interface", str((orig.mission / INTERFACE_FILE).resolve()),
+             *(["--time-scale", f"{scale:g}"] if scale is not None else [])]
+    return shlex.join(words)
 
 
 def write_mission(out: Path, orig: Original, behaviour: Behaviour, script_id: int, body: str, runs: int) -> Path:

@@ -23,13 +23,13 @@ from concurrent.futures import Future, as_completed
 from contextlib import contextmanager
 from typing import Callable, Iterator
 
-from harness.errors import UntimelyError
+from harness.errors import InternalSignal, UntimelyError
 from harness.campaign.context import CampaignContext
-from harness.dispatch.workers import Setup, Task
+from harness.dispatch.description import Setup, Task
 from harness.trace import Trace
 
 
-class SlotsClosed(Exception):
+class SlotsClosed(InternalSignal):
     """The campaign stopped: a shrink waiting for a slot gives up."""
 
 

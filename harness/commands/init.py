@@ -21,6 +21,7 @@ class Request:
     include: list[str] = field(default_factory=list)
     from_ros2: str | None = None
     from_bag: str | None = None
+    interfaces: list[str] = field(default_factory=list)
 
 
 def arguments(c) -> None:
@@ -33,16 +34,25 @@ def arguments(c) -> None:
                    "per installed distro, golden mission, properties) from the ROS 2 graph COMMAND brings up")
     c.add_argument("--from-bag", metavar="BAG", help="with --from-ros2: the golden mission is the session recorded in "
                    "this rosbag2 bag (MCAP or SQLite3, with service and action introspection)")
+    c.add_argument("--interfaces", action="append", default=[], metavar="PKG_DIR",
+                   help="with --from-ros2: your ROS 2 interface package (package.xml, action/, srv/, msg/), built "
+                   "for every installed distro and found by the node, init and every SUT (repeatable, in build order)")
 
 
 def execute(request: Request) -> int:
     if request.from_bag and not request.from_ros2:
         raise UntimelyError(f"--from-bag {request.from_bag}: give --from-ros2 'COMMAND' too, the node(s) the bag was "
                             "recorded from (their graph gives the interface the bag's requests are read with)")
+    if request.interfaces and not request.from_ros2:
+        raise UntimelyError(f"--interfaces {request.interfaces[0]}: give --from-ros2 'COMMAND' too, the node(s) "
+                            "that use these interfaces")
     if not request.from_ros2:
         return scaffold.scaffold(Path(request.dir), request.from_genom, request.include)
     if request.from_genom:
         raise UntimelyError("give --from-genom or --from-ros2, not both")
     if request.from_bag:
+        if request.interfaces:
+            raise UntimelyError("--interfaces with --from-bag is not supported yet: write the target with "
+                                "--from-ros2 'COMMAND' --interfaces PKG_DIR alone, then edit its golden.mission")
         return from_bag.from_bag(Path(request.dir), request.from_ros2, request.from_bag)
-    return ros2_init.from_ros2(Path(request.dir), request.from_ros2)
+    return ros2_init.from_ros2(Path(request.dir), request.from_ros2, interfaces=tuple(request.interfaces))

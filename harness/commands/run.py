@@ -17,7 +17,8 @@ def arguments(c) -> None:
     c.add_argument("--seed", type=options.SEED, default=Request.seed,
                    help="seed of the observation delays (default: %(default)s)")
     c.add_argument("--interface", help="interface description (default: interface.toml beside the script)")
-    c.add_argument("--world", help="world description (default: world.toml beside the script)")
+    c.add_argument("--world", help="world description (default: world.toml beside the --interface given, "
+                                    "else beside the script)")
     c.add_argument("--max-delay", type=options.SECONDS, default=Request.max_delay,
                    help="largest interface observation delay in seconds (default: %(default)s)")
     options.time_scale(c)

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterator
 
-from harness.dispatch.workers import Task, crashed
+from harness.dispatch.description import Task, crashed
 
 
 @dataclass(frozen=True)

@@ -36,7 +36,7 @@ from harness.target.interface import load_interface
 from harness.trace import Trace
 from harness.sut.external import kept
 from harness.dispatch.announcements import Announcements, announcements, failed_batch
-from harness.dispatch.workers import Setup, Task
+from harness.dispatch.description import Setup, Task
 
 PACKAGE = Path(__file__).resolve().parent.parent  # harness/
 ALLOWED_FAILURES = "distributed.scheduler.allowed-failures"

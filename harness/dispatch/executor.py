@@ -9,7 +9,8 @@ from __future__ import annotations
 from contextlib import contextmanager
 from typing import Callable, Iterator, Protocol
 
-from harness.dispatch.workers import Pool, Setup, Task
+from harness.dispatch.description import Setup, Task
+from harness.dispatch.workers import Pool
 
 
 class Executor(Protocol):

@@ -1,28 +1,26 @@
 """How a run reaches its SUT: every kind of SUT is a `Transport`, whose `run` plays one script and
 returns its trace. The simulated layer runs in this process in virtual time (`Simulated`); an
-adapter speaking untimely/1 runs in wall-clock time (`Adapter`), started for the run on stdio
+adapter speaking untimely/1 runs in wall-clock time (`ExternalTransport`), started for the run on stdio
 (`--sut NAME=cmd:COMMAND`; the ROS 1 and ROS 2 launchers are such commands) or reached over TCP
 (`NAME=tcp://HOST:PORT`), the channel that harness.sut.external.channel opens for its
 definition.
 
 A SUT's name is offered to the kinds of REGISTRY in order; the first that takes it makes its
-transport. A new kind of SUT is one class with `run` and one entry there (a run's Setup takes the
-registry as it stands when the setup is made, and carries it to the worker processes).
+transport. A new kind of SUT is one class with `run` and one entry there (a run's Setup, made by
+`setup`, takes the registry as it stands then, and carries it to the worker processes).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable, Protocol
+from typing import Callable, Protocol
 
+from harness.dispatch.description import Setup
 from harness.sut.definitions import ExternalSut
 from harness.sut.external.runner import run_external
 from harness.target.interface import Interface
 from harness.target.script import Script
 from harness.trace import Trace
-
-if TYPE_CHECKING:
-    from harness.dispatch.workers import Setup
 
 
 class Transport(Protocol):
@@ -47,7 +45,7 @@ class Simulated:
 
 
 @dataclass(frozen=True)
-class Adapter:
+class ExternalTransport:
     """An external SUT over untimely/1, on the channel its definition names (stdio or TCP)."""
     sut: ExternalSut
 
@@ -60,7 +58,7 @@ class Adapter:
 
 
 def _external(name: str, setup: Setup) -> Transport | None:
-    return Adapter(setup.external[name]) if name in setup.external else None
+    return ExternalTransport(setup.external[name]) if name in setup.external else None
 
 
 def _simulated(name: str, setup: Setup) -> Transport:
@@ -68,9 +66,11 @@ def _simulated(name: str, setup: Setup) -> Transport:
 
 
 # The kinds of SUT, tried in order: the first whose maker returns a transport for a name runs it.
-REGISTRY: list[Callable[[str, "Setup"], Transport | None]] = [_external, _simulated]
+REGISTRY: list[Callable[[str, Setup], Transport | None]] = [_external, _simulated]
 
 
-def transport(name: str, setup: Setup) -> Transport:
-    """The transport that runs SUT `name` with a campaign's (or a run's) setup."""
-    return next(t for t in (make(name, setup) for make in setup.kinds) if t is not None)
+def setup(runner: Callable, interface_file: Path, world_file: Path, max_delay: float,
+          external: dict[str, ExternalSut] | None = None, watchdog_s: float | None = None) -> Setup:
+    """What every run of a campaign (or a shrink's, or an ad-hoc run) shares, with the kinds of SUT
+    of REGISTRY; `runner` has harness.sut.executive.run_script's signature (tests give others)."""
+    return Setup(runner, interface_file, world_file, max_delay, external or {}, watchdog_s, kinds=tuple(REGISTRY))

@@ -22,74 +22,19 @@ from __future__ import annotations
 import multiprocessing
 import signal
 import time
-import traceback
 from collections import deque
-from dataclasses import dataclass, field
 from multiprocessing.connection import wait
-from pathlib import Path
 from typing import Callable
 
 from harness.errors import UntimelyError
-from harness.dispatch import transport
+from harness.dispatch.description import Setup, Task
 from harness.sut import processes
 from harness.sut.external.kept import kept_adapters
 from harness.target.interface import load_interface
-from harness.target.script import parse
-from harness.sut.definitions import ExternalSut
 from harness.trace import Trace
 
 STOP_GRACE_S = 8.0  # a busy worker's adapter may take GRACE_S, then TERM_GRACE_S, to end
 READY = "ready"  # a worker's first message: it has set up and can run
-
-
-@dataclass(frozen=True)
-class Task:
-    """One run. A pool worker performs any task with `perform` and `crashed` (a shrink is one too:
-    harness.campaign.representatives)."""
-    trace_id: int
-    script_id: int
-    sut: str
-    seed: int
-    body: str
-
-    def perform(self, setup: "Setup", interface, slot: int) -> "Trace | UntimelyError":
-        return setup.run(self, interface, slot)
-
-    def crashed(self, error: str, wall_s: float = 0.0) -> Trace:
-        return crashed(self, error, wall_s)
-
-
-@dataclass(frozen=True)
-class Setup:
-    """What every run of a campaign shares; sent once to each worker."""
-    runner: Callable  # run_script's signature: (script, sut, seed, interface, world_file, max_delay)
-    interface_file: Path
-    world_file: Path
-    max_delay: float
-    external: dict[str, ExternalSut] = field(default_factory=dict)  # SUTs run over untimely/1
-    watchdog_s: float | None = None  # wall seconds a run may take before its worker is killed
-    # the kinds of SUT as this process knows them, sent with the setup to the workers
-    kinds: tuple = field(default_factory=lambda: tuple(transport.REGISTRY))
-
-    def run(self, task: Task, interface, slot: int) -> "Trace | UntimelyError":
-        """One run, wherever it happens (a pool worker, a Dask worker); never raises."""
-        start = time.perf_counter()
-        try:
-            script = parse(task.body, script_label(task.script_id))
-            return transport.transport(task.sut, self).run(script, task.seed, interface, slot, task.trace_id)
-        except UntimelyError as e:  # the user's input (a variant, world or adapter that cannot be used)
-            return e
-        except Exception:  # noqa: BLE001 - any other failure is this run's crash
-            return crashed(task, traceback.format_exc().strip(), time.perf_counter() - start)
-
-
-def script_label(script_id: int) -> str:
-    """How messages about a stored script name it (its scripts.script_id)."""
-    return f"script {script_id}"
-
-
-def crashed(task: Task, error: str, wall_s: float = 0.0) -> Trace:
-    return Trace(sut=task.sut, seed=task.seed, outcome="crashed", error=error, wall_s=wall_s)
 
 
 def _serve(conn, setup: Setup, slot: int) -> None:

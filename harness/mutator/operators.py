@@ -1,11 +1,11 @@
 """Mutation operators over mission scripts (paper §V.C, docs/reference/mission-language.md).
 
-The paper's three operators act on module requests (`send` steps): delete one, insert
-an additional one, swap a pair. Two time-domain operators are opt-in: drop a `wait`,
+The paper's three operators act on module requests (`send` and `cancel` steps): delete one,
+insert an additional one, swap a pair. Two time-domain operators are opt-in: drop a `wait`,
 change a `sleep`; so is the value operator replace_value (harness/mutator/values.py). A new
 operator is a function (steps, rng, interface) -> record or None (None: it does not apply) added
 to the registry OPERATORS; `campaign --operators` picks by name. An operator may produce a script the validator rejects (a `wait` on a
-deleted handle, a `wait` moved before its `send`): such a mutant is kept, marked invalid.
+deleted handle, a `wait` or `cancel` moved before its `send`): such a mutant is kept, marked invalid.
 
 Each operation is recorded as a JSON-able dict: `op`, the involved step(s) as text, and
 `line`/`lines`, the line numbers of those steps in the golden body (null for a step that
@@ -21,9 +21,10 @@ from typing import Callable, Iterator
 from harness.errors import ScriptError, UntimelyError
 from harness.target.interface import Interface, Service
 from harness.mutator.values import replace_value
-from harness.target.script import Script, Step, step_text, validate
+from harness.target.script import CANCEL_SUFFIX, Script, Step, step_text, validate
 
 INSERTED_HANDLE_PREFIX = "extra"
+REQUEST_STEPS = ("send", "cancel")  # the steps that send a request
 # A changed sleep lasts between a tenth and ten times the original (log-uniform).
 SLEEP_SCALE_DECADES = 1.0
 
@@ -47,8 +48,8 @@ def _line(step: Step) -> int | None:
     return step.line or None
 
 
-def _indices(steps: list[Step], op: str) -> list[int]:
-    return [i for i, s in enumerate(steps) if s.op == op]
+def _indices(steps: list[Step], *ops: str) -> list[int]:
+    return [i for i, s in enumerate(steps) if s.op in ops]
 
 
 def plausible(value: float) -> float:
@@ -56,8 +57,8 @@ def plausible(value: float) -> float:
     return float(f"{value:.3g}")
 
 
-def _delete_one(steps, rng, kind: str, op: str):
-    candidates = _indices(steps, kind)
+def _delete_one(steps, rng, kinds: tuple[str, ...], op: str):
+    candidates = _indices(steps, *kinds)
     if not candidates:
         return None
     i = rng.choice(candidates)
@@ -65,7 +66,7 @@ def _delete_one(steps, rng, kind: str, op: str):
 
 
 def delete_request(steps, rng, interface):
-    return _delete_one(steps, rng, "send", "delete_request")
+    return _delete_one(steps, rng, REQUEST_STEPS, "delete_request")
 
 
 # What an inserted request writes for an argument whose domain offers no value to draw: a number
@@ -99,16 +100,23 @@ def _fresh_handle(steps: list[Step]) -> str:
 
 
 def insert_request(steps, rng, interface):
+    """A request of a service drawn from the interface at a drawn position; a request of a goal's
+    cancel service (M.S_cancel) is a `cancel` of an earlier goal of M.S that has a handle, where
+    one has (else a plain send of the cancel service, as a script may write it)."""
     service = interface.services[rng.choice(sorted(interface.services))]
     handle = _fresh_handle(steps) if rng.random() < 0.5 else None
     step = random_request(service, rng, handle)
     at = rng.randint(0, len(steps))
+    goals = [s.handle for s in steps[:at] if s.op == "send" and s.handle
+             and s.service + CANCEL_SUFFIX == service.qualified]
+    if goals:
+        step = Step(0, "cancel", handle=handle, cancelled=rng.choice(goals))
     steps.insert(at, step)
     return {"op": "insert_request", "position": at + 1, "step": step_text(step)}
 
 
 def swap_requests(steps, rng, interface):
-    sends = _indices(steps, "send")
+    sends = _indices(steps, *REQUEST_STEPS)
     if len(sends) < 2:
         return None
     i, j = sorted(rng.sample(sends, 2))
@@ -118,7 +126,7 @@ def swap_requests(steps, rng, interface):
 
 
 def drop_wait(steps, rng, interface):
-    return _delete_one(steps, rng, "wait", "drop_wait")
+    return _delete_one(steps, rng, ("wait",), "drop_wait")
 
 
 def change_sleep(steps, rng, interface):

@@ -1,17 +1,17 @@
 """What a script's run shows about timing, step by step: which activities run, which services
 have ended ok, at each place a step could be inserted.
 
-Read from the golden run's observed events, black-box: a `send` step is observed at its
-request's time; a `sleep` lasts its seconds; a `wait` ends when the awaited final replies are
-observed, plus the executive's reaction time. Position p is the place before step p (p = number
-of steps means the end of the script).
+Read from the golden run's observed events, black-box: a `send` or `cancel` step is observed at
+its request's time (a cancel's is a request of its cancel service); a `sleep` lasts its seconds; a
+`wait` ends when the awaited final replies are observed, plus the executive's reaction time.
+Position p is the place before step p (p = number of steps means the end of the script).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 from harness.sut.executive import REACTION_S
-from harness.target.script import Script
+from harness.target.script import Script, cancel_service
 from harness.trace import Trace
 
 
@@ -38,12 +38,13 @@ class Timeline:
         now, by_handle = 0.0, {}
         for index, step in enumerate(script.steps):
             self.start.append(now)
-            if step.op == "send":
+            if step.op in ("send", "cancel"):
                 rqst_id = len(self.activities) + 1
                 end, reply = finals.get(rqst_id, (None, None))
                 now = requests.get(rqst_id, now)
                 self.start[-1] = now
-                activity = Activity(step.service, index, now, end, reply, reply_classes.get(reply) != "R")
+                service = step.service if step.op == "send" else cancel_service(by_handle[step.cancelled].service)
+                activity = Activity(service, index, now, end, reply, reply_classes.get(reply) != "R")
                 self.activities.append(activity)
                 if step.handle:
                     by_handle[step.handle] = activity

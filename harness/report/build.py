@@ -28,14 +28,21 @@ from harness.files import make_folder
 from harness.report import html, pages, queries, sections, trace_pages
 from harness.report.index_tables import IndexTables
 from harness.store.database import connect
-from harness.store.reads import analyses_made, relations
+from harness.store.reads import analyses_made, relations, trace_count
 
 PARALLEL_FROM = 400  # trace pages per worker process; fewer are not worth starting one for
-# DuckDB's memory for the report's queries: beyond it, their hash tables spill to a temporary
-# folder (a read-only store has none of its own). The lists' ordered string_agg cannot spill:
-# 40-48 MB at 20,000 traces (docs/report.md; see _within_memory). One thread: the worker
-# processes use the other cores.
-MEMORY_LIMIT, THREADS = "48MB", 1
+# DuckDB's memory for the report's queries, from the store's size: beyond it, their hash tables
+# spill to a temporary folder (a read-only store has none of its own); the trace pages' queries
+# and the lists' ordered string_agg cannot spill. Measured (docs/report.md): 24-48 MB for 15
+# traces, 48-64 MB for 732 (a default campaign has 903), so a floor of 4 times that and a share
+# per trace; a store that needs more still gets its report (_within_memory). One thread: the
+# worker processes use the other cores.
+MEMORY_FLOOR_MB, MEMORY_PER_TRACE_KB, THREADS = 256, 64, 1
+
+
+def memory_limit_mb(traces: int) -> int:
+    """DuckDB's memory for the report of a store of `traces` traces."""
+    return MEMORY_FLOOR_MB + traces * MEMORY_PER_TRACE_KB // 1024
 
 
 def main(db: str, out: str | None = None, traces: list[int] = ()) -> int:
@@ -44,16 +51,16 @@ def main(db: str, out: str | None = None, traces: list[int] = ()) -> int:
     con = connect(db, read_only=True)
     spill = tempfile.TemporaryDirectory(prefix="untimely-report-")
     try:
-        con.execute(f"set memory_limit = '{MEMORY_LIMIT}'; set threads = {THREADS}; "
-                    f"set temp_directory = '{spill.name}'")
         queries.check_analysed(con, db)
+        limit = memory_limit_mb(trace_count(con))
+        con.execute(f"set memory_limit = '{limit}MB'; set threads = {THREADS}; set temp_directory = '{spill.name}'")
         make_folder(out, "the report")
         if traces:
-            written = _within_memory(con, lambda: write_pages(con, out, traces))
+            written = _within_memory(con, limit, lambda: write_pages(con, out, traces))
             print(f"wrote {', '.join(str(out / html.trace_href(i)) for i in written)} "
                   f"in {time.perf_counter() - started:.1f} s")
             return 0
-        written = _within_memory(con, lambda: write_report(con, out))
+        written = _within_memory(con, limit, lambda: write_report(con, out))
     except OSError as e:
         where = f" ({e.filename})" if e.filename else ""
         raise UntimelyError(f"cannot write the report in {str(out)!r}: {e.strerror}{where}; the store is only "
@@ -66,14 +73,14 @@ def main(db: str, out: str | None = None, traces: list[int] = ()) -> int:
     return 0
 
 
-def _within_memory(con, write):
-    """write() within MEMORY_LIMIT; a store whose queries need more is written again with
-    DuckDB's default limit (most of the machine's memory)."""
+def _within_memory(con, limit_mb: int, write):
+    """write() within `limit_mb`; a store whose queries need more is written again with DuckDB's
+    default limit (most of the machine's memory)."""
     try:
         return write()
     except duckdb.OutOfMemoryException:
         con.execute("reset memory_limit")
-        print(f"the report needs more than {MEMORY_LIMIT} of DuckDB memory for this store; "
+        print(f"the report needs more than {limit_mb} MB of DuckDB memory for this store; "
               "writing it again without that limit", file=sys.stderr)
         return write()
 

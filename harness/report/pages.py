@@ -3,23 +3,14 @@ trace pages are harness/report/trace_pages.py's."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from markupsafe import Markup
 
 from harness.report import charts
-from harness.report.html import SHOWN_ROWS, VERDICTS, bad_href, list_href, rate_text, render
+from harness.report.html import SHOWN_ROWS, VERDICTS, bad_href, list_href, render
+from harness.report.index_tables import IndexTables, shrunk_href
 from harness.report.tables import Table
-from harness.campaign.shrink import Behaviour, mission_file, original, write_mission
-from harness.textable import rate_interval, with_orders
-
-if TYPE_CHECKING:  # index_tables imports this module for its links
-    from harness.report.index_tables import IndexTables
-
-
-def shrunk_href(script_id: int | None) -> str | None:
-    """The link to a shrunk reproducer's page; none where a finding has no reproducer yet."""
-    return None if script_id is None else "shrunk/" + mission_file(Path(), script_id).name
+from harness.campaign.shrink import Behaviour, original, write_mission
 
 
 def _rates(view: Table, rate: str) -> dict[tuple[str, str], float | None]:
@@ -30,20 +21,6 @@ def _rates(view: Table, rate: str) -> dict[tuple[str, str], float | None]:
 def _intervals(view: Table, rate: str) -> dict[tuple[str, str], tuple[float, float]]:
     """(family, variant) -> the rate's 95% interval, where it has cases."""
     return {(r["family"], r["sut"]): (r[f"{rate}_low"], r[f"{rate}_high"]) for r in view.records() if r.get("n")}
-
-
-def pivot(view: Table, rate: str, name: str, suts: list[str], families: list[str]) -> Table:
-    """Paper layout of Tables III/IV: a row per family, a column per variant, each cell a link
-    showing the rate, its 95% Wilson interval and n."""
-    cell = {(r["family"], r["sut"]): rate_text(r, rate, r.get("n")) for r in view.records()}
-    families = [f for f in families if any((f, s) in cell for s in suts)]
-    suts = [s for s in suts if any((f, s) in cell for f in families)]
-    no_case = with_orders(rate_interval(None, None, None, 0), None, None)  # a variant with no verdict of the family
-    table = Table(name, ["family", *suts], [(f, *(cell.get((f, s), no_case) for s in suts)) for f in families])
-    for r, family in enumerate(families):
-        for c, sut in enumerate(suts, start=1):
-            table.links[(r, c)] = list_href(sut, family)
-    return table
 
 
 def write_index(out: Path, context: dict) -> None:

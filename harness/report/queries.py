@@ -9,6 +9,7 @@ from harness.store.reads import columns, exists, ordered, read_older_analysis, r
 from harness.errors import StoreError
 from harness.store.sql import render_query, sql_id_list
 from harness.analysis.provenance import stale_files
+from harness.report import configuration
 from harness.report.html import VERDICTS
 from harness.report.tables import Table, query_table
 from harness.report.trace_pages import Rows
@@ -56,9 +57,13 @@ def module_order(con) -> list[str]:
 
 
 def campaigns(con) -> list[dict]:
+    """Every campaign, its configuration as the report shows it (harness.report.configuration)."""
     found = rows(con, render_query("campaigns"))
+    budgets = {r["campaign_id"]: r for r in rows(con, "select campaign_id, tests, stopped from campaign_budgets")
+               } if exists(con, "campaign_budgets") else {}  # a store older than focused campaigns has none
     for c in found:
-        c["config"] = json.loads(c["config"]) if c["config"] else {}
+        c["config"] = configuration.shown(json.loads(c["config"]) if c["config"] else {},
+                                          budgets.get(c["campaign_id"]))
     return found
 
 

@@ -5,7 +5,7 @@ The file (CSV, JSON lines or Parquet) holds the events columns, one event per ro
 optionally `outcome` and `sut` per trace. Every row is checked against the interface first;
 bad rows are reported with their line and value and nothing is written. Then one transaction
 adds a campaign (mission = the file, seed 0), the traces (integer ids; the file's own trace
-name kept as traces.label) and their events. ROS bags reach the store as the same rows (`Rows`,
+name kept as traces.label) and their events. ROS bags reach the store as the same rows (`ImportRows`,
 parsed by harness/sut/bags: one trace per bag) and are checked alike; their header stamps, the
 SUT's own clock, go to internal_events.
 """
@@ -177,7 +177,7 @@ def _events(con, staged: str) -> duckdb.DuckDBPyRelation:
                        from {staged} s join imported_ids i on i.label = s.trace_id order by i.id, s.line""")
 
 
-class Rows(NamedTuple):
+class ImportRows(NamedTuple):
     """What the store receives to import: the events as text columns (REQUIRED and OPTIONAL) plus
     `line`, what a line is called in messages, and the events on the SUT's own clock (bags) or None."""
     events: pa.Table
@@ -188,10 +188,10 @@ class Rows(NamedTuple):
 def import_file(con, path: str | Path, interface: Interface) -> tuple[int, int, int]:
     """Events from a file of events (CSV, JSON lines, Parquet)."""
     path = Path(path)
-    return import_rows(con, path, interface, Rows(*read(path)))
+    return import_rows(con, path, interface, ImportRows(*read(path)))
 
 
-def import_rows(con, path: Path, interface: Interface, rows: Rows) -> tuple[int, int, int]:
+def import_rows(con, path: Path, interface: Interface, rows: ImportRows) -> tuple[int, int, int]:
     """The rows read from `path`, checked against the interface, then stored as one campaign:
     (campaign_id, first trace id, traces)."""
     sut_clock = rows.sut_clock

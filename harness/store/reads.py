@@ -64,3 +64,8 @@ def observed_events(con, trace_id: int) -> list[tuple]:
     """A stored trace's observed events as a Trace holds them (EVENT_COLUMNS order)."""
     return con.execute(f"select {', '.join(EVENT_COLUMNS)} from events where trace_id = ? order by seq",
                        [trace_id]).fetchall()
+
+
+def trace_count(con) -> int:
+    """How many traces the store holds, of every campaign."""
+    return con.execute("select count(*) from traces").fetchone()[0]

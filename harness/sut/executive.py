@@ -1,6 +1,7 @@
 """The mission executive: plays a validated script against a functional layer in virtual time.
 
-`send` is non-blocking; `wait` blocks until the awaited final replies are observed (or its
+`send` is non-blocking, and so is `cancel`: a request of the cancel service of the goal it names,
+whose argument `goal` is that goal's request id (docs/reference/mission-language.md); `wait` blocks until the awaited final replies are observed (or its
 watchdog expires: the wait is abandoned and noted, the script goes on), then the executive
 takes REACTION_S to react. An out-of-band liveness
 probe pings the layer every PROBE_PERIOD; a layer that does not answer within PROBE_TIMEOUT has
@@ -18,12 +19,13 @@ import json
 import random
 import time
 import traceback
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable
 
+from harness.errors import InternalSignal
 from harness.target.interface import Interface
-from harness.target.script import Script, Step
+from harness.target.script import CANCEL_GOAL_ARG, SIMULATED_NO_CANCEL, Script, Step, cancel_service, refuse_cancels
 from harness.sut.simulated.kernel import Environment, Event
 from harness.trace import Trace
 
@@ -43,7 +45,7 @@ class Probe:
     timeout_s: float = PROBE_TIMEOUT_S
 
 
-class LayerMisbehaved(Exception):
+class LayerMisbehaved(InternalSignal):
     """The layer broke the interface protocol (unknown code, second final reply, unknown request)."""
 
 
@@ -84,17 +86,20 @@ class Executive:
     def _delay(self) -> float:
         return self.rng.uniform(0.0, self.max_delay)
 
-    def _args_json(self, step: Step) -> str:
-        return json.dumps(self.interface.services[step.service].typed(dict(step.args)))
-
     def send(self, step: Step) -> None:
-        request = Request(len(self.requests) + 1, step, self._args_json(step), observed=self.env.event())
+        """A send's request, or a cancel's: of the cancel service of the goal it names, with its id."""
+        args = dict(step.args)
+        if step.op == "cancel":
+            goal = self.handles[step.cancelled]
+            step, args = replace(step, service=cancel_service(goal.step.service)), {CANCEL_GOAL_ARG: goal.rqst_id}
+        typed = json.dumps(self.interface.services[step.service].typed(args))
+        request = Request(len(self.requests) + 1, step, typed, observed=self.env.event())
         self.requests[request.rqst_id] = request
         if step.handle:
             self.handles[step.handle] = request
         self.observed.add(self.env.now, "request", request)
         self.env.call_at(self.env.now + self._delay(),
-                         lambda: self.layer.receive(request.rqst_id, step.service, dict(step.args), self.on_reply))
+                         lambda: self.layer.receive(request.rqst_id, step.service, args, self.on_reply))
 
     def on_reply(self, rqst_id: int, kind: str, code: str | None) -> None:
         """The layer's messages: `request` when its control task takes the request (the internal
@@ -143,7 +148,7 @@ class Executive:
 
     def play(self, script: Script):
         for step in script.steps:
-            if step.op == "send":
+            if step.op in ("send", "cancel"):
                 self.send(step)
             elif step.op == "sleep":
                 yield self.env.timeout(step.seconds)
@@ -184,6 +189,7 @@ class Runner:
                  max_delay: float = 0.003) -> Trace:
         layer_factory = self.layer_factory
         if layer_factory is None:
+            refuse_cancels(script, SIMULATED_NO_CANCEL)
             from harness.sut.simulated.layer import FunctionalLayer as layer_factory
         wall = time.perf_counter()
         env = Environment()

@@ -44,10 +44,27 @@ class Stopped(KeyboardInterrupt):
 STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
 
 
+_STOPPING: list[int] = []  # the signal of the stop under way, once it came
+
+
+def _stop(signum: int) -> KeyboardInterrupt:
+    return KeyboardInterrupt() if signum == signal.SIGINT else Stopped(signum)
+
+
 def _raise_stopped(signum, _frame):
     for repeated in _handled():  # a repeat must not cut the cleanup short (a worker gets its
         signal.signal(repeated, _stopping)  # parent-death signal once per parent thread; a second Ctrl-C is a habit)
-    raise KeyboardInterrupt() if signum == signal.SIGINT else Stopped(signum)
+    _STOPPING.append(signum)
+    raise _stop(signum)
+
+
+def raise_if_stopping() -> None:
+    """Raise the stop under way, if one came: for a broad `except` that may have caught what the
+    stop became (DuckDB turns a KeyboardInterrupt raised during a query into RuntimeError('Query
+    interrupted')); the repeats of the signal are ignored from its first, so a stop lost there
+    would let the bench run on and exit 0."""
+    if _STOPPING:
+        raise _stop(_STOPPING[0])
 
 
 def _handled() -> tuple:

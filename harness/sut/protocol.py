@@ -8,6 +8,8 @@ from __future__ import annotations
 import json
 import math
 
+from harness.errors import InternalSignal
+
 PROTO = "untimely/1"
 # What the SUT may send, with the fields each must carry and their JSON types.
 SUT_MESSAGES = {
@@ -34,7 +36,7 @@ REPLY_KINDS = ("taken", "intermediate", "final")
 INTERNAL_KINDS = ("request", "intermediate", "final")
 
 
-class ProtocolViolation(Exception):
+class ProtocolViolation(InternalSignal):
     """A line that is not a well-formed message of the protocol."""
 
 

@@ -32,9 +32,11 @@ class Service:
     def qualified(self) -> str:
         return f"{self.module}.{self.name}"
 
-    def typed(self, raw: dict[str, str]) -> dict:
-        """A request's argument values as carried in JSON (harness/target/domains.py)."""
-        return {k: carried(self.args[k], v) for k, v in raw.items()}
+    def typed(self, raw: dict) -> dict:
+        """A request's argument values as carried in JSON (harness/target/domains.py). A value of no
+        declared argument is one the executive adds itself (a cancel's goal, its request id), carried
+        as it is: a script's own are all declared (harness/target/script.py validates them)."""
+        return {k: carried(self.args[k], v) if k in self.args else v for k, v in raw.items()}
 
 
 @dataclass(frozen=True)
@@ -79,6 +81,7 @@ class Property:
     r_p: str | None = None
     z_p: str | None = None
     domain: dict[str, Domain] | None = None  # VAL: argument -> bounds that also hold while a y runs
+    deadline: float | None = None  # the ROS 2 types: seconds; None: derived from the golden runs
 
 
 class ServiceFile(Strict):
@@ -138,7 +141,7 @@ class PropertyFile(Strict):
     model_config = ConfigDict(title="a property")
     id: str = Field(min_length=1, description="give every property a string id")
     family: str = Field(min_length=1, description='give a family name such as "PEX"')
-    type: str = Field(description="give a type that has a template in sql/oracles/ (PC, ES, EE, EX, MX_R, MX_I, VAL)")
+    type: str = Field(description="give a type that has a template in sql/oracles/ (PC, ES, EE, EX, MX_R, MX_I, VAL, IN, OUT, RSP, CAN, GOAL, OUTLIVE)")
     x: list[str] = Field(min_length=1, description=NAMES_HINT)
     y: list[str] | None = Field(None, min_length=1, description=NAMES_HINT)
     q: list[str] | None = Field(None, min_length=1, description=NAMES_HINT)
@@ -146,6 +149,8 @@ class PropertyFile(Strict):
     z_p: str | None = Field(None, description="give the interruption code the property calls for")
     domain: dict[str, Bounds] | None = Field(None, min_length=1, description="give the bounds that hold while a y "
                                              "runs, such as { speed = { max = 0.3 } }")
+    deadline: float | None = Field(None, gt=0, description="give the deadline in seconds, a number > 0, "
+                                   "such as 2.5 (or leave it out: derived from the golden runs)")
 
     @model_validator(mode="after")
     def _parameters_of_its_type(self):
@@ -202,5 +207,5 @@ def load_properties(path: str | Path, interface: Interface) -> list[Property]:
             except ValueError as error:
                 raise InputFileError(path, where(text, ("property", n, "domain")),
                                      f"property {e.id!r}: {error}") from None
-        props.append(Property(id=e.id, family=e.family, type=e.type, **fields))
+        props.append(Property(id=e.id, family=e.family, type=e.type, deadline=e.deadline, **fields))
     return props

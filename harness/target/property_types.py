@@ -20,9 +20,12 @@ TEMPLATES = SQL_DIR / "oracles"
 # reply codes of class R (r_p) or Z (z_p). A template may take any of them.
 SERVICE_LISTS = ("x", "y", "q")
 REPLY_CODES = {"r_p": "R", "z_p": "Z"}
-# ... and a state-dependent domain: argument -> the bounds that hold while a y runs (docs/targets.md).
+# ... and a state-dependent domain: argument -> the bounds that hold while a y runs (docs/targets.md);
+# and a deadline in seconds (the ROS 2 types, sql/oracles/_deadline.sql: derived from the golden runs
+# when a property leaves it out).
 DOMAIN = "domain"
-PARAMETERS = (*SERVICE_LISTS, *REPLY_CODES, DOMAIN)
+DEADLINE = "deadline"
+PARAMETERS = (*SERVICE_LISTS, *REPLY_CODES, DOMAIN, DEADLINE)
 
 
 def _tree(path: Path) -> nodes.Template:

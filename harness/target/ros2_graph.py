@@ -5,6 +5,9 @@ as the JSON harness/sut/ros2/graph.py prints; harness/target/ros2_texts.py write
 What the graph states, and what follows from it:
 - a module per node; an `exec` service per action server, a `control` service per service of the
   node's own (parameter, type-description, action-internal and lifecycle services left out);
+- each action's goals can be cancelled: its cancel is a `control` service of its own, `S_cancel`
+  beside the action's `S` (the mission language's `cancel HANDLE` sends it), routed to the action's
+  cancel_goal service and named in ros2.toml's [cancels];
 - a node serving lifecycle_msgs `change_state` and `get_state` is managed: its five transitions
   (configure, activate, deactivate, cleanup, shutdown) are `control` services (they answer at
   once), called on `change_state` by transition id (shutdown by its label, whose id depends on
@@ -13,7 +16,10 @@ What the graph states, and what follows from it:
 - the arguments of a goal or request are its fields of a number or string type, with the range
   of the type; other fields (booleans, sequences, nested messages) keep their defaults;
 - the lifecycle's semantics (design article "Managed nodes") give the properties: no goal or call
-  served unless active; each transition only from the states that offer it.
+  served unless active; each transition only from the states that offer it;
+- the reply codes keep ROS 2's outcomes apart (docs/ros2.md, "Targets from the ROS 2 graph"):
+  a goal rejected, a call answered success = false and a transition refused are three R codes, so a
+  property's r_p is the code its requests really get; a goal the server aborts is interrupted (Z).
 """
 from __future__ import annotations
 
@@ -22,13 +28,23 @@ from dataclasses import dataclass, field
 
 from harness.errors import UntimelyError
 from harness.target.domains import Argument
+from harness.target.script import CANCEL_SUFFIX
 
-# A goal rejected, a call answered `success = false` and a refused transition all reply REFUSED.
-REFUSED = "refused"
-REPLIES = {"ok": ("T", "the goal succeeded, the call or transition answered success"),
-           "aborted": ("T", "the server aborted the goal"),
+# The refusals of a goal, of a call (`success = false`) and of a transition, told apart.
+REJECTED, REFUSED, TRANSITION_REFUSED = "rejected", "refused", "transition_refused"
+# A cancel's response (action_msgs/srv/CancelGoal return codes) -> its reply code.
+CANCEL_CODES = {"ERROR_NONE": "ok", "ERROR_REJECTED": "cancel_rejected", "ERROR_UNKNOWN_GOAL_ID": "unknown_goal",
+                "ERROR_GOAL_TERMINATED": "goal_terminated"}
+REPLIES = {"ok": ("T", "the goal succeeded, the call answered success, the transition was done, the cancel accepted"),
+           "aborted": ("Z", "the server aborted the goal: a halt, a preemption or a deactivation interrupts it"),
            "canceled": ("Z", "the goal was canceled"),
-           REFUSED: ("R", "the goal was rejected, or the call or transition answered success = false")}
+           REJECTED: ("R", "the goal was rejected"),
+           REFUSED: ("R", "the call answered success = false"),
+           TRANSITION_REFUSED: ("R", "the transition was refused: invalid from this state, or its callback failed"),
+           "cancel_rejected": ("R", "the cancel was rejected (ERROR_REJECTED)"),
+           "unknown_goal": ("R", "the cancel named a goal the server does not know (ERROR_UNKNOWN_GOAL_ID)"),
+           "goal_terminated": ("R", "the cancel came after the goal had ended (ERROR_GOAL_TERMINATED)")}
+CANCEL_GOAL = "action_msgs/srv/CancelGoal"
 # lifecycle_msgs/msg/Transition ids; shutdown goes by its label (its id depends on the state).
 TRANSITIONS = {"configure": 1, "cleanup": 2, "activate": 3, "deactivate": 4, "shutdown": None}
 # Each transition's source states as a span of IN or OUT (sql/oracles/in.sql, out.sql): the type,
@@ -89,6 +105,10 @@ class Derived:
     def transition(self) -> bool:
         return self.route.get("type") == CHANGE_STATE
 
+    @property
+    def cancel(self) -> bool:
+        return self.route.get("type") == CANCEL_GOAL
+
 
 @dataclass
 class Ros2Target:
@@ -100,6 +120,11 @@ class Ros2Target:
 
     def of(self, module: str) -> list[Derived]:
         return [s for s in self.services if s.module == module]
+
+    @property
+    def cancels(self) -> dict[str, str]:
+        """ros2.toml's [cancels]: each action's cancel service -> the action."""
+        return {s.qualified: s.qualified[:-len(CANCEL_SUFFIX)] for s in self.services if s.cancel}
 
 
 def graph_nodes(data: dict) -> list[NodeGraph]:
@@ -160,8 +185,11 @@ def derive(command: str, data: dict) -> Ros2Target:
             target.services += [_transition(node, module, name, number) for name, number in TRANSITIONS.items()]
         for action in node.actions:
             args, golden, fields = arguments(action, target.notes)
-            target.services.append(Derived(module, short_name(node, action), "exec", args, golden,
+            name = short_name(node, action)
+            target.services.append(Derived(module, name, "exec", args, golden,
                                            {"action": action.name, "type": action.type, "fields": fields}))
+            target.services.append(Derived(module, name + CANCEL_SUFFIX, "control", route={
+                "service": f"{action.name}/_action/cancel_goal", "type": CANCEL_GOAL}))
         for service in node.services:
             if INFRASTRUCTURE.match(service.type) or "/_action/" in service.name:
                 continue
@@ -179,29 +207,36 @@ def derive(command: str, data: dict) -> Ros2Target:
 def _transition(node: NodeGraph, module: str, name: str, number: int | None) -> Derived:
     defaults = {"transition.id": number} if number is not None else {"transition.label": name}
     return Derived(module, name, "control", route={"service": f"{node.name}/change_state", "type": CHANGE_STATE,
-                                                   "defaults": defaults, "success": "success", "failure": REFUSED})
+                                                   "defaults": defaults, "success": "success",
+                                                   "failure": TRANSITION_REFUSED})
+
+
+# The requests a node serves only while active, by the code that refuses them (ACTIVE's r_p).
+GATED = {"goals": (REJECTED, "its goals are rejected"), "calls": (REFUSED, "its calls answer success = false")}
 
 
 def _properties(target: Ros2Target, node: NodeGraph, module: str) -> None:
-    served = [s.qualified for s in target.of(module) if not s.transition]
     if not node.managed:
         target.notes.append(f"{node.name} is not a lifecycle node (no lifecycle_msgs change_state and get_state): "
                             "no lifecycle property; add yours to properties.toml")
         return
-    if served:
-        target.properties.append({
-            "id": f"ACTIVE({module})", "family": "ACTIVE", "type": "IN", "x": served, "q": [f"{module}.activate"],
-            "y": [f"{module}.deactivate", f"{module}.shutdown"], "r_p": REFUSED,
-            "why": ("lifecycle (Managed nodes): a node does no processing unless active, so its goals are rejected "
-                    "and its calls answer success = false before activate and after deactivate or shutdown. "
-                    "Leave out of x what your node serves in every state")})
+    served = {"goals": [s.qualified for s in target.of(module) if s.kind == "exec"],
+              "calls": [s.qualified for s in target.of(module) if s.kind == "control" and not (s.transition or s.cancel)]}
+    for what, (code, refusal) in GATED.items():
+        if served[what]:
+            target.properties.append({
+                "id": f"ACTIVE_{what.upper()}({module})", "family": "ACTIVE", "type": "IN", "x": served[what],
+                "q": [f"{module}.activate"], "y": [f"{module}.deactivate", f"{module}.shutdown"], "r_p": code,
+                "why": (f"lifecycle (Managed nodes): a node does no processing unless active, so {refusal} "
+                        "before activate and after deactivate or shutdown. Leave out of x what your node serves in "
+                        "every state")})
     for name, (kind, enter, leave, words) in FROM_STATES.items():
         target.properties.append({
             "id": f"TRANSITION({module}.{name})", "family": "TRANSITION", "type": kind, "x": [f"{module}.{name}"],
             "q": [f"{module}.{t}" for t in enter], **({"y": [f"{module}.{t}" for t in leave]} if leave else {}),
-            "r_p": REFUSED,
+            "r_p": TRANSITION_REFUSED,
             "why": (f"lifecycle: {name} is valid {words}; requested from another state it is refused (success = "
-                    "false) and the node goes on serving (a node that stops answering makes the trace hung)")})
+                    f"false: {TRANSITION_REFUSED}) and the node goes on serving (a node that stops answering makes the trace hung)")})
 
 
 def _check_unique(target: Ros2Target) -> None:

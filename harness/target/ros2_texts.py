@@ -4,13 +4,18 @@ golden.mission and properties.toml, each commented with where it comes from."""
 from __future__ import annotations
 
 import json
+import os
 import shlex
 from dataclasses import dataclass
 from pathlib import Path
 
-from harness.target.ros2_graph import REFUSED, REPLIES, Derived, Ros2Target
+from harness.target.ros2_graph import CANCEL_CODES, REJECTED, REPLIES, Derived, Ros2Target
 from harness.target.draft import WAIT_TIMEOUT_S, Draft, properties_text
 from harness.target.scaffold import write_all_or_none
+
+# The install prefixes of a user's interface packages (os.pathsep-separated) in a SUT's env; every
+# ROS 2 environment of the bench finds them (harness/sut/ros2/environment.py).
+INTERFACES_VARIABLE = "UNTIMELY_ROS2_INTERFACES"
 from harness.target.script import Step
 
 WRITTEN = ("interface.toml", "ros2.toml", "suts.toml", "golden.mission", "properties.toml")
@@ -29,8 +34,9 @@ def value(item) -> str:
 def interface_text(target: Ros2Target) -> str:
     lines = [f"# The interface of the ROS 2 node(s) started by {target.command!r}, made by `untimely init",
              "# --from-ros2` from their graph (docs/ros2.md): a module per node; its action servers are exec",
-             "# services, its services and lifecycle transitions (on change_state) control services; the",
-             "# arguments are the goal's or request's number and string fields, within their type's range.",
+             "# services, its services, each action's cancel (S_cancel) and lifecycle transitions (on",
+             "# change_state) control services; the arguments are the goal's or request's number and string",
+             "# fields, within their type's range.",
              "", "[replies]"]
     lines += [f'{code} = "{cls}"  # {meaning}' for code, (cls, meaning) in REPLIES.items()]
     for module in dict.fromkeys(s.module for s in target.services):
@@ -50,8 +56,13 @@ def mapping_text(target: Ros2Target) -> str:
              "# brings the node up nor resets it, so every run starts the node afresh.",
              f"node = {value(node.name)}  # its executor must answer get_parameters, else the trace hangs",
              "lifecycle = false", f"heartbeat_stale_s = {HEARTBEAT_STALE_S}", "",
-             f"[status_codes]  # a goal's end: SUCCEEDED is ok; a rejected goal is {REFUSED}",
-             f'ABORTED = "aborted"', f'CANCELED = "canceled"', f'REJECTED = "{REFUSED}"']
+             f"[status_codes]  # a goal's end: SUCCEEDED is ok; a rejected goal is {REJECTED}",
+             'ABORTED = "aborted"', 'CANCELED = "canceled"', f'REJECTED = "{REJECTED}"']
+    if target.cancels:
+        lines += ["", "[cancels]  # a request of the first (a script's `cancel HANDLE`) cancels that goal of the second"]
+        lines += [f"{value(cancel)} = {value(action)}" for cancel, action in target.cancels.items()]
+        lines += ["", "[cancel_codes]  # a cancel's response (action_msgs/srv/CancelGoal) -> its reply code"]
+        lines += [f"{name} = {value(code)}" for name, code in CANCEL_CODES.items()]
     lines += [line for s in target.services for line in ("", f'[services."{s.qualified}"]', *_route(s))]
     return "\n".join(lines) + "\n"
 
@@ -60,16 +71,21 @@ def _route(service: Derived) -> list[str]:
     return [f"{key} = {value(item)}" for key, item in service.route.items() if item or key != "fields"]
 
 
-def suts_text(target: Ros2Target, distros: list[str], cwd: Path) -> str:
-    """One SUT per distro: COMMAND run from `cwd` in the distro's environment (its python3 first on PATH)."""
+def suts_text(target: Ros2Target, distros: dict[str, tuple[Path, ...]], cwd: Path) -> str:
+    """One SUT per distro (-> the install prefixes of the user's interface packages built for it):
+    COMMAND run from `cwd` in the distro's environment (its python3 first on PATH)."""
     node = shlex.join(["bash", "-c", f"cd {shlex.quote(str(cwd))} && exec {target.command}"])
     lines = ["# The node(s) on each installed ROS 2 distro (docs/reference/suts.md): `--sut NAME`. The adapter",
              "# starts the command below in the distro's environment, as sourcing its setup.bash would (its",
              "# python3 first on PATH), in a ROS 2 domain of its own confined to this machine."]
-    for distro in distros:
+    if any(distros.values()):
+        lines.append(f"# {INTERFACES_VARIABLE}: your interface packages built for the distro (`init --interfaces`).")
+    for distro, prefixes in distros.items():
         command = f"{{python}} -m harness.sut.ros2 --distro {distro} --mapping {{mission}}/ros2.toml -- {node}"
         lines += ["", f"[{_sut_name(target)}-{distro}]", f"command = {value(command)}",
                   "slots = 2", "time_scale = 1.0", "startup_s = 90.0", "probe_timeout_s = 5.0"]
+        if prefixes:
+            lines.append(f"env = {value({INTERFACES_VARIABLE: os.pathsep.join(str(p) for p in prefixes)})}")
     return "\n".join(lines) + "\n"
 
 
@@ -78,13 +94,16 @@ def _sut_name(target: Ros2Target) -> str:
 
 
 def golden_text(target: Ros2Target) -> str:
-    """Bring-up in a valid order, each action and service once, then deactivate and shutdown."""
+    """Bring-up in a valid order, each action and service once, then deactivate and shutdown (the
+    lifecycle steps only for a lifecycle node)."""
+    managed = any(s.transition for s in target.services)
     lines = ["# The golden mission (docs/reference/mission-language.md), made by `untimely init --from-ros2`:",
-             "# each node configured and activated, every action and service once with well-formed",
-             "# arguments (edit the values to your node's), then deactivated and shut down.", ""]
+             *(["# each lifecycle node configured and activated, every action and service once with well-formed",
+                "# arguments (edit the values to your node's), then deactivated and shut down."] if managed else
+               ["# every action and service once with well-formed arguments (edit the values to your node's)."]), ""]
     modules = list(dict.fromkeys(s.module for s in target.services))
     steps = [f"{m}.{t}" for m in modules for t in ("configure", "activate") if _has(target, m, t)]
-    steps += [s for m in modules for s in target.of(m) if not s.transition]
+    steps += [s for m in modules for s in target.of(m) if not (s.transition or s.cancel)]
     steps += [f"{m}.{t}" for m in modules for t in ("deactivate", "shutdown") if _has(target, m, t)]
     for step in steps:
         name, args = (step, "") if isinstance(step, str) else (step.qualified, "".join(
@@ -143,16 +162,19 @@ def properties_text_of(target: Ros2Target) -> str:
     actions = [s.qualified for s in target.services if s.kind == "exec"]
     lines = ["", "# Actions: what a goal does to a running goal of the same server (queue, preempt, run both or",
              "# reject) cannot be told from the graph or one golden run. ROS 2 lets the server choose; if yours",
-             "# preempts (the running goal ends canceled when a new one comes), uncomment its property:"]
+             "# preempts (the running goal ends aborted when a new one comes: a server can end a goal canceled",
+             "# only once a client has asked to cancel it), uncomment its property:"]
     for action in actions:
         lines += ["#", "# [[property]]", f'# id = "PREEMPT({action})"', '# family = "PREEMPT"', '# type = "EE"',
-                  f"# x = {value([action])}", f"# y = {value([action])}", '# z_p = "canceled"']
+                  f"# x = {value([action])}", f"# y = {value([action])}", '# z_p = "aborted"']
     return text + ("\n".join(lines) + "\n" if actions else "")
 
 
-def write(folder: Path, target: Ros2Target, distros: list[str], cwd: Path, golden: str | None = None) -> list[Path]:
-    """Write the target folder, all files or none; refuses to overwrite any file of it. `golden`:
-    the golden mission's text (a recorded session's), else the derived one."""
+def write(folder: Path, target: Ros2Target, distros: dict[str, tuple[Path, ...]], cwd: Path,
+          golden: str | None = None) -> list[Path]:
+    """Write the target folder, all files or none; refuses to overwrite any file of it. `distros`:
+    each installed distro -> the install prefixes of the user's interface packages built for it;
+    `golden`: the golden mission's text (a recorded session's), else the derived one."""
     texts = {"interface.toml": interface_text(target), "ros2.toml": mapping_text(target),
              "suts.toml": suts_text(target, distros, cwd), "golden.mission": golden or golden_text(target),
              "properties.toml": properties_text_of(target)}

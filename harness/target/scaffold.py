@@ -20,9 +20,10 @@ from harness.files import make_folder
 from harness.target.draft import (Draft, aib, golden_text, interface_text, pex, pre, properties_text,
                                   standin_text)
 from harness.target.genom.derive import from_genom
+from harness.target.mission import GOLDEN_FILE, INTERFACE_FILE, PROPERTIES_FILE, SUTS_FILE
 
 SKELETON = Path(__file__).resolve().parent / "skeleton"
-WRITTEN = ("interface.toml", "properties.toml", "golden.mission", "standin.toml", "suts.toml", "adapter.py")
+WRITTEN = (INTERFACE_FILE, PROPERTIES_FILE, GOLDEN_FILE, "standin.toml", SUTS_FILE, "adapter.py")
 
 
 def example() -> Draft:
@@ -75,9 +76,9 @@ def write_all_or_none(folder: Path, texts: dict[str, str], copies: dict[str, Pat
 
 def write(folder: Path, draft: Draft) -> list[Path]:
     """Write the target folder, all files or none; refuses to overwrite any file of it."""
-    texts = {"interface.toml": interface_text(draft), "properties.toml": properties_text(draft),
-             "golden.mission": golden_text(draft), "standin.toml": standin_text(draft)}
-    return write_all_or_none(folder, texts, {name: SKELETON / name for name in ("suts.toml", "adapter.py")})
+    texts = {INTERFACE_FILE: interface_text(draft), PROPERTIES_FILE: properties_text(draft),
+             GOLDEN_FILE: golden_text(draft), "standin.toml": standin_text(draft)}
+    return write_all_or_none(folder, texts, {name: SKELETON / name for name in (SUTS_FILE, "adapter.py")})
 
 
 def scaffold(folder: Path, genom: str | None = None, include: list[str] = ()) -> int:

@@ -1,6 +1,7 @@
 """The mission-script language (docs/reference/mission-language.md): parse, validate and render scripts.
 
     send MODULE.SERVICE [name=value ...] [as HANDLE]   # non-blocking request
+    cancel HANDLE [as HANDLE]                          # non-blocking cancel of a goal sent as HANDLE
     wait HANDLE|all [timeout=SECONDS]                  # block until final replies
     sleep SECONDS                                      # simulated seconds
 
@@ -24,17 +25,27 @@ from harness.target.interface import Interface
 
 HANDLE_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*$")
 SERVICE_RE = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)\.([A-Za-z_][A-Za-z0-9_]*)$")
+# A cancel of a goal of M.S is a request of the service M.S_cancel, whose one argument (added by the
+# executive, never written in a script) is the request id of the cancelled goal's request.
+CANCEL_SUFFIX = "_cancel"
+CANCEL_GOAL_ARG = "goal"
+
+
+def cancel_service(service: str) -> str:
+    """The service whose request cancels a goal of `service` ("arm.move" -> "arm.move_cancel")."""
+    return service + CANCEL_SUFFIX
 
 
 @dataclass(frozen=True)
 class Step:
     line: int
-    op: str  # send | wait | sleep
+    op: str  # send | cancel | wait | sleep
     service: str | None = None  # "module.Service" (send)
     args: tuple[tuple[str, str], ...] = ()  # (name, text value) in script order (send)
-    handle: str | None = None  # the 'as' name (send), the awaited handle or "all" (wait)
+    handle: str | None = None  # the 'as' name (send, cancel), the awaited handle or "all" (wait)
     seconds: float | None = None  # sleep duration, wait timeout
     comment: str = ""
+    cancelled: str | None = None  # the handle of the goal a cancel cancels (cancel)
 
     @property
     def module(self) -> str | None:
@@ -45,6 +56,8 @@ class Step:
             words = ["send", self.service, *(f"{k}={v}" for k, v in self.args)]
             if self.handle:
                 words += ["as", self.handle]
+        elif self.op == "cancel":
+            words = ["cancel", self.cancelled] + (["as", self.handle] if self.handle else [])
         elif self.op == "wait":
             words = ["wait", self.handle]
             if self.seconds is not None:
@@ -95,9 +108,29 @@ def _seconds(source, line, text, what) -> float:
     return value
 
 
+def _as_handle(source: str, n: int, rest: list[str]) -> tuple[str | None, list[str]]:
+    """The words before a closing `as HANDLE`, and that handle (None without `as`)."""
+    if "as" not in rest:
+        return None, rest
+    at = rest.index("as")
+    if at != len(rest) - 2 or not HANDLE_RE.match(rest[-1]) or rest[-1] == "all":
+        raise ScriptError(source, n, f"'as' must end the line with one handle name, got {cut(' '.join(rest[at:]))}")
+    return rest[-1], rest[:at]
+
+
+def _parse_cancel(source: str, n: int, rest: list[str], comment: str) -> Step:
+    handle, rest = _as_handle(source, n, rest)
+    if len(rest) != 1 or not HANDLE_RE.match(rest[0]) or rest[0] == "all":
+        raise ScriptError(source, n, f"'cancel' takes the handle of one goal and an optional 'as HANDLE', "
+                                     f"got {cut(' '.join(rest))}")
+    return Step(n, "cancel", handle=handle, cancelled=rest[0], comment=comment)
+
+
 def _parse_line(source: str, n: int, text: str, comment: str) -> Step:
     words = text.split()
     op, rest = words[0], words[1:]
+    if op == "cancel":
+        return _parse_cancel(source, n, rest, comment)
     if op == "sleep":
         if len(rest) != 1:
             raise ScriptError(source, n, f"'sleep' takes one number of seconds, got {cut(' '.join(rest))}")
@@ -116,12 +149,7 @@ def _parse_line(source: str, n: int, text: str, comment: str) -> Step:
     if op == "send":
         if not rest or not SERVICE_RE.match(rest[0]):
             raise ScriptError(source, n, f"'send' needs MODULE.SERVICE first, got {cut(' '.join(rest[:1]))}")
-        handle = None
-        if "as" in rest:
-            at = rest.index("as")
-            if at != len(rest) - 2 or not HANDLE_RE.match(rest[-1]) or rest[-1] == "all":
-                raise ScriptError(source, n, f"'as' must end the line with one handle name, got {cut(' '.join(rest[at:]))}")
-            handle, rest = rest[-1], rest[:at]
+        handle, rest = _as_handle(source, n, rest)
         args = []
         for word in rest[1:]:
             name, eq, value = word.partition("=")
@@ -129,7 +157,7 @@ def _parse_line(source: str, n: int, text: str, comment: str) -> Step:
                 raise ScriptError(source, n, f"argument {cut(word)} is not of the form name=value")
             args.append((name, value))
         return Step(n, "send", service=rest[0], args=tuple(args), handle=handle, comment=comment)
-    raise ScriptError(source, n, f"unknown step {cut(op)}; a step is send, wait or sleep")
+    raise ScriptError(source, n, f"unknown step {cut(op)}; a step is send, cancel, wait or sleep")
 
 
 def parse(text: str, source: str = "<script>") -> Script:
@@ -140,7 +168,7 @@ def parse(text: str, source: str = "<script>") -> Script:
         if body.strip():
             steps.append(_parse_line(source, n, body.strip(), comment.strip()))
     if not steps:
-        raise ScriptError(source, 1, "the script has no steps; add send, wait or sleep lines")
+        raise ScriptError(source, 1, "the script has no steps; add send, cancel, wait or sleep lines")
     return Script(tuple(steps), source)
 
 
@@ -161,34 +189,72 @@ def _overflows(word: str) -> bool:
 
 def validate(script: Script, interface: Interface) -> None:
     """Raise ScriptError at the first step the interface cannot run."""
-    src, handles = script.source, {}
+    src, handles = script.source, {}  # handle -> the send or cancel step it names
     for step in script.steps:
         if step.op == "wait" and step.handle != "all" and step.handle not in handles:
             raise ScriptError(src, step.line, f"wait on handle {cut(step.handle)}, which no earlier line sends")
-        if step.op != "send":
+        if step.op == "send":
+            _check_send(src, step, interface)
+        elif step.op == "cancel":
+            _check_cancel(src, step, handles, interface)
+        else:
             continue
-        service = interface.services.get(step.service)
-        if service is None:
-            offered = [s.name for s in interface.services.values() if s.module == step.module]
-            hint = (f"module {cut(step.module)} offers {', '.join(offered)}" if offered
-                    else f"known modules: {', '.join(interface.modules)}")
-            raise ScriptError(src, step.line, f"unknown service {cut(step.service)}; {hint}")
-        given = [name for name, _ in step.args]
-        for name, word in step.args:
-            arg = service.args.get(name)
-            if arg is None:
-                expected = ", ".join(service.args) or "no arguments"
-                raise ScriptError(src, step.line, f"{step.service} has no argument {cut(name)}; it takes {expected}")
-            if given.count(name) > 1:
-                raise ScriptError(src, step.line, f"argument {cut(name)} is given twice")
-            if arg.type == "float" and _overflows(word):
-                raise ScriptError(src, step.line, f"argument {name}={cut(word)} overflows a 64-bit float (the "
-                                  "largest is about 1.8e308); write a number up to that, or inf for infinity")
         if step.handle in handles:
             raise ScriptError(src, step.line, f"handle {cut(step.handle)} already names the request "
-                              f"on line {handles[step.handle]}; choose a new name")
+                              f"on line {handles[step.handle].line}; choose a new name")
         if step.handle:
-            handles[step.handle] = step.line
+            handles[step.handle] = step
+
+
+def _check_send(src: str, step: Step, interface: Interface) -> None:
+    service = interface.services.get(step.service)
+    if service is None:
+        offered = [s.name for s in interface.services.values() if s.module == step.module]
+        hint = (f"module {cut(step.module)} offers {', '.join(offered)}" if offered
+                else f"known modules: {', '.join(interface.modules)}")
+        raise ScriptError(src, step.line, f"unknown service {cut(step.service)}; {hint}")
+    given = [name for name, _ in step.args]
+    for name, word in step.args:
+        arg = service.args.get(name)
+        if arg is None:
+            expected = ", ".join(service.args) or "no arguments"
+            raise ScriptError(src, step.line, f"{step.service} has no argument {cut(name)}; it takes {expected}")
+        if given.count(name) > 1:
+            raise ScriptError(src, step.line, f"argument {cut(name)} is given twice")
+        if arg.type == "float" and _overflows(word):
+            raise ScriptError(src, step.line, f"argument {name}={cut(word)} overflows a 64-bit float (the "
+                              "largest is about 1.8e308); write a number up to that, or inf for infinity")
+
+
+def _check_cancel(src: str, step: Step, handles: dict[str, Step], interface: Interface) -> None:
+    """A cancel names the goal of an action (an exec service) sent earlier, whose cancel service
+    the interface declares."""
+    goal = handles.get(step.cancelled)
+    if goal is None:
+        raise ScriptError(src, step.line, f"cancel of handle {cut(step.cancelled)}, which no earlier line sends")
+    if goal.op != "send" or interface.services[goal.service].kind != "exec":
+        what = "a cancel" if goal.op == "cancel" else f"{goal.service}, a {interface.services[goal.service].kind} service"
+        raise ScriptError(src, step.line, f"cancel of handle {cut(step.cancelled)}, which names {what} (line "
+                          f"{goal.line}); only the goal of an exec service (an action) can be cancelled")
+    cancel = cancel_service(goal.service)
+    if cancel not in interface.services:
+        module, name = cancel.split(".")
+        raise ScriptError(src, step.line, f"cancel of {goal.service} needs the service {cancel}, which the interface "
+                          f"{interface.path} does not declare; add services.{name} = {{ kind = \"control\" }} to "
+                          f"its [modules.{module}]")
+
+
+# Why the simulated layer runs no cancel step: its activities end by a request of their module
+# (an interrupting service), as the paper's layer's do; a cancel that no goal honours would be a lie.
+SIMULATED_NO_CANCEL = ("the simulated layer (layer.toml) has no cancels; interrupt an activity with a request "
+                       "of its module, or cancel goals on a ROS 2 target (docs/ros2.md)")
+
+
+def refuse_cancels(script: Script, why: str) -> None:
+    """Refuse a script with a cancel step where its layer offers no cancels (`why`)."""
+    step = next((s for s in script.steps if s.op == "cancel"), None)
+    if step is not None:
+        raise ScriptError(script.source, step.line, f"cancel {step.cancelled}: {why}")
 
 
 def load_script(path: str | Path, interface: Interface) -> Script:

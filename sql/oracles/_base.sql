@@ -76,6 +76,10 @@ requests as (
 {% macro both_ways(name, ctes, x, y, code) -%}
 {{ ctes(name ~ '_xy', x, y, code) }},
 {{ ctes(name ~ '_yx', y, x, code) }},
+{{ joined(name) }}
+{%- endmacro %}
+
+{% macro joined(name) -%}
 -- a mutual property judges the x requests against y and the y requests against x
 {{ name }}_pairs as (
     select * from {{ name }}_xy_pairs

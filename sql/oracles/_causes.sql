@@ -23,11 +23,15 @@
 ),
 {{ search(name, name ~ '_ended', modules) }},
 {% endif %}
+{{ sole(name) }}
+{%- endmacro %}
+
+{% macro sole(name, keyed=false) -%}
 -- an end with a single candidate cause orders it: the ended request was taken before its cause,
 -- and the cause before that end, whatever the observed order
 {{ name }}_sole as (
-    select trace_id, rqst_id, any_value(cause_id) as cause_id
-    from {{ name }}_candidates group by trace_id, rqst_id having count(*) = 1
+    select {{ judge.key(keyed) }}, any_value(cause_id) as cause_id
+    from {{ name }}_candidates group by {{ judge.key(keyed) }} having count(*) = 1
 )
 {%- endmacro %}
 

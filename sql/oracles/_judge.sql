@@ -13,7 +13,11 @@ coalesce(round({{ seconds }}, 6) < coalesce({{ trace_epsilon }}, {{ epsilon }}),
 {{ trace_id }} in (select trace_id from traces where outcome <> 'completed')
 {%- endmacro %}
 
-{% macro condition(name, defined='true', caused='false', movable='p.shift', untaken='false') -%}
+{#- `keyed`: the pairs and requests are a one-pass oracle's (_parameters.sql), each row of one
+    property (`property_id`), whose code is the column `code` of its requests. -#}
+{% macro key(keyed) %}{{ 'property_id, ' if keyed }}trace_id, rqst_id{% endmacro %}
+
+{% macro condition(name, defined='true', caused='false', movable='p.shift', untaken='false', keyed=false) -%}
 -- C per request: false iff some pair conflicts. To flip C, every conflict would have to go
 -- (the largest conflicting shift) or any one non-conflict would have to start (the smallest).
 -- A pair is `near` when its shift is below epsilon, both rounded to microseconds (a 10 ms gap
@@ -23,7 +27,7 @@ coalesce(round({{ seconds }}, 6) < coalesce({{ trace_epsilon }}, {{ epsilon }}),
 -- template's pairs may say, rule 7, that an order is sure whatever its shift: 'infinity').
 -- `untaken`: a conflict whose taking is unknown (rule 10): it may also have been rejected.
 {{ name }}_agg as (
-    select trace_id, rqst_id,
+    select {{ key(keyed) }},
            bool_or(conflicts) as any_conflict,
            coalesce(bool_and(conflict_rejected) filter (where conflicts), false) as conflicts_rejected,
            case when bool_or(conflicts) then max(shift) filter (where conflicts)
@@ -36,28 +40,28 @@ coalesce(round({{ seconds }}, 6) < coalesce({{ trace_epsilon }}, {{ epsilon }}),
                and not coalesce(bool_or({{ caused }}), false) as may_be_na,
            coalesce(bool_or((conflicts or near) and not conflict_rejected), false) as may_fail
     from (select p.*, {{ near(movable) }} as near from {{ name }}_pairs p left join epsilons e using (trace_id))
-    group by trace_id, rqst_id
+    group by {{ key(keyed) }}
 ),
 {{ name }}_cond as (
-    select x.trace_id, x.rqst_id, x.module, x.service, x.reply, x.class,
+    select {{ 'x.property_id, x.r_p, x.z_p, ' if keyed }}x.trace_id, x.rqst_id, x.module, x.service, x.reply, x.class,
            case when {{ defined }} then not coalesce(a.any_conflict, false) end as c_holds,
            coalesce(a.conflicts_rejected, false) as conflicts_rejected, a.margin_s,
            coalesce(a.may_hold, true) as may_hold, coalesce(a.may_be_na, false) as may_be_na,
            coalesce(a.may_fail, false) as may_fail
-    from {{ name }}_x x left join {{ name }}_agg a using (trace_id, rqst_id)
+    from {{ name }}_x x left join {{ name }}_agg a using ({{ key(keyed) }})
 )
 {%- endmacro %}
 
-{% macro verdict(c_holds, na, code, accepted) -%}
+{% macro verdict(c_holds, na, code, accepted, keyed=false) -%}
 case when reply is null then 'omega'
      when {{ c_holds }} is null then 'op'
      when not {{ c_holds }} and {{ na }} then 'na'
-     when reply = {{ code | lit }} then (case when {{ c_holds }} then 'FP' else 'TP' end)
+     when reply = {{ code if keyed else code | lit }} then (case when {{ c_holds }} then 'FP' else 'TP' end)
      when class in ({{ accepted | map('lit') | join(', ') }}) then (case when {{ c_holds }} then 'TN' else 'FN' end)
      else 'op' end
 {%- endmacro %}
 
-{% macro judged(name, code, accepted) -%}
+{% macro judged(name, code, accepted, keyed=false) -%}
 -- the verdict table: `code` is the property's own rejection or interruption code, `accepted`
 -- the reply classes that mean the activity ran; c_holds NULL = C undefined for this request.
 -- alternatives: the other verdicts that the conditions reordering the near pairs could give
@@ -66,18 +70,18 @@ case when reply is null then 'omega'
 -- final reply in a trace that ended first: the reply may have been lost, any reply in any
 -- reachable condition is an alternative (the property's code, an accepted one, another one).
 {{ name }}_verdict as (
-    select *, {{ verdict('c_holds', 'conflicts_rejected', code, accepted) }} as verdict
+    select *, {{ verdict('c_holds', 'conflicts_rejected', code, accepted, keyed) }} as verdict
     from {{ name }}_cond
 ),
 {{ name }}_judged as (
-    select trace_id, rqst_id, module, service, reply, c_holds, verdict,
+    select {{ key(keyed) }}, module, service, reply, c_holds, verdict,
            case when c_holds is not null then nullif(margin_s, 'infinity') end as margin_s,
            case when c_holds is null then []::varchar[]
                 else list_sort(list_distinct(list_filter([
-                    case when may_hold and not (reply = {{ code | lit }} and class = 'R')
-                         then {{ verdict('true', 'false', code, accepted) }} end,
-                    case when may_be_na then {{ verdict('false', 'true', code, accepted) }} end,
-                    case when may_fail then {{ verdict('false', 'false', code, accepted) }} end]
+                    case when may_hold and not (reply = {{ code if keyed else code | lit }} and class = 'R')
+                         then {{ verdict('true', 'false', code, accepted, keyed) }} end,
+                    case when may_be_na then {{ verdict('false', 'true', code, accepted, keyed) }} end,
+                    case when may_fail then {{ verdict('false', 'false', code, accepted, keyed) }} end]
                     || case when reply is null and {{ ended_first() }} then
                            (case when may_hold then ['FP', 'TN', 'op'] else [] end)
                            || (case when may_be_na then ['na'] else [] end)

@@ -5,10 +5,13 @@
     with `into`, the statement inserting the verdict rows into that table; with `shared`, the
     table of _requests.sql that holds `events`'s requests (with their arguments when some type
     reads them, as VAL does), read instead of aggregating them again, and the table of each
-    trace's epsilon (`shared_epsilons`). Rendered by
+    trace's epsilon (`shared_epsilons`); with `judged` (a list of properties of one type, each a
+    dict of its id, family and parameters), every one of them in one query, through the type's
+    `one_pass` macro over their parameter table (_parameters.sql). Rendered by
     harness/analysis/oracles.py. -#}
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/_epsilon.sql' as eps %}
+{% import 'oracles/_parameters.sql' as table %}
 {% import template as oracle with context %}
 {% set where = base.scope(modules, services) %}
 {% if into %}
@@ -26,6 +29,14 @@ epsilons as (from {{ shared_epsilons }}),
 {% else %}
 {{ eps.per_trace(runs, taken) }},
 {% endif %}
+{% if judged | default(none) %}
+{{ table.tables('p', judged) }},
+{{ oracle.one_pass('p') }}
+select j.trace_id, f.id as property_id, f.family, j.rqst_id, j.module, j.service,
+       j.c_holds, j.verdict, j.margin_s, len(j.alternatives) > 0 as suspicious,
+       len(j.alternatives) = 0 as certain, j.alternatives
+from p_judged j join p_properties f using (property_id)
+{% else %}
 {{ oracle.ctes('p', **parameters) }}
 {% if explain %}
 select * from p_pairs where (trace_id, rqst_id) in ({{ explain.requests | join(', ') }})
@@ -34,4 +45,5 @@ select trace_id, {{ id | lit }} as property_id, {{ family | lit }} as family, rq
        c_holds, verdict, margin_s, len(alternatives) > 0 as suspicious,
        len(alternatives) = 0 as certain, alternatives
 from p_judged
+{% endif %}
 {% endif %}

@@ -40,7 +40,7 @@
 {{ name }}_sided as (
     select * from {{ name }}_es_judged semi join {{ name }}_by_es using (trace_id, rqst_id)
     union all
-    select * from {{ name }}_ee_judged anti join {{ name }}_by_es using (trace_id, rqst_id)
+    select * exclude (property_id) from {{ name }}_ee_judged anti join {{ name }}_by_es using (trace_id, rqst_id)
 ),
 {{ name }}_judged as (
     select j.* replace (list_sort(list_distinct(list_filter(j.alternatives || o.verdicts,

@@ -6,6 +6,24 @@
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/ee.sql' as ee with context %}
 
+{% import 'oracles/_parameters.sql' as parameters %}
+
 {% macro ctes(name, x, y, z_p) -%}
-{{ base.both_ways(name, ee.ctes, x, y, z_p) }}
+{{ parameters.tables(name, [{'id': id, 'family': family, 'x': x, 'y': y, 'z_p': z_p}]) }},
+{{ one_pass(name, (x + y) | modules) }}
+{%- endmacro %}
+
+{#- Every MX_I property at once: EE's one pass over their parameter table, then over it with the
+    roles x and y swapped. -#}
+{% macro one_pass(name, modules=none) -%}
+{% for way in ['xy', 'yx'] %}
+{{ name }}_{{ way }}_properties as (from {{ name }}_properties),
+{{ name }}_{{ way }}_services as (
+    select property_id, {{ "case role when 'x' then 'y' when 'y' then 'x' else role end" if way == 'yx' else 'role' }} as role,
+           module, service
+    from {{ name }}_services
+),
+{{ ee.one_pass(name ~ '_' ~ way, modules) }},
+{% endfor %}
+{{ base.joined(name) }}
 {%- endmacro %}

@@ -15,10 +15,11 @@ def con():
 def test_trace_robustness_is_table_ii(con):
     rows = con.execute("select * from trace_robustness order by sut").fetchall()
     assert [d[0] for d in con.description] == ["sut", "total", "hung", "crashed", "with_fn", "with_fp",
-                                               "bad", "t_rob", "with_fn_min", "with_fn_max", "with_fp_min",
-                                               "with_fp_max", "bad_min", "bad_max", "t_rob_min", "t_rob_max"]
-    assert rows == [("A", 4, 1, 0, 1, 1, 3, 0.25, 1, 1, 1, 1, 3, 3, 0.25, 0.25),
-                    ("B", 2, 0, 1, 0, 0, 1, 0.5, 0, 0, 0, 0, 1, 1, 0.5, 0.5)]
+                                               "bad", "unknown", "t_rob", "with_fn_min", "with_fn_max", "with_fp_min",
+                                               "with_fp_max", "bad_min", "bad_max", "unknown_min", "unknown_max",
+                                               "t_rob_min", "t_rob_max"]
+    assert rows == [("A", 4, 1, 0, 1, 1, 3, 0, 0.25, 1, 1, 1, 1, 3, 3, 0, 0, 0.25, 0.25),
+                    ("B", 2, 0, 1, 0, 0, 1, 0, 0.5, 0, 0, 0, 0, 1, 1, 0, 0, 0.5, 0.5)]
 
 
 def test_trace_badness_is_the_one_rule_of_a_bad_trace(con):

@@ -8,7 +8,10 @@ from harness.analysis import explain
 from harness.analysis.analyzer import materialise
 from harness.analysis.explain import Explainer, judged_properties
 from harness.cli import main
-from harness.store.database import connect
+from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
+from harness.store.record import RunRecord
+from harness.target.interface import load_properties
+from harness.trace import Trace
 from harness.target.property_types import property_types
 from tests.support.traces import HERE, INTERFACE, all_fixtures, load, judged_store
 
@@ -156,3 +159,22 @@ def test_every_verdict_of_every_fixture_is_explained(tmp_path):
             explained.add((types[property_id], verdict))
     assert {t for t, _ in explained} == set(property_types())  # every type a template declares
     assert {v for _, v in explained} >= {"TN", "TP", "FN", "FP"}
+
+
+def test_a_request_placed_at_its_taken_reply_is_said_sent_then_taken(tmp_path, capsys):
+    """The oracles place a request the SUT replied `taken` to at that reply (issue 48: explain called
+    that instant "sent at"): explain gives both instants, for x(i) and for each y request."""
+    db = tmp_path / "store.duckdb"
+    con = connect(db)
+    add_campaign(con, 1, "missions/dala", 1, RunRecord(mission=str(DEFAULT_MISSION_DIR), sut="genom", target=str(DEFAULT_MISSION_DIR)))
+    add_reply_codes(con, INTERFACE)
+    events = [(0, 0.0, "request", 1, "rflex", "Init", None, None), (1, 0.5, "final", 1, "rflex", "Init", None, "ok"),
+              (2, 1.0, "request", 2, "rflex", "TrackSpeedStart", None, None),
+              (3, 2.0, "final", 2, "rflex", "TrackSpeedStart", None, "ok")]
+    insert_trace(con, 1, 1, None, Trace("genom", 1, sim_s=3.0, events=events, taken_events=[(4, 1.25, 2)]))
+    properties = DEFAULT_MISSION_DIR / "properties.toml"
+    materialise(con, load_properties(properties, INTERFACE), EPSILON, INTERFACE, properties)
+    con.close()
+    assert main(["explain", "1", "PEX(rflex)", "2", "--db", str(db)]) == 0
+    out = capsys.readouterr().out
+    assert "x(i) rflex.TrackSpeedStart sent at 1.000000 s, taken at 1.250000 s; final reply ok" in out, out

@@ -15,10 +15,7 @@ EPSILON = 0.01
 # A template broken on purpose: (file, text replaced, by), and the property types it breaks.
 BREAKS = {
     "pc": ("pc.sql", "false as conflict_rejected", "no_such_flag as conflict_rejected", {"PC"}),
-    "mx_i": ("mx_i.sql", "{{ base.both_ways(name, ee.ctes, x, y, z_p) }}",
-             "{{ base.both_ways(name ~ '_ok', ee.ctes, x, y, z_p) }},\n"
-             "{{ name }}_judged as (select * exclude (reply), no_such_reply as reply from {{ name }}_ok_judged)",
-             {"MX_I"}),
+    "mx_i": ("mx_i.sql", "    from {{ name }}_services\n", "    from {{ name }}_services where no_such_role\n", {"MX_I"}),
 }
 FIXTURES = all_fixtures()
 # Each broken template with every fixture that has properties of the types it breaks.
@@ -78,3 +75,27 @@ def test_analyze_shows_the_failure_and_judges_the_rest(tmp_path, monkeypatch, ca
     # the fixture holds no internal events, on which no oracle runs
     assert "The oracle of property 'PEX(rflex)' on events failed: Binder Error: " in out
     assert "[template sql/oracles/pc.sql]; its " in out and "Table II - per trace results" in out
+
+
+def test_a_one_pass_query_that_fails_falls_back_to_each_property_alone(tmp_path, monkeypatch):
+    """PC judges its properties in one query (sql/oracles/_parameters.sql); broken for rflex's
+    requests alone, that query fails, and each PC property is judged on its own: PEX(rflex) gets
+    'unknown' rows, PRE(antenna.Communication), of the same type, its normal verdicts."""
+    fixture = next(f for f in FIXTURES if f.path.stem == "pc")
+    assert sorted(p.id for p in fixture.properties if p.type == "PC") == ["PEX(rflex)", "PRE(antenna.Communication)"]
+    normal = judged_store(fixture, EPSILON)
+    sql = tmp_path / "sql"
+    shutil.copytree(SQL_DIR, sql)
+    pc = sql / "oracles" / "pc.sql"
+    pc.write_text(pc.read_text().replace(
+        "false as conflict_rejected",
+        "coalesce(case when x.module = 'rflex' then error('rflex broken') end, false) as conflict_rejected"))
+    monkeypatch.setattr(oracles.ENV, "loader", jinja2.FileSystemLoader(sql))
+    monkeypatch.setattr(analyzer, "SQL_DIR", sql)
+    con = judged_store(fixture, EPSILON)
+    antenna = "property_id = 'PRE(antenna.Communication)'"
+    assert _rows(con, antenna) == _rows(normal, antenna) and _rows(con, antenna)
+    assert con.execute("select distinct verdict from verdicts where property_id = 'PEX(rflex)'").fetchall() == [("unknown",)]
+    assert con.execute("select property_id, source, template from oracle_failures").fetchall() == [
+        ("PEX(rflex)", "events", "sql/oracles/pc.sql")]
+    assert "rflex broken" in con.execute("select error from oracle_failures").fetchone()[0]

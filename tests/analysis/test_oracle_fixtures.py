@@ -13,9 +13,18 @@ PC_CELLS = {(c, v) for c in (True, False) for v in ("op", "omega")} | {
     (True, "TN"), (True, "FP"), (False, "FN"), (False, "TP")}
 EE_CELLS = PC_CELLS | {(False, "na"), (None, "op")}
 MX_CELLS = {(True, "TN"), (True, "FP"), (False, "FN"), (False, "TP"), (False, "na"), (False, "omega")}
+# The ROS 2 types (docs/reference/verdicts.md): RSP's verdict rests on the deadline whatever C; CAN
+# and GOAL have an `op` on each side, and CAN and OUTLIVE one for C undefined (no goal, a rejected goal).
+RSP_CELLS = {(c, v) for c in (True, False) for v in ("TN", "FN", "omega")}
+CAN_CELLS = {(True, "TN"), (True, "FP"), (True, "omega"), (False, "TP"), (False, "FN"), (False, "op"),
+             (False, "omega"), (None, "op"), (None, "omega")}
+GOAL_CELLS = PC_CELLS
+OUTLIVE_CELLS = {(True, "TN"), (True, "omega"), (False, "TN"), (False, "TP"), (False, "FN"), (False, "omega"),
+                 (None, "op")}
 CELLS = {"PC": PC_CELLS, "ES": PC_CELLS | {(False, "na")}, "EE": EE_CELLS, "EX": EE_CELLS,
          "MX_R": MX_CELLS | {(True, "omega")}, "MX_I": MX_CELLS, "VAL": PC_CELLS | {(False, "na")},
-         "IN": PC_CELLS | {(None, "op")}, "OUT": PC_CELLS | {(None, "op")}}
+         "IN": PC_CELLS | {(None, "op")}, "OUT": PC_CELLS | {(None, "op")},
+         "RSP": RSP_CELLS, "CAN": CAN_CELLS, "GOAL": GOAL_CELLS, "OUTLIVE": OUTLIVE_CELLS}
 
 
 @functools.cache
@@ -94,6 +103,19 @@ ALTERNATIVES = {
     # (the shared-code rule, rule 6: issue 35 added 'op')
     ("causes", "cause_sent_just_before", "EXC(antenna.Communication,ndd.GotoPosition)", 2): ["FP", "op"],
     ("causes", "cause_sent_just_before", "EXC(antenna.Communication,ndd.GotoPosition)", 3): ["FN"],
+    # the ROS 2 types: a reply within epsilon of the deadline; a goal ending, or sent, within epsilon
+    # of its cancel (the server may have refused rightly); a goal ending within epsilon of the new one
+    # (every fact of GOAL's table is then unsure); a blocked executor's unanswered call in a hung
+    # trace, far past its deadline, is a certain FN
+    ("ros2_rsp", "rsp_near", "RSP(arm.grip)", 1): ["TN"],
+    ("ros2_rsp", "rsp_hung", "RSP(arm.grip)", 2): [],
+    ("ros2_can", "can_end_near", "CAN(arm.move)", 2): ["TN"],
+    ("ros2_can", "can_sent_together", "CAN(arm.move)", 2): ["TN"],
+    ("ros2_can", "can_refused", "CAN(arm.move)", 2): [],
+    ("ros2_goal", "goal_end_near", "GOAL(arm.move)", 2): ["FN", "TN"],
+    ("ros2_outlive", "outlive_near", "OUTLIVE(arm.move)", 1): ["TN"],
+    # a goal without a reply in a hung trace: never taken (C true, omega), or its reply lost (TN, TP)
+    ("ros2_outlive", "outlive_hung", "OUTLIVE(arm.move)", 1): ["TN", "TP", "omega"],
 }
 
 

@@ -34,7 +34,7 @@ def sql_with_toy_type(tmp_path, monkeypatch):
 
 
 def test_a_type_without_its_template_is_refused_naming_the_types_there_are():
-    with pytest.raises(InputFileError, match=r"type 'NR' is not one of EE, ES, EX, IN, MX_I, MX_R, OUT, PC, VAL \(the templates"):
+    with pytest.raises(InputFileError, match=r"type 'NR' is not one of CAN, EE, ES, EX, GOAL, IN, MX_I, MX_R, OUT, OUTLIVE, PC, RSP, VAL \(the templates"):
         load_properties(TOY / "properties.toml", INTERFACE)
 
 

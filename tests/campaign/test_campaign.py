@@ -16,9 +16,11 @@ import pytest
 
 from harness import ROOT, cli, store
 from harness.campaign import campaign, runs
-from harness.dispatch import workers
+from harness.dispatch import transport, workers
+from harness.dispatch.description import Task
 from harness.errors import InputFileError, StoreError, UntimelyError
 from harness.progress import Progress
+from harness.trace import Trace
 from tests.support.campaigns import MARKER, arguments, dump, failing_runner, fake_layer_mission, fake_runner
 
 
@@ -196,9 +198,9 @@ def sleepy_runner(script, sut, seed, interface, world_file, max_delay):
 
 
 def test_a_run_past_the_wall_clock_watchdog_is_killed_and_recorded(mission):
-    tasks = [workers.Task(n, 1, sut, 0, (mission / "golden.mission").read_text())
+    tasks = [Task(n, 1, sut, 0, (mission / "golden.mission").read_text())
              for n, sut in enumerate(["slow", "genom", "bip-a"], 1)]
-    setup = workers.Setup(sleepy_runner, mission / "interface.toml", mission / "world.toml", 0.003, watchdog_s=1.0)
+    setup = transport.setup(sleepy_runner, mission / "interface.toml", mission / "world.toml", 0.003, watchdog_s=1.0)
     results = {}
     workers.run_all(tasks, setup, 2, lambda task, trace: results.update({task.sut: trace}))
     assert results["slow"].outcome == "crashed"
@@ -222,8 +224,8 @@ class SlowToStartRunner:
 
 @pytest.mark.slow
 def test_the_watchdog_counts_from_when_the_worker_is_ready_not_from_its_slow_start(mission):
-    tasks = [workers.Task(1, 1, "genom", 0, (mission / "golden.mission").read_text())]
-    setup = workers.Setup(SlowToStartRunner(), mission / "interface.toml", mission / "world.toml", 0.003,
+    tasks = [Task(1, 1, "genom", 0, (mission / "golden.mission").read_text())]
+    setup = transport.setup(SlowToStartRunner(), mission / "interface.toml", mission / "world.toml", 0.003,
                           watchdog_s=1.5)
     results = []
     workers.run_all(tasks, setup, 1, lambda task, trace: results.append(trace))
@@ -303,3 +305,24 @@ def test_a_resumed_campaign_judges_with_the_epsilon_of_the_last_analysis(mission
     assert "verdicts  materialised for every trace of" in capsys.readouterr().out
     con = store.connect(db, read_only=True)
     assert con.execute("select epsilon from analyses order by analysis_id").fetchall() == [(0.01,), (0.05,), (0.05,)]
+
+
+def test_progress_past_its_total_shows_it_full_with_no_negative_eta():
+    bar = Progress(8, stream=io.StringIO())
+    for _ in range(12):  # a total that turned out short: the bar stops at it
+        bar.advance()
+    assert bar.line().startswith("8/8 runs [##############################] 100%") and "ETA 0:00" in bar.line()
+
+
+def test_progress_in_mission_seconds_counts_each_trace_s_simulated_time():
+    stream = io.StringIO()
+    bar = Progress(4000, done=1000, stream=stream, unit="mission s", mission_time=True)
+    bar.ran(Trace("genom", 1, sim_s=1500.0))
+    assert bar.line().startswith("2,500/4,000 mission s [##################            ]  62%")
+
+
+def test_progress_without_a_total_shows_the_work_done_and_its_rate_only():
+    bar = Progress(None, stream=io.StringIO())
+    for _ in range(3):
+        bar.advance()
+    assert bar.line().startswith("3 runs ") and "ETA" not in bar.line() and "%" not in bar.line()

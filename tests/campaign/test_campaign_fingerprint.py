@@ -26,7 +26,7 @@ from harness import DEFAULT_MISSION_DIR, cli, store
 from harness.campaign.config import campaign_config
 from harness.files import read_text
 from harness.mutator import strategies
-from harness.dispatch.workers import script_label
+from harness.dispatch.description import script_label
 from harness.target.mission import load_mission
 from harness.fingerprint import fingerprint, table_digest
 

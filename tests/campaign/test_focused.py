@@ -59,7 +59,12 @@ def test_the_budget_bounds_every_run_and_says_it_stopped_the_campaign(tmp_path, 
                 "--db", str(db)]) == 0
     total, stopped, budget = spent(db)
     assert stopped == "budget" and budget == 360 and 300 < total <= 360
-    assert "stopped   (budget) the next test does not fit in the budget" in capsys.readouterr().out
+    out, err = capsys.readouterr()
+    assert "stopped   (budget) the next test does not fit in the budget" in out
+    # the bar counts the budget's mission seconds, never past it, never a negative ETA
+    bars = [line.split() for line in err.splitlines() if "/360 mission s [" in line]
+    assert len(bars) >= 3 and all(0 < float(bar[0].split("/")[0]) <= 360 for bar in bars), err
+    assert not any("ETA -" in line or "runs [" in line and "/1 runs" not in line for line in err.splitlines()), err
     # every shrink run is a stored trace of a shrink of one of the campaign's traces, out of the tables
     con = store.connect(db, read_only=True)
     shrink_s, runs, originals, counted, found = con.execute("""
@@ -168,17 +173,17 @@ def test_a_target_folder_outside_the_repository_with_an_external_adapter(tmp_pat
 def test_a_campaign_stopped_during_a_shrink_stores_its_runs_and_shrinks_again_when_resumed(tmp_path, monkeypatch):
     """Ctrl-C (or SIGTERM, the same KeyboardInterrupt) in the midst of a shrink: the runs it made are
     stored, marked interrupted, and counted when the campaign resumes, which shrinks that finding again."""
-    from harness.dispatch import workers
+    from harness.dispatch.description import Setup
     args = ["campaign", "--strategy", "focused", "--budget", "8m", "--shrink", "--sut", "genom",
             "--db", str(tmp_path / "s.duckdb")]
-    real, calls = workers.Setup.run, []
+    real, calls = Setup.run, []
 
     def stopped_on_the_fifth_shrink_run(setup, task, interface, slot):
         calls.append(task.trace_id)  # in this process, only shrinks run (the tests run in workers)
         if len(calls) == 5:
             raise KeyboardInterrupt
         return real(setup, task, interface, slot)
-    monkeypatch.setattr(workers.Setup, "run", stopped_on_the_fifth_shrink_run)
+    monkeypatch.setattr(Setup, "run", stopped_on_the_fifth_shrink_run)
     assert cli(args) == 130  # as after Ctrl-C
     monkeypatch.undo()
     con = store.connect(tmp_path / "s.duckdb", read_only=True)

@@ -99,19 +99,20 @@ def uninterrupted(target, tmp_path_factory):
     return found
 
 
-def kill(argv: list[str], delay: float, twice: bool) -> tuple[int, str]:
-    """Start the campaign, wait for its first finding (its first shrink starts), then `delay` more
-    seconds, and stop it: SIGINT twice, or SIGTERM. Its exit status and output."""
+def kill(argv: list[str], delay: float, twice: bool, signals: tuple = (), at_start: bool = False) -> tuple[int, str]:
+    """Start the campaign, wait for its first finding (its first shrink starts; from its start if
+    `at_start`), then `delay` more seconds, and stop it: `signals`, else SIGINT twice, or SIGTERM.
+    Its exit status and output."""
     process = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                env={**os.environ, "PYTHONUNBUFFERED": "1"})
     out, deadline = [], time.monotonic() + CAMPAIGN_S
     try:
-        for line in process.stdout:
+        for line in [] if at_start else process.stdout:
             out.append(line)
             if line.startswith("found") or time.monotonic() > deadline:
                 break
         time.sleep(delay)
-        for sig in (signal.SIGINT, signal.SIGINT) if twice else (signal.SIGTERM,):
+        for sig in signals or ((signal.SIGINT, signal.SIGINT) if twice else (signal.SIGTERM,)):
             process.send_signal(sig)
             time.sleep(0.1)
         out.append(process.communicate(timeout=60)[0])
@@ -143,3 +144,37 @@ def test_a_focused_campaign_killed_during_its_shrinks_resumes_to_the_uninterrupt
     print(f"{KILLS} kills, {stopped} before the campaign ended, {interrupted_shrinks} shrinks interrupted; every "
           "resume completed as uninterrupted; "
           f"{raced} test runs raced the SUT (other event order), of {KILLS * len(uninterrupted[1])}")
+
+
+def test_a_focused_campaign_sigkilled_at_random_instants_resumes_with_its_runs_intact(target, uninterrupted,
+                                                                                      tmp_path):
+    """Issue 48: a SIGKILL of the campaign's main process (nothing of it runs again: no cleanup, its
+    adapters and workers told by their parent-death signal) at a random instant from its start, then
+    a resume, gave a traceback once in two hostile runs. Every stored run is kept as it was, and the
+    resumed campaign ends as an uninterrupted one."""
+    rng, raced = random.Random(48), 0
+    for n in range(KILLS):
+        db = tmp_path / f"sigkilled-{n}.duckdb"
+        delay = rng.uniform(0.0, 12.0)
+        code, said = kill(campaign(target, db), delay, twice=False, signals=(signal.SIGKILL,), at_start=True)
+        assert code == -signal.SIGKILL or code == 0, (n, delay, code, said[-2000:])
+        before = stored_traces(db) if db.exists() else {}
+        resumed = subprocess.run(campaign(target, db), capture_output=True, text=True, timeout=CAMPAIGN_S)
+        assert resumed.returncode == 0 and "Traceback" not in resumed.stderr, (n, delay, resumed.stderr[-3000:])
+        after = stored_traces(db)
+        assert {t: after.get(t) for t in before} == before, (n, delay, "a stored run changed on resume")
+        findings, runs = outcome(db)
+        assert findings == uninterrupted[0], f"SIGKILL {n} at {delay:.1f} s resumed to other findings"
+        raced += races(runs, uninterrupted[1], f"SIGKILL {n} at {delay:.1f} s")
+    print(f"{KILLS} SIGKILLs; every resume completed as uninterrupted; {raced} test runs raced the SUT")
+
+
+def stored_traces(db) -> dict:
+    """trace id -> (script, variant, outcome, events) of every stored trace."""
+    con = store.connect(db, read_only=True)
+    try:
+        return {t: rest for t, *rest in con.execute(
+            "select trace_id, script_id, sut, outcome, (select count(*) from events e where e.trace_id = t.trace_id) "
+            "from traces t").fetchall()}
+    finally:
+        con.close()

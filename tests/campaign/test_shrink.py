@@ -1,8 +1,11 @@
 """Shrinking: ddmin itself, then one shrunk reproducer per variant's defect (replayed with `run`),
 its stored script, the report's link to it, and the refusals."""
 import json
+import os
 import re
 import shlex
+import subprocess
+import sys
 from pathlib import Path
 
 import duckdb
@@ -15,9 +18,9 @@ from harness.mutator.ddmin import ddmin
 from harness.target.script import parse
 from harness.campaign.context import CampaignContext
 from harness.campaign.representatives import representatives
-from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, shorter_sleeps, store_shrink
+from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, replay_command, shorter_sleeps, store_shrink
 from harness.sut.executive import run_script
-from harness.dispatch.workers import Setup
+from harness.dispatch import transport
 from harness.target.mission import load_mission
 from harness.store.sql import render_query
 
@@ -114,11 +117,14 @@ def test_each_variants_defect_shrinks_to_a_replayable_reproducer(campaign, tmp_p
     assert _query(campaign, "select original from shrink_runs r join traces t using (trace_id) "
                             "where t.campaign_id = (select campaign_id from scripts where script_id = ?) limit 1",
                   [script_id]) == [(trace_id,)]
-    # the file replays with the command its header gives, and shows the same behaviour
-    replay = shlex.split(path.read_text().splitlines()[1].split("Replay: python -m harness ")[1])
-    replay_db = tmp_path / "replay.duckdb"
-    assert replay[0] == "run" and f"--sut {sut}" in " ".join(replay)
-    main(replay + ["--db", str(replay_db)])
+    # the file replays with the command its header gives, as written, from another folder, and shows
+    # the same behaviour
+    replay = path.read_text().splitlines()[1].split("# Replay: ")[1]
+    replay_db, elsewhere = tmp_path / "replay.duckdb", tmp_path / "elsewhere"
+    assert replay.startswith("untimely run /") and f"--sut {sut}" in replay and "world" not in replay
+    elsewhere.mkdir()
+    subprocess.run(f"{replay} --db {shlex.quote(str(replay_db))}", shell=True, cwd=elsewhere, timeout=300,
+                   env={**os.environ, "PATH": f"{Path(sys.executable).parent}:{os.environ['PATH']}"})
     assert main(["analyze", "--db", str(replay_db)]) == 0
     if verdict == "hung":
         assert _query(replay_db, "select outcome from traces") == [("hung",)]
@@ -190,7 +196,7 @@ def test_a_shrink_that_fails_is_recorded_and_shown_and_the_others_go_on(tmp_path
     behaviours = con.execute("select sut, verdict, property_id from bad_behaviours order by all").fetchall()
     assert {sut for sut, *_ in behaviours} == {"genom", "bip-a"}
     target = load_mission(DEFAULT_MISSION_DIR)
-    setup = Setup(_runner_broken_on_genom, target.interface_file, target.world_file, 0.003)
+    setup = transport.setup(_runner_broken_on_genom, target.interface_file, target.world_file, 0.003)
     ctx = CampaignContext(con=con, db=str(db), target=target, golden=target.golden(), properties=target.properties(),
                           config={}, setup=setup, executor=None, jobs=2, shrink_to=tmp_path / "shrunk")
     lines = []
@@ -218,3 +224,15 @@ def test_a_store_older_than_shrunk_scripts_is_refused_and_left_as_it_was(tmp_pat
     with pytest.raises(StoreError, match="this store predates shrunk scripts"):
         store_shrink(con, orig, Behaviour("genom", "hung"), parse("send rflex.Init\n"), 3)
     assert con.execute("select count(*) from campaigns").fetchone() == (0,)
+
+
+def test_a_replay_line_names_the_installed_command_absolute_paths_and_no_missing_world(tmp_path):
+    """Issue 48: the line named a bare `python` (a checkout's) and a world.toml the target lacked."""
+    target = tmp_path / "target"
+    target.mkdir()
+    (target / "interface.toml").write_text("")
+    orig = Original(7, 3, "ros2-node", 42, "completed", "", target, 0.003, {"ros2-node": {"time_scale": 2.0}})
+    words = shlex.split(replay_command(orig, Path("shrunk") / "script-9.mission"))
+    assert words == ["untimely", "run", str(Path("shrunk/script-9.mission").resolve()), "--sut", "ros2-node",
+                     "--seed", "42", "--max-delay", "0.003", "--interface", str(target / "interface.toml"),
+                     "--time-scale", "2"]

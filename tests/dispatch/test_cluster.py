@@ -11,7 +11,8 @@ import pytest
 from harness import DEFAULT_MISSION_DIR, store
 from harness.campaign import campaign
 from harness.dispatch import announcements, cluster
-from harness.dispatch.workers import Task
+from harness.dispatch import transport
+from harness.dispatch.description import Task
 from harness.errors import UntimelyError
 from tests.support import campaigns, kept
 from tests.support.campaigns import arguments, dump, failing_runner, fake_layer_mission
@@ -153,8 +154,7 @@ def checked(address, setup):
 
 
 def setup_for(mission=DEFAULT_MISSION_DIR, external=None):
-    from harness.dispatch.workers import Setup
-    return Setup(None, mission / "interface.toml", mission / "world.toml", 0.0, external or {})
+    return transport.setup(None, mission / "interface.toml", mission / "world.toml", 0.0, external or {})
 
 
 def test_workers_with_other_code_are_refused(scheduler, monkeypatch):

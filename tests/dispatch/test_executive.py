@@ -1,8 +1,10 @@
 """The executive against a small fake layer: sends, waits, delays, hang, crash, determinism."""
 import pytest
 
+from harness.errors import ScriptError
 from harness.sut.executive import DRAIN_S, REACTION_S, Runner
 from harness.target.script import parse, validate
+from tests.support.arm_interface import arm_interface
 
 
 class FakeLayer:
@@ -124,3 +126,32 @@ def test_a_layer_that_takes_a_request_twice_crashes_the_trace(interface):
             super().receive(rqst_id, service, args, reply)
     trace = play(interface, "send rflex.Init\nwait all\n", layer=Stuttering)
     assert trace.outcome == "crashed" and "took request 1 (rflex.Init) twice" in trace.error
+
+
+def test_a_cancel_is_a_request_of_its_own_naming_the_goal_it_cancels(tmp_path):
+    """`cancel g1` sends arm.move_cancel with goal = g1's request id, without blocking; `as c`
+    names it for a wait; the layer receives the id as an integer."""
+    arm = arm_interface(tmp_path)
+    received = []
+
+    class Recording(FakeLayer):
+        def receive(self, rqst_id, service, args, reply):
+            received.append((rqst_id, service, args))
+            super().receive(rqst_id, service, args, reply)
+    trace = play(arm, "send arm.grip\nsend arm.move order=3 as g1\ncancel g1 as c\nsend arm.grip\nwait c\n",
+                 layer=Recording)
+    assert sorted(received) == [(1, "arm.grip", {}), (2, "arm.move", {"order": "3"}), (3, "arm.move_cancel", {"goal": 2}),
+                        (4, "arm.grip", {})]
+    requests = [e for e in trace.events if e[2] == "request"]
+    assert [(e[3], e[4], e[5], e[6]) for e in requests][2] == (3, "arm", "move_cancel", '{"goal": 2}')
+    assert requests[3][1] == requests[2][1]  # the cancel did not block the next send
+    t = {(e[2], e[3]): e[1] for e in trace.events}
+    assert trace.sim_s >= t[("final", 3)] + REACTION_S  # wait c awaited the cancel's final
+
+
+def test_the_simulated_layer_refuses_a_script_with_a_cancel(tmp_path):
+    arm = arm_interface(tmp_path)
+    script = parse("send arm.move order=3 as g1\ncancel g1\n", "t.mission")
+    validate(script, arm)
+    with pytest.raises(ScriptError, match="t.mission:2: cancel g1: the simulated layer .* has no cancels"):
+        Runner()(script, "fake", 1, arm, None)

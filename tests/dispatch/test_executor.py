@@ -7,7 +7,8 @@ from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR
 from harness.dispatch.executor import open_executor
-from harness.dispatch.workers import Pool, Setup
+from harness.dispatch import transport
+from harness.dispatch.workers import Pool
 from harness.target.mission import INTERFACE_FILE, WORLD_FILE
 
 
@@ -25,8 +26,8 @@ class Square:
         return f"crashed: {error}"
 
 
-def _setup() -> Setup:
-    return Setup(None, Path(DEFAULT_MISSION_DIR / INTERFACE_FILE), Path(DEFAULT_MISSION_DIR / WORLD_FILE), 0.0)
+def _setup():
+    return transport.setup(None, Path(DEFAULT_MISSION_DIR / INTERFACE_FILE), Path(DEFAULT_MISSION_DIR / WORLD_FILE), 0.0)
 
 
 def test_the_pool_performs_any_task_and_records_a_worker_that_died_as_that_tasks_crash():

@@ -99,3 +99,42 @@ def test_a_killed_campaign_leaves_nothing_running_and_its_workers_say_nothing(fo
     _, err = process.communicate(timeout=60)
     assert_all_ended(pids, within_s=15.0)  # the worker learns of its parent's death, and ends them
     assert "Traceback" not in err and "ConnectionResetError" not in err, err
+
+
+BUSY_LOOP = "while True: pass"
+STOP_WITHIN_S = 20.0  # "a few seconds", on a 2-core machine with a busy loop per core beside it
+
+
+@pytest.mark.parametrize("command", ["run", "campaign"])
+def test_ctrl_c_to_the_group_once_or_twice_at_random_instants_stops_a_loaded_bench(folder, command):
+    """Issue 48: Ctrl-C on `run` with an adapter did not stop the bench within 30 s on a loaded
+    machine. SIGINT to the bench's process group (as a terminal sends it), once or twice 0.1 s
+    apart, at a random instant after its adapter started, with busy loops beside it: it exits
+    non-zero within STOP_WITHIN_S, says it stopped, and leaves nothing running."""
+    import random
+    rng = random.Random(48)
+    busy = [subprocess.Popen([sys.executable, "-c", BUSY_LOOP]) for _ in range(os.cpu_count() or 2)]
+    try:
+        for n in range(3):
+            pids_file = folder / f"pids-{command}-{n}"
+            args = commands(folder)[command]
+            process = subprocess.Popen([sys.executable, "-m", "harness", *args], cwd=ROOT, stdout=subprocess.PIPE,
+                                       stderr=subprocess.PIPE, text=True, start_new_session=True,
+                                       env={**os.environ, "HOSTILE_PIDS": str(pids_file)})
+            pids = started(pids_file, process)
+            time.sleep(rng.uniform(0.0, 1.5))
+            for _ in range(1 + n % 2):
+                os.killpg(process.pid, signal.SIGINT)
+                time.sleep(0.1)
+            began = time.monotonic()
+            _, err = process.communicate(timeout=120)
+            took = time.monotonic() - began
+            assert process.returncode != 0 and "stopped (Ctrl-C)" in err and "Traceback" not in err, err
+            assert took < STOP_WITHIN_S, f"{command} took {took:.1f} s to stop"
+            assert_all_ended(pids)
+            for leftover in folder.glob("*.duckdb*"):
+                leftover.unlink()
+    finally:
+        for loop in busy:
+            loop.kill()
+            loop.wait()

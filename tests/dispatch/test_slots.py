@@ -12,7 +12,7 @@ from harness.errors import UntimelyError
 from harness.sut.external import channel
 from harness.sut.external.channel import StdioChannel
 from harness.sut.definitions import ExternalSut
-from harness.dispatch.workers import Task
+from harness.dispatch.description import Task
 from harness.trace import Trace
 
 

@@ -13,7 +13,6 @@ from harness.cli import main
 from harness.dispatch import transport
 from harness.sut.executive import Runner, run_script
 from harness.sut.definitions import ExternalSut
-from harness.dispatch.workers import Setup
 
 ECHO_S = 0.05  # virtual seconds the echo layer takes to answer
 
@@ -68,7 +67,7 @@ def test_a_toy_transport_added_by_one_registry_entry_runs_a_campaign(tmp_path, m
 
 
 def test_the_built_in_kinds_run_the_variants_and_the_external_suts():
-    setup = Setup(run_script, Path("i.toml"), Path("w.toml"), 0.002, {"toy": ExternalSut("toy", address="h:1")})
-    assert transport.transport("toy", setup) == transport.Adapter(ExternalSut("toy", address="h:1"))
-    assert transport.transport("genom", setup) == transport.Simulated("genom", run_script, Path("w.toml"), 0.002)
-    assert transport.transport("echo", setup).name == "echo" and not isinstance(transport.transport("echo", setup), Echo)
+    setup = transport.setup(run_script, Path("i.toml"), Path("w.toml"), 0.002, {"toy": ExternalSut("toy", address="h:1")})
+    assert setup.transport("toy") == transport.ExternalTransport(ExternalSut("toy", address="h:1"))
+    assert setup.transport("genom") == transport.Simulated("genom", run_script, Path("w.toml"), 0.002)
+    assert setup.transport("echo").name == "echo" and not isinstance(setup.transport("echo"), Echo)

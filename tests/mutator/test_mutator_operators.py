@@ -8,7 +8,10 @@ import pytest
 from harness import DEFAULT_MISSION_DIR
 from harness.mutator import operators
 from harness.mutator.operators import Draw, chosen, generate, mutate
-from harness.target.script import load_script, parse, validate
+from harness.mutator.timeline import Timeline
+from harness.target.script import Script, load_script, parse, validate
+from harness.trace import Trace
+from tests.support.arm_interface import arm_interface
 
 SMALL = """\
 send rflex.Init as ri
@@ -172,3 +175,62 @@ def test_a_mutant_whose_operators_do_not_apply_keeps_no_operation(interface):
     mutant = mutate(parse("send rflex.Init as ri\n"), interface, random.Random(0), operations=2,
                     operators=("swap_requests", "drop_wait"))
     assert mutant.operations == () and mutant.valid
+
+
+CANCELLING = "send arm.move order=3 as g1\nsleep 0.5\ncancel g1 as c\nsend arm.grip as gr\nwait c\n"
+
+
+@pytest.fixture
+def arm(tmp_path):
+    return arm_interface(tmp_path)
+
+
+def test_the_request_operators_take_a_cancel_for_a_request(arm):
+    """Deleting the goal leaves its cancel naming nothing (invalid, as a wait would be); deleting
+    the cancel leaves its wait naming nothing; swaps move a cancel like a send, and one before its
+    goal is invalid; every other mutant stays valid."""
+    mutants = list(generate(parse(CANCELLING, "c"), arm, Draw(60, seed=3)))
+    seen = set()
+    for m in mutants:
+        record = m.operations[0]
+        kind = record["op"], record.get("step") or tuple(record.get("steps", ()))
+        seen.add(record["op"])
+        if kind == ("delete_request", "send arm.move order=3 as g1"):
+            assert m.invalid_reason.endswith("cancel of handle 'g1', which no earlier line sends")
+        elif kind == ("delete_request", "cancel g1 as c"):
+            assert m.invalid_reason.endswith("wait on handle 'c', which no earlier line sends")
+        elif record["op"] == "swap_requests" and m.body.index("cancel g1") < m.body.index("send arm.move"):
+            assert "cancel of handle 'g1', which no earlier line sends" in m.invalid_reason
+        elif record["op"] != "swap_requests" or "cancel g1 as c" not in record["steps"]:
+            assert m.valid, (m.body, m.invalid_reason)
+    assert seen == {"delete_request", "insert_request", "swap_requests"}
+    assert any(m.operations[0].get("steps", [None])[0] == "cancel g1 as c" for m in mutants)
+
+
+def test_an_inserted_cancel_request_cancels_an_earlier_goal(arm):
+    """insert_request drawing arm.move_cancel after a goal with a handle writes `cancel HANDLE`."""
+    inserted = []
+    for seed in range(80):
+        steps = list(parse(CANCELLING, "c").steps)
+        record = operators.insert_request(steps, random.Random(seed), arm)
+        if "move_cancel" in record["step"] or record["step"].startswith("cancel"):
+            inserted.append((record, steps))
+    cancels = [(r, s) for r, s in inserted if r["step"].startswith("cancel g1")]
+    assert cancels and all(r["position"] > 1 for r, _ in cancels)
+    sends = [r for r, _ in inserted if r["step"].startswith("send arm.move_cancel")]
+    assert sends and all(r["position"] == 1 for r in sends)  # before the goal: a plain send of the service
+    for _, steps in inserted:
+        validate(Script(tuple(steps), "m").renumbered(), arm)
+
+
+def test_the_timeline_counts_a_cancel_as_a_request_of_its_cancel_service(arm):
+    """Request ids follow the steps that send (a cancel among them): the grip after a cancel is
+    request 3, and the cancel an activity of arm.move_cancel."""
+    script = parse("send arm.move order=3 as g1\ncancel g1 as c\nsend arm.grip\nwait c\n", "c")
+    events = [(1, 0.0, "request", 1, "arm", "move", "{}", None), (2, 0.1, "request", 2, "arm", "move_cancel", "{}", None),
+              (3, 0.1, "request", 3, "arm", "grip", "{}", None), (4, 0.2, "final", 2, "arm", "move_cancel", None, "ok"),
+              (5, 0.3, "final", 1, "arm", "move", None, "canceled"), (6, 0.4, "final", 3, "arm", "grip", None, "ok")]
+    timeline = Timeline(script, Trace("arm", 0, events=events), arm.replies)
+    assert [(a.service, a.end, a.reply) for a in timeline.activities] == [
+        ("arm.move", 0.3, "canceled"), ("arm.move_cancel", 0.2, "ok"), ("arm.grip", 0.4, "ok")]
+    assert timeline.ended_ok(3) == set() and timeline.ended_ok(4) == {"arm.move_cancel"}  # after wait c

@@ -1,5 +1,5 @@
 """The layout (docs/architecture.md): a target's file names have one home, harness/target/mission.py,
-and no Python file of harness/ outside harness/target/ spells them out; no module path from before
+and no other Python file of harness/ spells them out (but those left, below); no module path from before
 harness/sut/ is left in the repository, yet a command or a layer.toml written with one still runs."""
 import ast
 import shutil
@@ -16,6 +16,16 @@ from harness.target.layer_description import load_layer
 from harness.target.script import parse
 
 TARGET = ROOT / "harness" / "target"
+HOME = TARGET / "mission.py"
+# Literals left in harness/target/ (issue 45): files being edited elsewhere, the second home of
+# LAYER_FILE (mission.py imports it from there), and the adapter skeleton init copies into a
+# user's target, which runs without the bench and so spells its file's name.
+LEFT = frozenset({"harness/target/layer_description.py:43: 'layer.toml'",
+                  "harness/target/skeleton/adapter.py:40: 'interface.toml'"}
+                 | {f"harness/target/ros2_texts.py:{line}: {name!r}" for line, name in [
+                     (16, "interface.toml"), (16, "ros2.toml"), (16, "suts.toml"), (16, "golden.mission"),
+                     (16, "properties.toml"), (156, "interface.toml"), (156, "ros2.toml"), (157, "suts.toml"),
+                     (157, "golden.mission"), (158, "properties.toml")]})
 FILE_NAMES = frozenset(value for name, value in vars(mission).items() if name.endswith("_FILE"))
 
 
@@ -25,11 +35,11 @@ def _names_a_target_file(text: str) -> bool:
     return text in FILE_NAMES or (" " not in text and any(text.endswith("/" + name) for name in FILE_NAMES))
 
 
-def file_names_outside_the_target(folder: Path) -> list[str]:
+def file_names_outside_their_home(folder: Path) -> list[str]:
     found = []
     for path in sorted(folder.rglob("*.py")):
-        if TARGET in path.parents:
-            continue  # the names' home, and the templates of the files init writes
+        if path == HOME:
+            continue  # the names' home
         for node in ast.walk(ast.parse(path.read_text())):
             if isinstance(node, ast.Constant) and isinstance(node.value, str) and _names_a_target_file(node.value):
                 found.append(f"{path.relative_to(folder.parent)}:{node.lineno}: {node.value!r}")
@@ -39,7 +49,10 @@ def file_names_outside_the_target(folder: Path) -> list[str]:
 def test_the_target_owns_its_file_names():
     assert {"interface.toml", "properties.toml", "golden.mission", "layer.toml", "world.toml", "suts.toml",
             "ros.toml", "ros2.toml"} <= FILE_NAMES
-    assert file_names_outside_the_target(ROOT / "harness") == []
+    found = file_names_outside_their_home(ROOT / "harness")
+    assert [f for f in found if f not in LEFT] == [], "import the name from harness/target/mission.py"
+    assert not {f for f in LEFT if f.split(":")[0] != "harness/target/ros2_texts.py"} - set(found), \
+        "a literal left is gone: take it out of LEFT"
 
 
 def test_the_check_finds_a_file_name_where_there_is_one(tmp_path):
@@ -47,7 +60,7 @@ def test_the_check_finds_a_file_name_where_there_is_one(tmp_path):
     module.parent.mkdir(parents=True)
     module.write_text('"""Reads interface.toml (a docstring is prose)."""\n'
                       'def f(folder):\n    return folder / "interface.toml", f"{folder}/golden.mission"\n')
-    assert file_names_outside_the_target(tmp_path / "harness") == [
+    assert file_names_outside_their_home(tmp_path / "harness") == [
         "harness/analysis/sneaky.py:3: 'interface.toml'", "harness/analysis/sneaky.py:3: '/golden.mission'"]
 
 

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.support import counts
 from tests.support.paths import ROOT, TESTS
 
 
@@ -131,3 +132,16 @@ def test_the_fast_suite_covers_every_package_of_harness():
     missing = known - set().union(*(covered(f, known) for f in files))
     assert not missing, (f"no test of the fast suite covers {sorted(missing)}: give each package a test that is "
                          "not marked slow, in its folder or importing it (docs/contributing.md)")
+
+
+@pytest.mark.slow
+def test_the_counts_readme_and_contributing_state_are_the_suites():
+    fast, every = counts.collected("not slow"), counts.collected()
+    for path in counts.STATED:
+        assert counts.stated(path.read_text()) == (fast, every), f"{path.name} states other counts: run make counts"
+
+
+def test_the_counts_are_written_where_they_are_stated():
+    text = "runs `pytest -m \"not slow\"`: 1,042 of the\nsuite's 1,259 tests, every package"
+    assert counts.stated(text) == (1042, 1259)
+    assert counts.written(text, 1100, 1300) == "runs `pytest -m \"not slow\"`: 1,100 of the\nsuite's 1,300 tests, every package"

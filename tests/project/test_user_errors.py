@@ -235,3 +235,13 @@ def test_a_bench_name_that_names_no_bench_is_refused_rather_than_running_nothing
     assert ran.returncode == 2 and "==" not in ran.stdout
     assert "no bench named 'cluster_bench'; name some of: analyzer, analyzer_memory," in ran.stderr
     assert ", cluster, " in ran.stderr
+
+
+@pytest.mark.parametrize("flag", ["--world", "--interface"])
+def test_a_missing_file_given_to_run_is_refused_naming_that_file(tmp_path, capsys, flag):
+    """Issue 48: `run --interface X --world MISSING` answered `layer.toml: file not found`."""
+    missing = tmp_path / "elsewhere" / "missing.toml"
+    other = ["--interface", INTERFACE] if flag == "--world" else []
+    err = _fails(capsys, "run", DEFAULT_MISSION_DIR / "golden.mission", "--sut", "genom", *other, flag, missing,
+                 "--db", tmp_path / "r.duckdb")
+    assert err.startswith(f"error: {missing}: ") and "layer.toml: file not found" not in err, err

@@ -18,7 +18,7 @@ from harness.report import charts, html, trace_pages
 from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
 from harness.store.record import RunRecord
 from harness.trace import Trace
-from tests.support.report import TRACES, Page, _events, analysed_store, make_store, write_report
+from tests.support.report import TRACES, Page, _events, analysed_store, copied_store, make_store, write_report
 
 
 @pytest.fixture(scope="module")
@@ -217,10 +217,23 @@ def test_a_store_beyond_the_memory_limit_is_reported_all_the_same(tmp_path, monk
     from harness.report import build as report
     db = analysed_store(tmp_path / "store.duckdb")
     within = write_report(db, tmp_path / "within")
-    monkeypatch.setattr(report, "MEMORY_LIMIT", "1MB")
+    monkeypatch.setattr(report, "memory_limit_mb", lambda traces: 1)
     beyond = write_report(db, tmp_path / "beyond")
-    assert "needs more than 1MB of DuckDB memory for this store; writing it again" in capsys.readouterr().err
+    assert "needs more than 1 MB of DuckDB memory for this store; writing it again" in capsys.readouterr().err
     assert _files(beyond) == _files(within)
+
+
+@pytest.mark.slow
+def test_a_store_of_a_default_campaign_s_size_is_reported_once_within_its_limit(tmp_path, monkeypatch, capsys):
+    """1,057 traces (the hand-made store's, copied): 48 MB, the limit set for far larger stores
+    before it was chosen from the store's size, was not enough and the report was written twice."""
+    from harness.report import build as report
+    db = tmp_path / "store.duckdb"
+    copied_store(db, copies=150)
+    real_write, writes = report.write_report, []
+    monkeypatch.setattr(report, "write_report", lambda con, out: writes.append(out) or real_write(con, out))
+    write_report(db, tmp_path / "out")
+    assert len(writes) == 1 and "writing it again" not in capsys.readouterr().err
 
 
 def _files(out: Path) -> dict[Path, bytes]:

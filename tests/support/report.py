@@ -11,6 +11,7 @@ from harness.analysis.analyzer import materialise
 from harness.report import build as report
 from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
 from harness.store.record import CampaignRecord
+from harness.store.sql import render_bench
 from harness.target.interface import load_interface, load_properties
 from harness.trace import Trace
 
@@ -116,6 +117,19 @@ def analysed_store(path, epsilon: float = 0.01, mission: Path = DEFAULT_MISSION_
                 mission / "properties.toml")
     con.close()
     return path
+
+
+def copied_store(path, copies: int) -> Path:
+    """make_store with its traces copied `copies` times under new ids (a store of many traces in
+    seconds, as bench/report_bench.py makes one), judged with Dala's properties."""
+    make_store(path)
+    con = connect(path)
+    top = con.execute("select max(trace_id) from traces").fetchone()[0]
+    con.execute(render_bench("copied_traces", copies=copies, top=top))
+    interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
+    materialise(con, load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface), 0.01, interface)
+    con.close()
+    return Path(path)
 
 
 def write_report(db, out, traces=()) -> Path:

@@ -2,7 +2,8 @@
 
     mission missions/manipulator                # optional, first: another target than Dala
     use PEX(rflex) AIB(ndd.GotoPosition)        # the properties judged in this file
-    trace pc_true_accepted sut=genom outcome=hung   # a trace: label, optional sut and outcome
+    trace pc_true_accepted sut=genom outcome=hung   # a trace: label, optional sut, outcome, end
+                                                # (sim_s, seconds) and golden=yes (a golden run's)
     0.0 request 1 rflex.Init                    # t kind rqst_id module.Service
     0.5 final   1 ok                            # t final rqst_id reply (service from the request)
     2.5 request 3 ndd.GotoPosition x=9 y=nan    # arguments as a mission script writes them
@@ -47,6 +48,7 @@ class Case:
     expected: dict[tuple[str, int], tuple[str, bool | None, float | None]] = field(default_factory=dict)
     flagged: set[tuple[str, int]] = field(default_factory=set)  # the rows marked suspicious
     services: dict[int, str] = field(default_factory=dict)  # rqst_id -> "module.Service"
+    golden: bool = False  # the trace of a golden script (a derived deadline reads those)
 
 
 @dataclass
@@ -82,7 +84,9 @@ def load(path: Path) -> Fixture:
         elif words[0] == "trace":
             options = dict(w.split("=") for w in words[2:])
             cases.append(Case(words[1], Trace(sut=options.get("sut", "fixture"), seed=0,
-                                              outcome=options.get("outcome", "completed"))))
+                                              outcome=options.get("outcome", "completed"),
+                                              sim_s=float(options.get("end", 0))),
+                              golden=options.get("golden") == "yes"))
         else:
             case, (t, kind, rqst_id, what), written = cases[-1], words[:4], words[4:]
             rqst_id, args = int(rqst_id), None
@@ -105,14 +109,16 @@ def all_fixtures() -> list[Fixture]:
 
 
 def judged_traces(mission: str, traces: list[tuple[Trace, str | None]], properties: list, epsilon: float,
-                  path=":memory:", interface: Interface = INTERFACE):
+                  path=":memory:", interface: Interface = INTERFACE, golden: frozenset[int] = frozenset()):
     """A store of one campaign holding `traces`, (trace, label) pairs given ids 1, 2, ... in order,
-    judged with `properties`."""
+    judged with `properties`; those whose ids are in `golden` are runs of a golden script (its id theirs)."""
     con = connect(path)
     add_campaign(con, 1, mission, 0, ImportRecord(imported=mission, sha256="none: traces written by a test"))
     add_reply_codes(con, interface)
     for trace_id, (trace, label) in enumerate(traces, 1):
-        insert_trace(con, trace_id, 1, None, trace, label=label)
+        if trace_id in golden:
+            con.execute("insert into scripts values (?, 1, 'golden', null, '[]', '', true, null)", [trace_id])
+        insert_trace(con, trace_id, 1, trace_id if trace_id in golden else None, trace, label=label)
     materialise(con, properties, epsilon, interface)
     return con
 
@@ -120,4 +126,5 @@ def judged_traces(mission: str, traces: list[tuple[Trace, str | None]], properti
 def judged_store(fixture: Fixture, epsilon: float, path=":memory:"):
     """A store holding the fixture's traces (ids 1, 2, ... in file order), judged with its properties."""
     return judged_traces(str(fixture.path), [(case.trace, case.label) for case in fixture.cases],
-                         fixture.properties, epsilon, path, fixture.interface)
+                         fixture.properties, epsilon, path, fixture.interface,
+                         frozenset(n for n, case in enumerate(fixture.cases, 1) if case.golden))

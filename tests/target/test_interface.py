@@ -83,7 +83,7 @@ VAL = '[[property]]\nid = "V"\nfamily = "VAL"\ntype = "VAL"\nx = ["m.Go"]\n'
 
 
 @pytest.mark.parametrize("text, message", [
-    (PROP.replace('"PC"', '"XX"'), ":1: property[1]: type 'XX' is not one of EE, ES, EX, IN, MX_I, MX_R, OUT, PC, VAL (the templates of sql/oracles/)"),
+    (PROP.replace('"PC"', '"XX"'), ":1: property[1]: type 'XX' is not one of CAN, EE, ES, EX, GOAL, IN, MX_I, MX_R, OUT, OUTLIVE, PC, RSP, VAL (the templates of sql/oracles/)"),
     (PROP.replace('q = ["m.Init"]\n', ""), ":1: property[1]: type PC needs 'q', which is missing"),
     (PROP.replace('["m.Go"]', '["m.Fly"]'), ":5: property 'P': x names 'm.Fly', which the interface"),
     (PROP.replace('"wait_init"', '"interrupted"'), ":7: property 'P': r_p = 'interrupted' is not a class-R reply code"),

@@ -1,6 +1,7 @@
 """The target derived from a ROS 2 graph (harness/target/ros2_graph.py, ros2_texts.py), without ROS:
 the graph is the JSON harness/sut/ros2/graph.py prints, written here by hand."""
 import copy
+import tomllib
 
 import pytest
 
@@ -10,8 +11,8 @@ from harness.sut.ros.mapping import load_mapping
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface, load_properties
 from harness.target.ros2_graph import derive
-from harness.target.ros2_texts import write
-from harness.target.script import load_script
+from harness.target.ros2_texts import golden_text, write
+from harness.target.script import load_script, parse, validate
 
 TRIGGER = {"success": "boolean", "message": "string"}
 
@@ -39,7 +40,7 @@ COMMAND = "python3 examples/ros2/sequencer.py"
 @pytest.fixture
 def written(tmp_path):
     target = derive(COMMAND, GRAPH)
-    write(tmp_path / "t", target, ["jazzy", "kilted"], tmp_path)
+    write(tmp_path / "t", target, {"jazzy": (), "kilted": ()}, tmp_path)
     return tmp_path / "t", target
 
 
@@ -49,6 +50,7 @@ def test_the_written_target_loads_and_its_golden_mission_uses_every_service(writ
     assert {name: s.kind for name, s in interface.services.items()} == {
         **{f"sequencer.{t}": "control" for t in ("configure", "cleanup", "activate", "deactivate", "shutdown")},
         "sequencer.countdown": "exec", "sequencer.fibonacci": "exec",
+        "sequencer.countdown_cancel": "control", "sequencer.fibonacci_cancel": "control",
         "sequencer.calibrate": "control", "sequencer.reset": "control", "sequencer.status": "control"}
     order = interface.services["sequencer.fibonacci"].args["order"]
     assert (order.type, order.min, order.max) == ("float", -2 ** 31, 2 ** 31 - 1)  # int32's range
@@ -56,7 +58,8 @@ def test_the_written_target_loads_and_its_golden_mission_uses_every_service(writ
     sent = [step.service for step in golden.steps if step.op == "send"]
     assert sent[:2] == ["sequencer.configure", "sequencer.activate"]
     assert sent[-2:] == ["sequencer.deactivate", "sequencer.shutdown"]
-    assert set(sent) == set(interface.services) - {"sequencer.cleanup"}
+    assert set(sent) == set(interface.services) - {"sequencer.cleanup", "sequencer.countdown_cancel",
+                                                   "sequencer.fibonacci_cancel"}
     assert [step.args for step in golden.steps if step.service == "sequencer.fibonacci"] == [(("order", "3"),)]
 
 
@@ -70,24 +73,60 @@ def test_the_mapping_routes_every_service_and_tells_the_transitions_apart(writte
     assert routes["sequencer.shutdown"].defaults == {"transition.label": "shutdown"}
     assert (routes["sequencer.fibonacci"].kind, routes["sequencer.fibonacci"].fields) == ("action", {"order": "order"})
     assert (routes["sequencer.reset"].success, routes["sequencer.reset"].failure) == ("success", "refused")
-    assert (mapping.node, mapping.lifecycle, mapping.status_codes["REJECTED"]) == ("/sequencer", False, "refused")
+    assert routes["sequencer.activate"].failure == "transition_refused"
+    assert (mapping.node, mapping.lifecycle, mapping.status_codes["REJECTED"]) == ("/sequencer", False, "rejected")
+
+
+def test_every_action_gets_its_cancel_with_codes_the_catalogue_tells_apart(written):
+    """init derives M.S_cancel for each action M.S: a control service routed to the action's
+    cancel_goal, named in [cancels], its responses' codes in [cancel_codes]; every code the mapping
+    can reply is in the catalogue, with ROS 2's outcomes in their classes."""
+    folder, _ = written
+    interface = load_interface(folder / "interface.toml")
+    mapping = load_mapping(folder / "ros2.toml")
+    assert mapping.cancels == {"sequencer.countdown_cancel": "sequencer.countdown",
+                               "sequencer.fibonacci_cancel": "sequencer.fibonacci"}
+    assert mapping.cancel_codes == {"ERROR_NONE": "ok", "ERROR_REJECTED": "cancel_rejected",
+                                    "ERROR_UNKNOWN_GOAL_ID": "unknown_goal", "ERROR_GOAL_TERMINATED": "goal_terminated"}
+    route = mapping.routes([("sequencer", "fibonacci_cancel")])["sequencer.fibonacci_cancel"]
+    assert (route.kind, route.name, route.type) == ("service", "/sequencer/fibonacci/_action/cancel_goal",
+                                                    "action_msgs/srv/CancelGoal")
+    assert interface.replies == {"ok": "T", "aborted": "Z", "canceled": "Z", "rejected": "R", "refused": "R",
+                                 "transition_refused": "R", "cancel_rejected": "R", "unknown_goal": "R",
+                                 "goal_terminated": "R"}
+    ros2_ends = ("SUCCEEDED", "ABORTED", "CANCELED", "REJECTED")  # PREEMPTED, RECALLED: ROS 1's
+    replied = {*mapping.cancel_codes.values(), *(mapping.status_codes[status] for status in ros2_ends),
+               *(r.failure for r in mapping.routes([(s.module, s.name) for s in interface.services.values()]).values()
+                 if r.success)}
+    assert replied <= set(interface.replies)
+    script = parse("send sequencer.fibonacci order=3 as g\ncancel g as c\nwait c\n", "m")
+    validate(script, interface)  # the derived interface runs the mission language's cancel
 
 
 def test_the_properties_state_the_lifecycle_rules(written):
     folder, _ = written
     interface = load_interface(folder / "interface.toml")
     properties = {p.id: p for p in load_properties(folder / "properties.toml", interface)}
-    active = properties["ACTIVE(sequencer)"]
-    assert (active.type, active.q, active.y, active.r_p) == (
-        "IN", ("sequencer.activate",), ("sequencer.deactivate", "sequencer.shutdown"), "refused")
-    assert set(active.x) == {"sequencer.countdown", "sequencer.fibonacci", "sequencer.calibrate",
-                             "sequencer.reset", "sequencer.status"}
+    goals, calls = properties["ACTIVE_GOALS(sequencer)"], properties["ACTIVE_CALLS(sequencer)"]
+    for active, code in ((goals, "rejected"), (calls, "refused")):  # each r_p the code its requests get
+        assert (active.family, active.type, active.q, active.y, active.r_p) == (
+            "ACTIVE", "IN", ("sequencer.activate",), ("sequencer.deactivate", "sequencer.shutdown"), code)
+    assert set(goals.x) == {"sequencer.countdown", "sequencer.fibonacci"}
+    assert set(calls.x) == {"sequencer.calibrate", "sequencer.reset", "sequencer.status"}
+    assert {p.r_p for p in properties.values() if p.family == "TRANSITION"} == {"transition_refused"}
     assert {(i, p.type) for i, p in properties.items() if p.family == "TRANSITION"} == {
         ("TRANSITION(sequencer.configure)", "OUT"), ("TRANSITION(sequencer.activate)", "IN"),
         ("TRANSITION(sequencer.cleanup)", "IN"), ("TRANSITION(sequencer.deactivate)", "IN"),
         ("TRANSITION(sequencer.shutdown)", "OUT")}
     text = (folder / "properties.toml").read_text()
     assert "# [[property]]\n# id = \"PREEMPT(sequencer.fibonacci)\"" in text, "preemption: a commented choice"
+    uncommented = text.replace("\n# [[property]]\n# id = ", "\n[[property]]\nid = ")
+    uncommented = "\n".join(line[2:] if line.startswith(("# family", "# type", "# x =", "# y =", "# z_p")) else line
+                            for line in uncommented.splitlines())
+    (folder / "properties.toml").write_text(uncommented)
+    preempt = {p.id: p for p in load_properties(folder / "properties.toml", interface)}["PREEMPT(sequencer.fibonacci)"]
+    assert (preempt.type, preempt.x, preempt.y, preempt.z_p) == (
+        "EE", ("sequencer.fibonacci",), ("sequencer.fibonacci",), "aborted")  # uncommented, it loads: aborted is Z
     assert "lifecycle: activate is valid only from inactive" in text
 
 
@@ -106,6 +145,8 @@ def test_what_cannot_be_derived_is_said():
     node["actions"][1]["fields"] = None
     target = derive(COMMAND, graph)
     assert not target.properties
+    golden = golden_text(target)
+    assert "configure" not in golden and "every action and service once" in golden  # no lifecycle to speak of
     notes = "\n".join(target.notes)
     for words in ("/sequencer is not a lifecycle node", "field fast (boolean) is no argument",
                   "field path (sequence<double>) is no argument",
@@ -127,10 +168,29 @@ def test_an_empty_or_malformed_graph_or_a_name_clash_is_refused(tmp_path):
 def test_an_existing_target_file_is_never_overwritten(written):
     folder, target = written
     with pytest.raises(UntimelyError, match="already holds interface.toml.*give another DIR"):
-        write(folder, target, ["jazzy"], folder)
+        write(folder, target, {"jazzy": ()}, folder)
 
 
 def test_init_takes_one_source_only(tmp_path, capsys):
     assert main(["init", str(tmp_path / "t"), "--from-genom", "x.gen", "--from-ros2", COMMAND]) == 2
     assert "give --from-genom or --from-ros2, not both" in capsys.readouterr().err
     assert not (tmp_path / "t").exists()
+
+
+def test_interfaces_need_the_graph_and_not_a_bag_yet(tmp_path, capsys):
+    assert main(["init", str(tmp_path / "t"), "--interfaces", "pkg"]) == 2
+    assert "--interfaces pkg: give --from-ros2 'COMMAND' too" in capsys.readouterr().err
+    assert main(["init", str(tmp_path / "t"), "--from-ros2", COMMAND, "--from-bag", "b", "--interfaces", "pkg"]) == 2
+    assert "--interfaces with --from-bag is not supported yet" in capsys.readouterr().err
+    assert not (tmp_path / "t").exists()
+
+
+def test_each_suts_env_names_the_interfaces_built_for_its_distro(tmp_path):
+    prefixes = {"jazzy": (tmp_path / "a" / "install", tmp_path / "b" / "install"), "kilted": (tmp_path / "k",)}
+    write(tmp_path / "t", derive(COMMAND, GRAPH), prefixes, tmp_path)
+    suts = tomllib.loads((tmp_path / "t" / "suts.toml").read_text())
+    assert suts["sequencer-jazzy"]["env"] == {"UNTIMELY_ROS2_INTERFACES": f"{tmp_path}/a/install:{tmp_path}/b/install"}
+    assert suts["sequencer-kilted"]["env"] == {"UNTIMELY_ROS2_INTERFACES": f"{tmp_path}/k"}
+    written = derive(COMMAND, GRAPH)
+    write(tmp_path / "plain", written, {"jazzy": ()}, tmp_path)
+    assert "env" not in tomllib.loads((tmp_path / "plain" / "suts.toml").read_text())["sequencer-jazzy"]

@@ -3,6 +3,7 @@ import pytest
 from harness import DEFAULT_MISSION_DIR
 from harness.errors import InputFileError, ScriptError
 from harness.target.script import load_script, parse, validate
+from tests.support.arm_interface import arm_interface
 
 
 def check(text, interface):
@@ -83,3 +84,55 @@ def test_only_a_newline_ends_a_step_and_a_byte_order_mark_is_no_text(interface, 
     script = load_script(path, interface)
     assert [s.render() for s in script.steps] == [
         "send rflex.Init as ri  # a comment\u2028send sick.Init\fsend ndd.Init", "wait ri"]
+
+
+
+@pytest.fixture
+def arm(tmp_path):
+    return arm_interface(tmp_path)
+
+
+def test_a_cancel_renders_and_parses_back(arm):
+    text = "send arm.move order=3 as g1\nsleep 0.5\ncancel g1 as c1  # halt it\ncancel g1\nwait c1\nwait g1\n"
+    script = parse(text, "m.mission")
+    validate(script, arm)
+    assert script.render() == text
+    cancel = script.steps[2]
+    assert (cancel.op, cancel.cancelled, cancel.handle, cancel.comment) == ("cancel", "g1", "c1", "halt it")
+    assert parse(script.render(), "again").steps == script.steps
+
+
+@pytest.mark.parametrize("text, message", [
+    ("cancel\n", "m.mission:1: 'cancel' takes the handle of one goal and an optional 'as HANDLE', got ''"),
+    ("cancel g1 g2\n", "'cancel' takes the handle of one goal"),
+    ("cancel all\n", "'cancel' takes the handle of one goal"),
+    ("cancel g1 as\n", "'as' must end the line with one handle name"),
+])
+def test_a_malformed_cancel_is_refused_at_its_line(text, message):
+    with pytest.raises(ScriptError) as e:
+        parse(text, "m.mission")
+    assert message in str(e.value)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("cancel g1\nsend arm.move order=3 as g1\n", "m.mission:1: cancel of handle 'g1', which no earlier line sends"),
+    ("send arm.move order=3 as g1\ncancel g2\n", "m.mission:2: cancel of handle 'g2', which no earlier line sends"),
+    ("send arm.grip as g1\ncancel g1\n", "m.mission:2: cancel of handle 'g1', which names arm.grip, a control "
+                                         "service (line 1); only the goal of an exec service"),
+    ("send arm.move order=3 as g1\ncancel g1 as c\ncancel c\n", "m.mission:3: cancel of handle 'c', which names "
+                                                                 "a cancel (line 2)"),
+    ("send arm.home as h\ncancel h\n", "m.mission:2: cancel of arm.home needs the service arm.home_cancel, which the "
+                                       "interface"),
+    ("send arm.move order=3 as g1\ncancel g1 as g1\n", "m.mission:2: handle 'g1' already names the request on line 1"),
+    ("send arm.move order=3 as g1\nwait c\ncancel g1 as c\n", "m.mission:2: wait on handle 'c'"),
+])
+def test_a_cancel_the_interface_cannot_run_is_refused_at_its_line(arm, text, message):
+    with pytest.raises(ScriptError) as e:
+        check(text, arm)
+    assert message in str(e.value)
+
+
+def test_the_missing_cancel_service_is_named_with_what_to_add(arm):
+    with pytest.raises(ScriptError) as e:
+        check("send arm.home as h\ncancel h\n", arm)
+    assert 'add services.home_cancel = { kind = "control" } to its [modules.arm]' in str(e.value)

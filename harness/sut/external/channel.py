@@ -24,7 +24,7 @@ import threading
 import time
 from typing import Callable
 
-from harness.errors import UntimelyError
+from harness.errors import InternalSignal, UntimelyError
 from harness.sut import processes
 from harness.sut.definitions import ExternalSut
 from harness.sut.external.transcript import Transcript
@@ -40,7 +40,7 @@ _live: set[int] = set()  # the adapters of this process's open channels (a Dask 
 _starting = threading.Lock()
 
 
-class Unresponsive(Exception):
+class Unresponsive(InternalSignal):
     """The SUT did not take a line within the write timeout: it stopped reading."""
 
 

@@ -1,15 +1,19 @@
-"""Builds the interface package `untimely_msgs` against one distro's wheels (`make ros2` runs it
-under that distro's venv: `python -m harness.sut.ros2.build jazzy`).
+"""Builds a ROS 2 interface package against one distro's wheels, run under that distro's venv:
+`python -m harness.sut.ros2.build jazzy` builds the bench's own `untimely_msgs` (`make ros2`);
+`python -m harness.sut.ros2.build jazzy --package DIR --out OUT` builds a user's package (a folder
+with package.xml and action/, srv/, msg/), as `untimely init --interfaces` does (interfaces.py).
 
 The wheels' exported CMake files name the Python headers and NumPy of the machine that built them
 (`/opt/python/cp311-cp311/...`): `fix_cmake_paths` rewrites them to this venv's, once (a second
 call finds nothing to rewrite). Then CMake (its PyPI wheel) and Ninja build every `.action`,
-`.srv` and `.msg` file of `untimely_msgs/` into `build/ros2/<distro>/install`; the seconds it took
-go to `build/ros2/<distro>/build-seconds`, CMake's output to `build.log` beside it, and
-`install/.built` marks it done.
+`.srv` and `.msg` file of the package into `OUT/install` (untimely_msgs: `build/ros2/<distro>`);
+the seconds it took go to `OUT/build-seconds`, CMake's output to `OUT/build.log`, and
+`install/.built` marks it done. A build starts clean (its own build/ and install/ removed, nothing
+else of OUT), so no stale interface survives.
 """
 from __future__ import annotations
 
+import argparse
 import os
 import re
 import shutil
@@ -19,11 +23,11 @@ import sysconfig
 import time
 from pathlib import Path
 
-import numpy
-
 from harness.sut.ros2.environment import DISTROS, PYTHON_DIR, install_prefix, venv
 
 SOURCE = Path(__file__).resolve().parent / "untimely_msgs"
+BUILT = ".built"  # in the install folder: written last
+LOG_TAIL = 40  # lines of CMake's output shown when a build fails
 # The build machine's Python headers and NumPy headers, under its interpreter's prefix as the
 # manylinux images name it (cp311-cp311, cp312-cp312...).
 FOREIGN = re.compile(r"/opt/python/cp\d+-cp\d+t?/(include/python[\d.]+t?|lib/python[\d.]+t?/site-packages/numpy/_core/include)")
@@ -31,6 +35,8 @@ FOREIGN = re.compile(r"/opt/python/cp\d+-cp\d+t?/(include/python[\d.]+t?|lib/pyt
 
 def fix_cmake_paths(prefix: Path) -> list[Path]:
     """Rewrites the build machine's Python and NumPy include folders in the wheels' CMake files."""
+    import numpy  # the distro venv's, whose headers the build uses
+
     local = {"include": sysconfig.get_paths()["include"], "numpy": numpy.get_include()}
     fixed = []
     for path in sorted((prefix / "share").glob("*/cmake/*.cmake")):
@@ -42,43 +48,58 @@ def fix_cmake_paths(prefix: Path) -> list[Path]:
     return fixed
 
 
-def build(root: Path, distro: str) -> float:
-    """Builds and installs untimely_msgs for `distro`; returns the seconds it took."""
-    prefix, install = venv(root, distro), install_prefix(root, distro)
-    work = install.parent / "build"
-    shutil.rmtree(install.parent, ignore_errors=True)  # a clean build: no stale interface survives
+def build_package(root: Path, distro: str, source: Path, out: Path, depends: tuple[Path, ...] = ()) -> float:
+    """Builds and installs the package `source` for `distro` into `out`/install, finding the
+    install prefixes `depends` (packages it uses); returns the seconds it took."""
+    prefix, install, work = venv(root, distro), out / "install", out / "build"
+    for stale in (install, work):
+        shutil.rmtree(stale, ignore_errors=True)
     fix_cmake_paths(prefix)
+    found = os.pathsep.join(str(p) for p in (*depends, prefix))
     env = dict(os.environ, PATH=f"{prefix / 'bin'}{os.pathsep}{os.environ['PATH']}",
-               AMENT_PREFIX_PATH=str(prefix), CMAKE_PREFIX_PATH=str(prefix),
-               LD_LIBRARY_PATH=f"{prefix / 'lib'}{os.pathsep}{os.environ.get('LD_LIBRARY_PATH', '')}")
+               AMENT_PREFIX_PATH=found, CMAKE_PREFIX_PATH=found,
+               LD_LIBRARY_PATH=os.pathsep.join([*(str(p / "lib") for p in (*depends, prefix)),
+                                                 os.environ.get("LD_LIBRARY_PATH", "")]))
     env.pop("ROS_DISTRO", None)
     started = time.monotonic()
     work.mkdir(parents=True)
-    with open(install.parent / "build.log", "w") as log:  # CMake's hundreds of lines; shown on failure
-        for argv in (["cmake", "-S", str(SOURCE), "-B", str(work), "-G", "Ninja", "-DBUILD_TESTING=OFF",
+    with open(out / "build.log", "w") as log:  # CMake's hundreds of lines; shown on failure
+        for argv in (["cmake", "-S", str(source), "-B", str(work), "-G", "Ninja", "-DBUILD_TESTING=OFF",
                       f"-DCMAKE_INSTALL_PREFIX={install}", f"-DPython3_EXECUTABLE={sys.executable}",
                       "-DCMAKE_BUILD_TYPE=Release"],
                      ["cmake", "--build", str(work)], ["cmake", "--install", str(work)]):
             subprocess.run(argv, env=env, check=True, stdout=log, stderr=subprocess.STDOUT)
     seconds = time.monotonic() - started
-    (install.parent / "build-seconds").write_text(f"{seconds:.1f}\n")
-    (install / ".built").write_text(f"untimely_msgs for ROS 2 {distro}, {PYTHON_DIR}\n")
+    (out / "build-seconds").write_text(f"{seconds:.1f}\n")
+    (install / BUILT).write_text(f"{source.name} for ROS 2 {distro}, {PYTHON_DIR}\n")
     return seconds
 
 
+def log_tail(out: Path) -> str:
+    """The end of a build's log (what a failed build is refused with)."""
+    log = out / "build.log"
+    lines = log.read_text(errors="replace").splitlines() if log.exists() else ["(no build log)"]
+    return "\n".join(lines[-LOG_TAIL:])
+
+
 def main(argv: list[str]) -> int:
-    if len(argv) != 2 or argv[1] not in DISTROS:
-        print(f"usage: python -m harness.sut.ros2.build {{{','.join(DISTROS)}}}", file=sys.stderr)
-        return 2
+    parser = argparse.ArgumentParser(prog="python -m harness.sut.ros2.build", description=__doc__.split("\n\n")[0])
+    parser.add_argument("distro", choices=DISTROS)
+    parser.add_argument("--package", type=Path, help="a package folder to build (default: untimely_msgs)")
+    parser.add_argument("--out", type=Path, help="with --package: the folder its build and install go to")
+    parser.add_argument("--depends", type=Path, action="append", default=[], help="an install prefix it uses")
+    args = parser.parse_args(argv[1:])
+    if (args.package is None) != (args.out is None):
+        parser.error("give --package and --out together")
+    source, out = (args.package, args.out) if args.package else (SOURCE, install_prefix(Path.cwd(), args.distro).parent)
     try:
-        seconds = build(Path.cwd(), argv[1])
+        seconds = build_package(Path.cwd(), args.distro, source.resolve(), out.resolve(), tuple(args.depends))
     except subprocess.CalledProcessError as failed:
-        log = install_prefix(Path.cwd(), argv[1]).parent / "build.log"
-        print("\n".join(log.read_text().splitlines()[-40:]), file=sys.stderr)
-        print(f"building untimely_msgs for ROS 2 {argv[1]} failed: `{' '.join(failed.cmd)}` exited with "
-              f"{failed.returncode}; its output is in {log} (the end above)", file=sys.stderr)
+        print(log_tail(out), file=sys.stderr)
+        print(f"building {source.name} for ROS 2 {args.distro} failed: `{' '.join(failed.cmd)}` exited with "
+              f"{failed.returncode}; its output is in {out / 'build.log'} (the end above)", file=sys.stderr)
         return 1
-    print(f"untimely_msgs built for ROS 2 {argv[1]} in {seconds:.1f} s")
+    print(f"{source.name} built for ROS 2 {args.distro} in {seconds:.1f} s")
     return 0
 
 

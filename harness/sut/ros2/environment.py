@@ -15,6 +15,9 @@ also the ROS 2 prefix (its `lib/` and `share/`), and builds `untimely_msgs` into
   a killed process leaves behind: `close()` sweeps them), the Fast DDS profile fastdds.xml (data
   sharing off, faster announcements), and a `ROS_DOMAIN_ID` no other holder on this machine has;
 - `python`: the distro venv's interpreter; `domain_id`; `log_dir`; `distro`.
+A user's interface packages (`untimely init --interfaces`, interfaces.py) are found before
+untimely_msgs: the install prefixes `interfaces`, else those of $UNTIMELY_ROS2_INTERFACES
+(os.pathsep-separated, as a target's suts.toml `env` sets it for each distro's SUT).
 The domain id is held by an flock on a file of a machine-wide folder for as long as the object is
 open (the kernel releases it if the process dies), and an id is not handed out while a living
 process was started with it (`domain_ids_in_use`): 8 slots of a campaign and several pytest
@@ -35,6 +38,7 @@ import time
 from pathlib import Path
 
 from harness.errors import UntimelyError
+from harness.target.ros2_texts import INTERFACES_VARIABLE
 
 DISTROS = ("jazzy", "kilted")
 DOMAIN_SETTING = re.compile(rb"(?:^|\0)ROS_DOMAIN_ID=(\d+)\0")  # in /proc/PID/environ
@@ -80,11 +84,14 @@ def installed(root: Path, distro: str) -> str | None:
 class Ros2Environment:
     """The environment of one slot's ROS 2 processes on one distro (see the module's docstring)."""
 
-    def __init__(self, root: Path, distro: str = DEFAULT_DISTRO, slot: int = 0):
+    def __init__(self, root: Path, distro: str = DEFAULT_DISTRO, slot: int = 0, interfaces: tuple[Path, ...] | None = None):
         missing = installed(root, distro)
         if missing:
             raise Ros2Error(missing)
         self.root, self.distro, self.slot = Path(root), distro, slot
+        if interfaces is None:
+            interfaces = tuple(Path(p) for p in os.environ.get(INTERFACES_VARIABLE, "").split(os.pathsep) if p)
+        self.interfaces = interfaces
         self.python = venv(root, distro) / "bin" / "python"
         self.domain_id: int | None = None
         self.log_dir: Path | None = None
@@ -115,14 +122,16 @@ class Ros2Environment:
         self.close()
 
     def _environment(self) -> dict[str, str]:
-        prefix, built = venv(self.root, self.distro), install_prefix(self.root, self.distro)
-        libs = [built / "lib", prefix / "lib", *sorted((prefix / "lib" / PYTHON_DIR / "site-packages").glob("ros_*.libs"))]
+        prefix, built = venv(self.root, self.distro), [*self.interfaces, install_prefix(self.root, self.distro)]
+        libs = [*(b / "lib" for b in built), prefix / "lib",
+                *sorted((prefix / "lib" / PYTHON_DIR / "site-packages").glob("ros_*.libs"))]
         env = dict(os.environ)
         env.update({
             "PATH": _joined([prefix / "bin"], env.get("PATH")),
-            "PYTHONPATH": _joined([built / "lib" / PYTHON_DIR / "site-packages", self.root], env.get("PYTHONPATH")),
+            "PYTHONPATH": _joined([*(b / "lib" / PYTHON_DIR / "site-packages" for b in built), self.root],
+                                  env.get("PYTHONPATH")),
             "LD_LIBRARY_PATH": _joined(libs, env.get("LD_LIBRARY_PATH")),
-            "AMENT_PREFIX_PATH": _joined([built, prefix], None),
+            "AMENT_PREFIX_PATH": _joined([*built, prefix], None),
             "VIRTUAL_ENV": str(prefix),
             # The wheels' bootstrapper re-executes python to set LD_LIBRARY_PATH, set above already.
             "_ROS_WHEELS_BOOTSTRAP_COMPLETE": "1",

@@ -15,10 +15,12 @@ from heapq import heappop, heappush
 from itertools import count
 from typing import Any, Callable, Generator
 
+from harness.errors import InternalSignal
+
 URGENT, NORMAL = 0, 1
 
 
-class Interrupt(Exception):
+class Interrupt(InternalSignal):
     """Thrown into a process by Process.interrupt(cause)."""
 
     @property

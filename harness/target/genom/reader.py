@@ -110,6 +110,9 @@ def _described(terminals) -> str:
     """The terminals the parser expected, as a user writes them: ',' rather than COMMA."""
     said = []
     for name in sorted(terminals)[:MAX_EXPECTED]:
+        if name == "$END":  # lark's own, no terminal of the grammar
+            said.append("the end of the file")
+            continue
         pattern = _parser().get_terminal(name).pattern
         said.append(repr(pattern.value) if pattern.type == "str" else WORDS.get(name, name.lower()))
     return " or ".join(said) or "something else"

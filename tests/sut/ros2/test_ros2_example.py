@@ -34,10 +34,10 @@ def target(tmp_path_factory):
 
 def test_init_reads_the_graph_of_the_running_node(target):
     folder, said = target
-    assert "10 services in 1 node(s), 6 properties; SUTs: jazzy, kilted" in said
+    assert "12 services in 1 node(s), 7 properties; SUTs: jazzy, kilted" in said  # 2 actions' cancels
     mission = load_mission(folder)
     assert sorted(s for s in mission.interface.services if not s.startswith("sequencer.")) == []
-    assert {p.id for p in mission.properties()} == {"ACTIVE(sequencer)", *(
+    assert {p.id for p in mission.properties()} == {"ACTIVE_GOALS(sequencer)", "ACTIVE_CALLS(sequencer)", *(
         f"TRANSITION(sequencer.{t})" for t in ("configure", "activate", "cleanup", "deactivate", "shutdown"))}
     assert mission.golden().steps, "the golden mission parses against the derived interface"
 
@@ -75,3 +75,34 @@ def test_a_focused_campaign_finds_rclpy_1209_on_jazzy_and_kilted_refusing(target
     finals = con.execute("""select count(*) filter (where kind = 'final'), count(*) filter (where kind = 'request')
                             from events where trace_id = ?""", [refused[0][0]]).fetchone()
     assert finals[0] == finals[1], "Kilted answers every request of the trace after refusing the transition"
+
+
+CANCEL = """send sequencer.configure as a
+wait a
+send sequencer.activate as b
+wait b
+send sequencer.countdown order=10 as g
+sleep 0.5
+cancel g as c
+wait c timeout=10
+wait g timeout=20
+"""
+
+
+@pytest.mark.parametrize("distro", DISTROS)
+def test_a_scripts_cancel_is_a_request_of_the_derived_cancel_that_ends_its_goal(target, tmp_path, distro):
+    """`cancel g` on the derived target: a request of sequencer.countdown_cancel naming g's request
+    id, answered ok (ERROR_NONE: the node accepts cancels), and the countdown ends canceled."""
+    folder, _ = target
+    script = folder / f"cancel-{distro}.mission"
+    script.write_text(CANCEL)
+    db = tmp_path / "cancel.duckdb"
+    done = harness("run", str(script), "--sut", f"sequencer-{distro}", "--db", str(db), timeout_s=180)
+    assert done.returncode == 0, done.stderr[-3000:]
+    con = connect(db, read_only=True)
+    rows = con.execute("""select rqst_id, service, args, reply from events
+                          where kind in ('request', 'final') and rqst_id >= 3 order by seq""").fetchall()
+    requests = {r[0]: r for r in rows if r[3] is None}
+    finals = {r[0]: r[3] for r in rows if r[3] is not None}
+    assert requests[4][1:3] == ("countdown_cancel", '{"goal": 3}')
+    assert finals == {3: "canceled", 4: "ok"}, rows
