@@ -276,7 +276,7 @@ class FocusedRun:
                 print(f"          {line}")
                 continue
             spent = sum(trace.sim_s for _, trace in result.orig.made)
-            self.batches.session.progress.spent(spent)
+            self.batches.tally.progress.spent(spent)
             print(f"          shrunk in {spent:,.0f} mission s: " + line.split(": ", 1)[1])
 
     def _stop(self, reason: str, tests: int) -> str:
