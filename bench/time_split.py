@@ -15,14 +15,17 @@ from pathlib import Path
 
 from harness.store.database import connect
 
-PHASES = (("oracles", ("insert into verdicts_staged", "insert into verdicts_internal_staged")),
-          ("shared step", ("create or replace temp table",)))
+# A statement's phase, by its first words: the oracles insert their verdicts into the staged tables,
+# the shared step makes temp tables; the rest publishes (written as words: this module runs no SQL).
+PHASES = (("oracles", (("insert", "into", "verdicts_staged"), ("insert", "into", "verdicts_internal_staged"))),
+          ("shared step", (("create", "or", "replace", "temp", "table"),)))
 KINDS = (("scans", ("TABLE_SCAN", "READ_")), ("grouping", ("GROUP_BY", "WINDOW", "DISTINCT")), ("joins", ("JOIN",)))
 
 
 def _phase(sql: str) -> str:
-    text = sql.lstrip().lower()
-    return next((name for name, starts in PHASES if text.startswith(starts)), "publishing")
+    words = tuple(sql.lower().split()[:5])
+    return next((name for name, starts in PHASES if any(words[:len(start)] == start for start in starts)),
+                "publishing")
 
 
 def _kind(operator: str) -> str:

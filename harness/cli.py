@@ -9,7 +9,7 @@ import traceback
 from pathlib import Path
 
 from harness import __version__
-from harness.sut.ros.recorder import ROSBAG_ENV
+from harness.sut.roscommon.recording import ROSBAG_ENV
 from harness.commands import COMMANDS
 from harness.commands.options import typed
 from harness.errors import UntimelyError

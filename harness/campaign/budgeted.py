@@ -104,6 +104,7 @@ class FocusedRun:
             print(f"campaign {self.campaign_id} is complete; nothing to run")
             return self.stopped
         n, ahead = 0, []
+        self._shrink(self._golden_findings())
         while True:
             current = ahead.pop(0) if ahead else self._round(n)
             if isinstance(current, str):
@@ -116,6 +117,13 @@ class FocusedRun:
             if current.cut is not None:
                 return self._stop("budget", n)
             self._release(ahead)
+
+    def _golden_findings(self) -> list[tuple[Task, str | None, str]]:
+        """What the golden runs showed (judged before the campaign runs): shrunk like a test's finding,
+        so a test that shows it again does not shrink it. The stopping rule counts tests only."""
+        golden = runs.tasks([(self.golden_id, "")], self.golden_id, self.config)
+        return [(task, property_id, kind) for task in golden
+                for property_id, kind in sorted(self.shown.get(task.trace_id, ()), key=str)]
 
     def _round(self, n: int) -> Round | str:
         """The round from test n, started; or why the campaign stops before it."""
@@ -268,7 +276,7 @@ class FocusedRun:
                 print(f"          {line}")
                 continue
             spent = sum(trace.sim_s for _, trace in result.orig.made)
-            self.batches.session.progress.spent(spent)
+            self.batches.tally.progress.spent(spent)
             print(f"          shrunk in {spent:,.0f} mission s: " + line.split(": ", 1)[1])
 
     def _stop(self, reason: str, tests: int) -> str:

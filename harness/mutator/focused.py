@@ -7,14 +7,15 @@ send s with one exceptional value of one argument (harness.mutator.values.cases:
 value, those inside the domain disturbances), anywhere, or, for a state-dependent domain, while
 r runs. A test for it is
   1. the context: the golden script's sends of the services s and r need (their modules' inits,
-     the Q of the PC properties naming them, transitively), in the golden's order, with the golden's waits on
-     them given a timeout (twice the longest run the golden showed, plus a second). A module's inits
-     need each other (each is an init of the others' module): that cycle is sent in the golden's
-     order too; a cycle of PC properties alone (x needs q ok before, q needs x) is refused, as no
-     service of it can be sent first;
-  2. the perturbation: s alone (q never sent, or s with its exceptional value), q then s (s lands
-     while q runs), r then s (in r's start phase), or r, a sleep shorter than r's shortest golden
-     run, then s;
+     the Q of the PC properties naming them, the golden's entry into the state an IN or OUT property
+     needs: harness.mutator.states; transitively), less those leaving the state r needs, in the golden's
+     order, with the golden's waits on them given a timeout (twice the longest run the golden showed,
+     plus a second). A module's inits need each other (each is an init of the others' module):
+     that cycle is sent in the golden's order too; a cycle of PC properties alone (x needs q ok
+     before, q needs x) is refused, as no service of it can be sent first;
+  2. the perturbation: s alone (q never sent, or s with its exceptional value, or after q in the
+     context ended ok: an IN or OUT property's state left), q then s (s lands while q runs), r
+     then s (in r's start phase), or r, a sleep shorter than r's shortest golden run, then s;
   3. after SETTLE_S, the request that ended r or s in the golden run if it never ends by itself
      (the golden's Stop); then the executive's drain (DRAIN_S) awaits the outstanding finals.
 So a test's mission time has an upper bound known before it runs (`bound_s`), which is what
@@ -37,6 +38,7 @@ from harness.sut.executive import DRAIN_S, REACTION_S
 from harness.target.interface import Interface, Property
 from harness.target.mission import PROPERTIES_FILE
 from harness.mutator.operators import Mutant, plausible, random_request, step_text, validated
+from harness.mutator.states import entry_needs, leavers
 from harness.mutator.targeted import Falsifier, disturbers, falsifiers
 from harness.mutator.timeline import Timeline
 from harness.mutator.values import cases, with_value
@@ -56,18 +58,19 @@ SHOWN_CHARS = 20  # of an exceptional value, in a situation (an over-long text i
 class Aim:
     properties: tuple[str, ...]  # the properties whose condition it falsifies (or probes)
     send: str  # s
-    phase: str  # "without" q, "during" q, r's "start", r "running", or a "value" alone
+    phase: str  # "without" q, "during" q, "after" q ended ok, r's "start", r "running", or a "value" alone
     other: str  # q or r ("" for a value alone)
     disturb: bool = False
     value: tuple[str, str, str | None] | None = None  # s's (argument, class, word; None: left out)
 
     @property
     def timed(self) -> bool:
-        return self.phase not in ("without", "value")
+        return self.phase not in ("without", "after", "value")
 
     def situation(self) -> str:
         what = {"without": "{s} with {o} never sent", "during": "{s} while {o} runs (before it ended ok)",
-                "start": "{s} in the start phase of {o}", "running": "{s} while {o} runs", "value": "{s}"}[self.phase]
+                "after": "{s} after {o} ended ok", "start": "{s} in the start phase of {o}",
+                "running": "{s} while {o} runs", "value": "{s}"}[self.phase]
         send = self.send
         if self.value:
             argument, kind, word = self.value
@@ -102,6 +105,8 @@ def aims(properties: list[Property], interface: Interface) -> list[Aim]:
                     keys += _value_keys(f, s, interface)
                 elif f.kind == "before_ok":
                     keys += [(s, phase, q, f.disturb, None) for q in f.need for phase in ("without", "during")]
+                elif f.kind == "after_ok":
+                    keys += [(s, "after", q, f.disturb, None) for q in f.need]
                 else:
                     keys += [(s, phase, r, f.disturb, None) for r in f.running for phase in ("start", "running")]
         per_property.append([(prop.id, k) for k in keys])
@@ -129,6 +134,11 @@ class Builder:
                 for x in p.x:
                     self.needs.setdefault(x, set()).update(p.q)
                     self.declared.update({(x, q): p.id for q in p.q if (x, q) not in self.declared})
+        # ... and the service whose ok put it in the state an IN or OUT property needs, the golden's way,
+        # without those that leave that state (harness.mutator.states).
+        for x, entries in entry_needs(properties, timeline).items():
+            self.needs.setdefault(x, set()).update(entries)
+        self.leaves = leavers(properties)
         self.runs: dict[str, list[float]] = {}
         for a in timeline.activities:
             if a.accepted and a.end is not None:
@@ -227,18 +237,25 @@ class Builder:
             hi = max(lo, min([hi] + [0.9 * d for d in self.runs.get(aim.other, [])]))
         return [Step(0, "sleep", seconds=plausible(lo * (hi / lo) ** rng.random()))]
 
+    def running_context(self, aim: Aim, wanted: list[str]) -> list[str]:
+        """`wanted` without the services that leave the state r (the activity that must run: the aim's
+        other) needs, unless r's own context has them (it left that state and came back)."""
+        own = self.closure([aim.other])
+        return [s for s in wanted if s in own or s not in self.leaves.get(aim.other, ())]
+
     def test(self, aim: Aim, rng: random.Random, repeat: bool) -> list[Step]:
-        if aim.phase == "value":
-            steps = self.context(self.closure([aim.send]), rng)
+        if aim.phase in ("value", "after"):  # q's context and q (awaited) before s
+            after = [aim.other] if aim.phase == "after" else []
+            steps = self.context(self.closure([aim.send, *after]) + after, rng)
         elif aim.phase in ("without", "during"):
             wanted = self.closure([aim.send], without=aim.other)
             if aim.phase == "during":
-                wanted += [s for s in self.closure([aim.other]) if s not in wanted]
+                wanted = self.running_context(aim, wanted + [s for s in self.closure([aim.other]) if s not in wanted])
             steps = self.context(wanted, rng)
             if aim.phase == "during":
                 steps += [self.request(aim.other, rng)]
         else:
-            steps = self.context(self.closure([aim.send, aim.other]), rng)
+            steps = self.context(self.running_context(aim, self.closure([aim.send, aim.other])), rng)
             steps += [self.request(aim.other, rng)]
         steps += self.sleep(aim, rng, repeat) + [self.request(aim.send, rng, value=aim.value)]
         enders = list(dict.fromkeys(self.enders[s] for s in (aim.other, aim.send) if s in self.enders))

@@ -7,6 +7,9 @@ basic type says what falsifies its condition (docs/reference/verdicts.md):
 - PC[x, Q]: an x sent before every q in Q has ended ok (before q is sent, or while it runs);
 - ES[x, y]: an x sent while a y runs;  EE[x, y]: a y sent while an accepted x runs;
 - EX = ES and EE; MX_R = ES both ways; MX_I = EE both ways;
+- IN[x, Q, Y] (x only inside a span that a q's ok enters and a y's ok leaves): x with a q never
+  sent or while it runs, x after a y ended ok, x while a y runs; OUT[x, Q, Y] (x only outside
+  every span): x after a q ended ok, x while a q runs;
 - VAL[x]: an x whose argument lies outside its domain, anywhere its preconditions hold; with y and
   a narrowed domain, an x legal at rest but outside the narrowed domain, while a y runs
   (harness/mutator/values.py makes the value). Aimed at only with --value-mutations.
@@ -14,7 +17,8 @@ basic type says what falsifies its condition (docs/reference/verdicts.md):
 "While r runs" is either a place where the golden run had r running (after an optional sleep,
 so the activity is past its start), or a fresh r followed, after an optional sleep, by the
 request: without the sleep it lands in r's start phase. A fresh request is placed where its own
-preconditions (the Q of the PC properties it is an x of) had ended ok, so the layer accepts it.
+preconditions hold (the Q of the PC properties it is an x of had ended ok, and the golden run was in
+the state its IN and OUT properties need: harness/mutator/states.py), so the layer accepts it.
 For EE-type properties a quarter of the aims instead send a request of x's module that does not
 dominate x while x runs (an Init during an activity): C stays true, a layer that interrupts
 anyway shows a false positive.
@@ -32,6 +36,7 @@ from typing import Callable
 from harness.target.interface import Interface, Property
 from harness.target.property_types import interruptions
 from harness.mutator.operators import Draw, Mutant, plausible, random_request, step_text, validated
+from harness.mutator.states import Spans
 from harness.target.script import Script, Step
 from harness.mutator.timeline import Timeline
 from harness.mutator.values import falsifying_request
@@ -48,8 +53,9 @@ VALUE_TYPES = ("VAL",)  # property types whose conditions depend on argument val
 
 @dataclass(frozen=True)
 class Falsifier:
-    """Send one of `send` before every one of `need` has ended ok (`before_ok`), or while one of
-    `running` runs (`during`); `disturb` marks a request that leaves C true."""
+    """Send one of `send` before every one of `need` has ended ok (`before_ok`), after one of `need`
+    ended ok (`after_ok`), or while one of `running` runs (`during`); `disturb` marks a request that
+    leaves C true."""
     kind: str
     send: tuple[str, ...]
     need: tuple[str, ...] = ()
@@ -64,6 +70,11 @@ def _ee(x, y) -> Falsifier:
 
 def _es(x, y) -> Falsifier:
     return Falsifier("during", send=tuple(x), running=tuple(y))
+
+
+def _left(x, leave) -> list[Falsifier]:
+    """x once a service that leaves its state ended ok, and while it runs."""
+    return [Falsifier("after_ok", send=tuple(x), need=tuple(leave)), _es(x, leave)] if leave else []
 
 
 def _generic(prop: Property) -> list[Falsifier]:
@@ -82,6 +93,8 @@ AIMS = {"PC": lambda p: [Falsifier("before_ok", send=p.x, need=p.q)],
         "EX": lambda p: [_es(p.x, p.y), _ee(p.x, p.y)],
         "MX_R": lambda p: [_es(p.x, p.y), _es(p.y, p.x)],
         "MX_I": lambda p: [_ee(p.x, p.y), _ee(p.y, p.x)],
+        "IN": lambda p: [Falsifier("before_ok", send=p.x, need=p.q)] + _left(p.x, p.y),
+        "OUT": lambda p: _left(p.x, p.q),
         "VAL": lambda p: [Falsifier("during", send=p.x, running=p.y, values=p.domain) if p.y
                           else Falsifier("anywhere", send=p.x, values={})]}
 
@@ -93,7 +106,7 @@ def falsifiers(prop: Property) -> list[Falsifier]:
 def disturbers(prop: Property, interface: Interface) -> list[Falsifier]:
     """For each x of a property whose template says its activities may be interrupted (EE, EX,
     MX_I): its module's services that neither are x nor dominate it."""
-    if not interruptions()[prop.type]:
+    if not interruptions().get(prop.type):  # a type without a template here (a Property made in code) has none
         return []
     found = []
     for x in prop.x:
@@ -116,6 +129,7 @@ class Planner:
             if p.type == "PC":
                 for x in p.x:
                     self.needs.setdefault(x, set()).update(p.q)
+        self.spans = Spans(properties, timeline)  # the states IN and OUT properties need
 
     def _request(self, service: str, f: Falsifier | None = None) -> Step:
         """A request of `service`, its values legal, or illegal as `f` wants them."""
@@ -127,7 +141,7 @@ class Planner:
         return falsified[0] if falsified else step
 
     def _ready(self, p: int, service: str) -> bool:
-        return self.needs.get(service, set()) <= self.timeline.ended_ok(p)
+        return self.needs.get(service, set()) <= self.timeline.ended_ok(p) and self.spans.hold(p, service)
 
     def _sleep(self, running: str) -> list[Step]:
         if self.rng.random() < START_PHASE_SHARE:
@@ -149,6 +163,10 @@ class Planner:
             places = [p for p in positions if not set(f.need) <= self.timeline.ended_ok(p)]
             return (rng.choice(places), [self._request(send)],
                     f"{send} before {' and '.join(f.need)} ended ok") if places else None
+        if f.kind == "after_ok":
+            places = [p for p in positions if set(f.need) & self.timeline.ended_ok(p)]
+            return (rng.choice(places), [self._request(send)],
+                    f"{send} after {' or '.join(f.need)} ended ok") if places else None
         running = [p for p in positions if self.timeline.running(p, f.running)
                    and self._ready(p, send)]
         if running and rng.random() < 0.5:

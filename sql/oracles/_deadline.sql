@@ -73,3 +73,11 @@ list_sort(list_distinct(list_filter([
 {%- endfor %}
 ], lambda other: other is not null and other <> verdict)))
 {%- endmacro %}
+
+{% macro deadline_item(source) -%}
+{#- The item `deadline` that explain shows beside a type's other items: how far the decisive end
+    was from the deadline, and `caller()`'s words for it. -#}
+select trace_id, rqst_id, 'deadline', false, abs(decided_t - due_t), abs(decided_t - due_t), false,
+       {{ caller() }}
+    from {{ source }}
+{%- endmacro %}

@@ -73,13 +73,12 @@ case when goal_id is null then (case when reply is null then 'omega' else 'op' e
            g_class is not distinct from 'R' as conflict_rejected, null::varchar as detail
     from {{ name }}_cancels where goal_id is not null
     union all
-    select trace_id, rqst_id, 'deadline', false, abs(decided_t - due_t),
-           abs(decided_t - due_t), false,
+    {% call due.deadline_item(name ~ "_cancels where goal_id is not null") -%}
            printf('cancel sent at %.6f s: goal %s due to end %s by %.6f s (deadline %g s); %s at %.6f s', sent_t,
                   goal_id::varchar, {{ z_p | lit }}, due_t, deadline,
                   case when g_final_t is null then 'no end; the trace ended' else 'it ended' end, decided_t)
                || case when {{ due.after('decided_t', 'due_t') }} then ': late' else ': in time' end
-    from {{ name }}_cancels where goal_id is not null
+    {%- endcall %}
 ),
 {{ name }}_facts as (
     select *, {{ due.after('decided_t', 'due_t') }} as late, {{ judge.near('movable', 'epsilon') }} as running_near,

@@ -87,11 +87,11 @@ case when not {{ running }} then (case when reply is null then 'omega' when clas
     select trace_id, rqst_id, item, conflicts, shift, movable, conflict_rejected, null::varchar as detail
     from {{ name }}_placed
     union all
-    select trace_id, rqst_id, 'deadline', false, abs(decided_t - due_t), abs(decided_t - due_t), false,
+    {% call due.deadline_item(name ~ "_verdict where running") -%}
            printf('sent at %.6f s: the goals executing then due to end by %.6f s (deadline %g s), before it moves (%s); %s',
                   sent_t, due_t, deadline, coalesce(printf('at %.6f s', moved_t), 'never'),
                   case when last_end_t = 'infinity' then 'one never ended' else printf('the last ended at %.6f s', last_end_t) end)
-    from {{ name }}_verdict where running
+    {%- endcall %}
 ),
 {{ name }}_judged as (
     select trace_id, rqst_id, module, service, reply, not running as c_holds, verdict,

@@ -77,12 +77,12 @@ case when class = 'R' then 'op'
     select trace_id, rqst_id, item, conflicts, shift, movable, conflict_rejected, null::varchar as detail
     from {{ name }}_placed
     union all
-    select trace_id, rqst_id, 'deadline', false, abs(decided_t - due_t), abs(decided_t - due_t), false,
+    {% call due.deadline_item(name ~ "_verdict where running") -%}
            printf('the node left the state at %.6f s: due to end by %.6f s (deadline %g s); %s at %.6f s',
                   due_t - deadline, due_t, deadline,
                   case when reply is null then 'no end; the trace ended' else 'it ended' end, decided_t)
                || case when late then ': late' else ': in time' end
-    from {{ name }}_verdict where running
+    {%- endcall %}
 ),
 {{ name }}_judged as (
     select trace_id, rqst_id, module, service, reply, case when class is distinct from 'R' then not running end as c_holds,

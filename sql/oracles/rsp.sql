@@ -44,12 +44,11 @@ case when {{ late }} then 'FN' when reply is null then 'omega' else 'TN' end
            null::varchar as detail
     from {{ name }}_met
     union all
-    select trace_id, rqst_id, 'deadline', false, abs(decided_t - due_t),
-           abs(decided_t - due_t), false,
+    {% call due.deadline_item(name ~ "_timed") -%}
            printf('sent at %.6f s, due by %.6f s (deadline %g s), %s at %.6f s', sent_t, due_t, deadline,
                   case when reply is null then 'no reply; the trace ended' else 'answered' end, decided_t)
                || case when {{ due.after('decided_t', 'due_t') }} then ': late' else ': in time' end
-    from {{ name }}_timed
+    {%- endcall %}
 ),
 {{ name }}_verdict as (
     select t.*, not coalesce(c.running, false) as c_holds, {{ due.after('decided_t', 'due_t') }} as late,

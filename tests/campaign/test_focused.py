@@ -12,7 +12,7 @@ from harness.mutator.focused import Plan, bound_s
 from harness.mutator.timeline import Timeline
 from harness.sut.executive import run_script
 from harness.target.mission import load_mission
-from tests.support.toy_target import GOLDEN, INTERFACE, PROPERTIES
+from tests.support.toy_target import GOLDEN, INTERFACE, LAYER, PROPERTIES
 
 sys.path.insert(0, str(ROOT / "bench"))
 from defects import expected, exposed  # noqa: E402  (bench/defects.py: what each defect must show)
@@ -197,3 +197,42 @@ def test_a_campaign_stopped_during_a_shrink_stores_its_runs_and_shrinks_again_wh
                              from campaigns where config->>'kind' = 'shrink' order by campaign_id""").fetchall()
     assert shrinks[0][2] and (shrinks[0][0], shrinks[0][1], False) in shrinks[1:]
     assert con.execute("select shrink_s from campaign_budgets").fetchone()[0] >= runs_s
+
+
+# The toy's golden with its pump started while the valve opens: the leaky layer (no DRY) accepts it.
+GOLDEN_SHOWING_DRY = """send pump.Init as p
+send valve.Init as v
+wait all
+send valve.Open as open
+send pump.Run as run
+sleep 2
+send pump.Halt as halt
+wait all
+"""
+
+
+def test_a_finding_the_golden_run_shows_is_shrunk_like_any_other(tmp_path, capsys):
+    """Before, only a test's finding was shrunk: one the golden showed (and no test did) never was."""
+    toy = tmp_path / "toy"
+    toy.mkdir()
+    for name, text in (("interface.toml", INTERFACE), ("layer.toml", LAYER), ("properties.toml", PROPERTIES),
+                       ("golden.mission", GOLDEN_SHOWING_DRY)):
+        (toy / name).write_text(text)
+    db = tmp_path / "g.duckdb"
+    args = ["campaign", "--mission", str(toy), "--strategy", "focused", "--mutants", "0", "--shrink",
+            "--sut", "good,leaky", "--max-delay", "0", "--jobs", "1", "--db", str(db)]
+    assert cli(args) == 0  # no test at all: what is found and shrunk is the golden's
+    out = capsys.readouterr().out
+    con = store.connect(db, read_only=True)
+    (golden_trace,) = con.execute("""select trace_id from traces join scripts using (script_id)
+                                     where kind = 'golden' and sut = 'leaky'""").fetchone()
+    assert f"found     leaky: FN on DRY(pump.Run) (trace {golden_trace}," in out
+    found = con.execute("select sut, property_id, kind, first_trace, reproducer_steps from findings").fetchall()
+    assert found == [("leaky", "DRY(pump.Run)", "FN", golden_trace, found[0][4])] and found[0][4] is not None
+    shrunk = con.execute("""select s.body from scripts s join campaigns c using (campaign_id)
+                            where s.kind = 'shrunk' and c.config->>'trace' = ?""", [str(golden_trace)]).fetchall()
+    assert len(shrunk) == 1 and found[0][4] < GOLDEN_SHOWING_DRY.count("\n")
+    assert "send valve.Open" in shrunk[0][0] and "send pump.Run" in shrunk[0][0]
+    con.close()
+    assert cli(args) == 0  # resumed: nothing shrunk again
+    assert "shrunk in" not in capsys.readouterr().out

@@ -6,7 +6,7 @@ import re
 import pytest
 
 from harness import ROOT, SQL_DIR
-from harness.sut.ros.mapping import TERMINAL_STATUSES
+from harness.sut.roscommon.mapping import TERMINAL_STATUSES
 from harness.cli import _parser
 from harness.sut.definitions import KEYS as SUT_KEYS
 from harness.store.sql import VERDICTS

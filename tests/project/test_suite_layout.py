@@ -73,7 +73,7 @@ AREAS = {
     "sut/simulated": ["harness.sut.simulated"],
     "sut/dala": ["harness.sut.dala"],
     "sut/external": ["harness.sut", "harness.sut.external"],
-    "sut/ros": ["harness.sut.ros", "harness.sut.bags"],
+    "sut/ros": ["harness.sut.ros", "harness.sut.roscommon", "harness.sut.bags"],
     "sut/ros2": ["harness.sut.ros2"],
     "dispatch": ["harness.dispatch"],
     "store": ["harness.store"],

@@ -7,7 +7,7 @@ import pytest
 
 from harness.cli import main
 
-from harness.sut.ros.mapping import load_mapping
+from harness.sut.roscommon.mapping import load_mapping
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface, load_properties
 from harness.target.ros2_graph import LONG_RUN, derive

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pyarrow as pa
 
-from harness.sut.ros.mapping import load_mapping
+from harness.sut.roscommon.mapping import load_mapping
 from harness.errors import InputFileError, UntimelyError
 from harness.sut.bags.routes import Routes
 from harness.target.interface import Interface

@@ -1,10 +1,8 @@
 """What the bag readers share: the interface's routes (ros.toml), a goal's arguments and its final code."""
 from __future__ import annotations
 
-import json
-
-from harness.sut.ros.mapping import Mapping
-from harness.sut.ros.routes import Route, read_field
+from harness.sut.roscommon.mapping import Mapping
+from harness.sut.roscommon.routes import Route, generic_arguments, read_field
 from harness.errors import UntimelyError
 from harness.target.interface import Interface
 
@@ -37,11 +35,7 @@ class Routes:
             service = next((q for q, _ in carried if q.split(".")[1] == goal.service), None)
             if service is None:
                 return None
-            try:
-                args = json.loads(goal.args_json or "{}")
-            except ValueError:
-                args = None
-            return service, args if isinstance(args, dict) else None
+            return service, generic_arguments(goal)
         if len(carried) > 1:  # services sharing one ROS service (lifecycle transitions) differ by their defaults
             qualified, route = _by_defaults(carried, goal, self.mapping.path)
         args = {argument: _field(goal, path, qualified, self.mapping.path) for argument, path in route.fields.items()}

@@ -19,12 +19,12 @@ import os
 import shutil
 import sys
 
-from harness.sut.ros.lines import LineWriter, read_hello, run_main, serve
-from harness.sut.ros.mapping import interface_services, load_mapping
+from harness.sut.roscommon.lines import LineWriter, read_hello, run_main, serve_runs
+from harness.sut.roscommon.mapping import interface_services, load_mapping
 from harness.sut.processes import Child, stop_all
 from harness.sut.ros.master import ros_home, start_master
-from harness.sut.ros.recorder import (recorded_topics, recording_folder, start_recorder, stop_recorder,
-                                          wait_connected)
+from harness.sut.ros.recorder import recorded_topics, start_recorder, stop_recorder, wait_connected
+from harness.sut.roscommon.recording import recording_folder
 from harness.errors import UntimelyError
 from harness.sut.protocol import PROTO
 
@@ -61,7 +61,7 @@ def run(args, out: LineWriter) -> None:
     try:
         master, env = start_master(home, args.startup_timeout)
         children.append(master)
-        first = hello = read_hello(sys.stdin)
+        hello = read_hello(sys.stdin)
         if hello is None:
             return
         time_scale = hello["time_scale"]
@@ -77,20 +77,19 @@ def run(args, out: LineWriter) -> None:
         rospy.init_node("untimely_adapter", disable_signals=True, disable_rosout=True)
         ros_up = True
         adapter = Adapter(mapping, hello["interface"], time_scale, out.write)
-        reusable = mapping.reset_service is not None and not recorder
-        runs = 0
-        while hello is not None:
+
+        def ready() -> None:
             adapter.wait_for_servers(args.startup_timeout, node.failure)
             if recorder:
                 wait_connected(recorder, topics, env, args.startup_timeout)
-            runs += 1
+
+        def greet(runs: int, offers: list[str]) -> None:
             adapter.hello(PROTO, f"ROS 1 actionlib adapter (master {env['ROS_MASTER_URI']}; node: "
-                                 f"{' '.join(args.node)}; run {runs} of this master)", ["reuse"] if reusable else [])
-            if not (serve(adapter, sys.stdin) and reusable) or node.failure():
-                break
-            adapter.end_run()
-            reset(mapping.reset_service, args.startup_timeout)
-            hello = read_hello(sys.stdin, first)
+                                 f"{' '.join(args.node)}; run {runs} of this master)", offers)
+
+        reusable = mapping.reset_service is not None and not recorder
+        serve_runs(adapter, hello, node, ready, greet,
+                   (lambda: reset(mapping.reset_service, args.startup_timeout)) if reusable else None)
     finally:
         if recorder:
             stop_recorder(recorder)

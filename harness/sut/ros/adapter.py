@@ -30,11 +30,11 @@ import rospy
 from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from std_msgs.msg import String
 
-from harness.sut.ros.bridge import Bridge
-from harness.sut.ros.mapping import Mapping, interface_services
+from harness.sut.roscommon.bridge import Bridge
+from harness.sut.roscommon.mapping import Mapping, interface_services
 from harness.sut.ros.messages import action_classes, fill, service_class
-from harness.sut.ros.replies import Replies
-from harness.sut.ros.routes import Route
+from harness.sut.roscommon.replies import Replies
+from harness.sut.roscommon.routes import Route
 from harness.errors import UntimelyError
 
 STATUS_NAMES = {getattr(GoalStatus, name): name for name in

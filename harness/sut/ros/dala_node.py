@@ -41,10 +41,11 @@ from actionlib_msgs.msg import GoalStatus
 from std_msgs.msg import String
 from std_srvs.srv import Trigger, TriggerResponse
 
-from harness.sut.ros.mapping import load_mapping
-from harness.sut.ros.node_args import dala_arguments
+from harness.sut.roscommon.mapping import load_mapping
+from harness.sut.roscommon.node_args import dala_arguments
 from harness.sut.ros.messages import action_classes, service_class
-from harness.sut.ros.routes import Route, read_field
+from harness.sut.roscommon.layer_face import LayerFace
+from harness.sut.roscommon.routes import Route, generic_arguments, read_field
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.sut.simulated.host import LayerHost
@@ -53,7 +54,18 @@ from harness.target.mission import INTERFACE_FILE, ROS_MAPPING_FILE, WORLD_FILE
 HEARTBEAT_HZ = 5.0  # actionlib's default status rate
 
 
-class Goal:
+class Ending:
+    """A request's replies as the layer gives them (layer_face.py): `started` on its intermediate, `end` on
+    its final."""
+
+    def reply(self, kind: str, code: str | None) -> None:
+        if kind == "intermediate":
+            self.started()
+        elif kind == "final":
+            self.end(code)
+
+
+class Goal(Ending):
     """A request that came as a goal: the layer's replies set its status (module doc)."""
 
     def __init__(self, handle, replies: dict[str, str], result_class, feedback_class, route: Route):
@@ -87,7 +99,7 @@ class Goal:
             handle.set_aborted(result, code)
 
 
-class Call:
+class Call(Ending):
     """A request that came as a ROS service call: the call waits for the final reply."""
 
     def __init__(self, call_id: str):
@@ -101,7 +113,7 @@ class Call:
         self.done.set()
 
 
-class DalaNode:
+class DalaNode(LayerFace):
     def __init__(self, variant: str, mission: Path, mapping: Path, time_scale: float):
         self.interface = load_interface(mission / INTERFACE_FILE)
         self.mapping = load_mapping(mapping)
@@ -115,7 +127,7 @@ class DalaNode:
         self.pong = rospy.Publisher(self.mapping.pong_topic, String, queue_size=100) \
             if self.mapping.ping_topic else None
         self.ids = itertools.count(1)
-        self.goals: dict[int, Goal | Call] = {}
+        self.open: dict[int, Goal | Call] = {}
         routes = self.mapping.routes([(s.module, s.name) for s in self.interface.services.values()])
         # generic action name -> {goal's service name -> "module.Service"}
         self.generic: dict[str, dict[str, str]] = {}
@@ -138,16 +150,12 @@ class DalaNode:
         return LayerHost(self.variant, self.interface, self.world_file, self.time_scale,
                          on_world=self._world, on_error=self._failed)
 
-    def _start_host(self) -> None:
-        self.host.start()
-        self.origin = time.time() - self.host.env.clock() / self.time_scale  # wall-clock epoch of the host's t = 0
-
     def _reset(self, _request) -> TriggerResponse:
         """A fresh layer; the ended run's goals and calls end `reset` (the adapter has forgotten them)."""
         self.host.stop()  # its thread joined: no reply of the old layer follows
-        for ending in list(self.goals.values()):
+        for ending in list(self.open.values()):
             ending.end("reset")
-        self.goals.clear()
+        self.open.clear()
         self.host = self._new_host()
         self._start_host()
         return TriggerResponse(success=True, message=f"a fresh {self.variant} layer")
@@ -164,10 +172,6 @@ class DalaNode:
             rospy.Subscriber(self.mapping.ping_topic, String, self._ping)
         threading.Thread(target=self._heartbeat, name="heartbeat", daemon=True).start()
 
-    def _stamp(self, t: float) -> float:
-        """The wall-clock epoch of host time t (mission seconds)."""
-        return self.origin + t / self.time_scale
-
     # -- goals -> layer requests (ROS threads) -------------------------------------------------
     def _goal_for(self, qualified: str, route: Route, classes):
         result_class, feedback_class = classes.Result, classes.Feedback
@@ -176,12 +180,8 @@ class DalaNode:
         def receive(handle) -> None:
             goal = handle.get_goal()
             if route.generic:
-                target = services.get(goal.service)
-                try:
-                    args = json.loads(goal.args_json or "{}")
-                except ValueError:
-                    args = None
-                if target is None or not isinstance(args, dict):
+                target, args = services.get(goal.service), generic_arguments(goal)
+                if target is None or args is None:
                     problem = f"{route.name} serves {sorted(services)}; goal {goal.service!r} {goal.args_json!r}"
                     handle.set_rejected(result_class(code=problem), problem)
                     return
@@ -203,32 +203,11 @@ class DalaNode:
             return response
         return serve
 
-    def _request(self, qualified: str, args: dict, ending) -> None:
-        rqst_id = next(self.ids)
-        self.goals[rqst_id] = ending
-        # The layer reads argument values as text, whatever their type (as the simulator adapter).
-        self.host.request(rqst_id, qualified, {k: str(v) for k, v in args.items()}, self._reply)
+    def _publish_json(self, publisher, payload: dict) -> None:
+        publisher.publish(json.dumps(payload))
 
-    # -- layer replies -> goal statuses or responses (the host's thread) -----------------------
-    def _reply(self, rqst_id: int, kind: str, code: str | None, t: float) -> None:
-        ending = self.goals[rqst_id]
-        if self.internal_pub:
-            self.internal_pub.publish(json.dumps({"goal_id": ending.id, "kind": kind,
-                                                  "code": code, "stamp": self._stamp(t)}))
-        if kind == "intermediate":
-            ending.started()
-        elif kind == "final":
-            del self.goals[rqst_id]
-            ending.end(code)
-
-    def _world(self, t: float, kind: str, detail: str) -> None:
-        if self.world_pub:
-            self.world_pub.publish(json.dumps({"stamp": self._stamp(t), "kind": kind, "detail": json.loads(detail)}))
-
-    def _failed(self, message: str) -> None:
-        self.failure = message
-        print(f"dala_node: the simulated layer failed: {message}", file=sys.stderr, flush=True)
-        rospy.signal_shutdown(message)
+    def _shut_down(self, reason: str) -> None:
+        rospy.signal_shutdown(reason)
 
     # -- liveness ------------------------------------------------------------------------------
     def _ping(self, ping: String) -> None:

@@ -22,7 +22,7 @@ import genmsg
 import genmsg.msg_loader
 import genpy.dynamic
 
-from harness.sut.ros.routes import GENERIC_TYPE, Route
+from harness.sut.roscommon.routes import GENERIC_TYPE, Route
 from harness.errors import UntimelyError
 
 SEPARATOR = "\n" + "=" * 80 + "\n"

@@ -16,17 +16,15 @@ topics: a bag cannot hold their calls.
 """
 from __future__ import annotations
 
-import os
 import signal
 import subprocess
 import time
 import xmlrpc.client
 from pathlib import Path
 
-from harness.sut.ros.mapping import Mapping
+from harness.sut.roscommon.mapping import Mapping
 from harness.sut.processes import Child, ChildError
 
-ROSBAG_ENV = "UNTIMELY_ROSBAG"
 ACTION_TOPICS = ("goal", "cancel", "status", "feedback", "result")
 RECORDER_NODE = "untimely_record"  # its node name; the master and the publishers say "/untimely_record"
 CALLER = "/untimely"  # our caller id in XML-RPC calls to the master and the nodes
@@ -101,7 +99,3 @@ def stop_recorder(recorder: Recorder, timeout_s: float = 10.0) -> None:
         recorder.process.wait(timeout_s)
     except subprocess.TimeoutExpired:
         recorder.stop()
-
-
-def recording_folder() -> str | None:
-    return os.environ.get(ROSBAG_ENV) or None

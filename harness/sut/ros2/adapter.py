@@ -21,7 +21,7 @@ from the mapping file (ros2.toml). Rules:
   the node is up, introspection.py; the hello's `taken_services`): the server's event of receiving
   the request, a goal's named by its id, a call's by its sequence number, is relayed as a `taken`
   reply when it is the request's first news; one arriving after the feedback or response gives
-  none (harness/sut/ros/replies.py); no `taken` is ever made up;
+  none (harness/sut/roscommon/replies.py); no `taken` is ever made up;
 - a request of a service the mapping's [cancels] names is a cancel request, of the goal its
   `goal` argument names or else of the latest goal of the service it names, sent to that action's
   cancel_goal (the cancel service needs no route); the cancel's response is its final reply
@@ -49,10 +49,10 @@ from rclpy.service_introspection import ServiceIntrospectionState
 from std_msgs.msg import String
 from unique_identifier_msgs.msg import UUID
 
-from harness.sut.ros.bridge import Bridge
-from harness.sut.ros.mapping import Mapping, check_cancels, interface_kinds, interface_services
-from harness.sut.ros.replies import Replies
-from harness.sut.ros.routes import Route
+from harness.sut.roscommon.bridge import Bridge
+from harness.sut.roscommon.mapping import Mapping, check_cancels, interface_kinds, interface_services
+from harness.sut.roscommon.replies import Replies
+from harness.sut.roscommon.routes import Route
 from harness.sut.ros2 import introspection
 from harness.sut.ros2.cancels import send_cancel
 from harness.sut.ros2.lifecycle import Lifecycle

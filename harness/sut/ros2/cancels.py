@@ -21,7 +21,7 @@ from action_msgs.srv import CancelGoal
 from rclpy.action.client import ClientGoalHandle
 from unique_identifier_msgs.msg import UUID
 
-from harness.sut.ros.replies import Replies
+from harness.sut.roscommon.replies import Replies
 from harness.errors import UntimelyError
 
 RESPONSES = {getattr(CancelGoal.Response, name): name for name in

@@ -31,7 +31,6 @@ import itertools
 import json
 import os
 import sys
-import time
 from pathlib import Path
 
 import rclpy
@@ -44,9 +43,10 @@ from rclpy.service_introspection import ServiceIntrospectionState
 from rclpy.task import Future
 from std_msgs.msg import String
 
-from harness.sut.ros.mapping import load_mapping
-from harness.sut.ros.node_args import dala_arguments
-from harness.sut.ros.routes import Route, read_field
+from harness.sut.roscommon.mapping import load_mapping
+from harness.sut.roscommon.node_args import dala_arguments
+from harness.sut.roscommon.layer_face import LayerFace
+from harness.sut.roscommon.routes import Route, generic_arguments, read_field
 from harness.sut.ros2.teardown import release
 from harness.sut.ros2.types import route_class
 from harness.errors import UntimelyError
@@ -60,7 +60,7 @@ QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
 class Ending:
     """A request's replies as the layer gives them, awaited on the node's executor."""
 
-    def __init__(self, executor, goal_id: str):
+    def __init__(self, executor, goal_id: str | None):
         self.id, self.code = goal_id, None
         self.started, self.ended = Future(executor=executor), Future(executor=executor)
         for future in (self.started, self.ended):  # its done callback wakes the executor's awaiting task
@@ -76,7 +76,7 @@ class Ending:
             self.ended.set_result(code)
 
 
-class DalaNode(LifecycleNode):
+class DalaNode(LayerFace, LifecycleNode):
     def __init__(self, variant: str, mission: Path, mapping_file: Path, time_scale: float):
         self.mapping = load_mapping(mapping_file)
         if not self.mapping.node:
@@ -125,8 +125,7 @@ class DalaNode(LifecycleNode):
         return TransitionCallbackReturn.SUCCESS
 
     def on_activate(self, state) -> TransitionCallbackReturn:
-        self.host.start()
-        self.origin = time.time() - self.host.env.clock() / self.time_scale  # wall-clock epoch of host t = 0
+        self._start_host()
         self.active = True
         return super().on_activate(state)
 
@@ -176,7 +175,7 @@ class DalaNode(LifecycleNode):
         def cancel(_goal) -> CancelResponse:
             if canceller is None or not self.active:
                 return CancelResponse.REJECT
-            self._request(canceller, {}, Ending(self.executor, ""))  # no ground truth: no request of the bench's
+            self._request(canceller, {}, Ending(self.executor, None))  # no ground truth: no request of the bench's
             return CancelResponse.ACCEPT
         return cancel
 
@@ -203,38 +202,12 @@ class DalaNode(LifecycleNode):
     def _arguments(message, route: Route) -> dict | None:
         if not route.generic:
             return {arg: read_field(message, path) for arg, path in route.fields.items()}
-        try:
-            args = json.loads(message.args_json or "{}")
-        except ValueError:
-            return None
-        return args if isinstance(args, dict) else None
+        return generic_arguments(message)
 
-    def _request(self, qualified: str, args: dict, ending: Ending) -> None:
-        rqst_id = next(self.ids)
-        self.open[rqst_id] = ending
-        # The layer reads argument values as text, whatever their type (as the simulator adapter).
-        self.host.request(rqst_id, qualified, {k: str(v) for k, v in args.items()}, self._reply)
+    def _publish_json(self, publisher, payload: dict) -> None:
+        publisher.publish(String(data=json.dumps(payload)))
 
-    # -- layer replies (the host's thread) -----------------------------------------------------
-    def _reply(self, rqst_id: int, kind: str, code: str | None, t: float) -> None:
-        ending = self.open.get(rqst_id)
-        if ending is None:
-            return
-        if self.internal_pub and ending.id:
-            self.internal_pub.publish(String(data=json.dumps(
-                {"goal_id": ending.id, "kind": kind, "code": code, "stamp": self.origin + t / self.time_scale})))
-        if kind == "final":
-            del self.open[rqst_id]
-        ending.reply(kind, code)
-
-    def _world(self, t: float, kind: str, detail: str) -> None:
-        if self.world_pub:
-            self.world_pub.publish(String(data=json.dumps(
-                {"stamp": self.origin + t / self.time_scale, "kind": kind, "detail": json.loads(detail)})))
-
-    def _failed(self, message: str) -> None:
-        self.failure = message
-        print(f"dala_node: the simulated layer failed: {message}", file=sys.stderr, flush=True)
+    def _shut_down(self, reason: str) -> None:
         self.context.try_shutdown()  # the executor's spin ends; main exits 1
 
     def _ping(self, ping: String) -> None:

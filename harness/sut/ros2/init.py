@@ -23,7 +23,7 @@ from harness import ROOT
 from harness.sut.ros2.environment import DEFAULT_DISTRO, DISTROS, Ros2Environment, installed
 from harness.sut.ros2.interfaces import built, package
 from harness.errors import UntimelyError
-from harness.target.mission import SUTS_FILE
+from harness.target.mission import PROPERTIES_FILE, SUTS_FILE
 from harness.target.ros2_graph import Ros2Target, derive
 from harness.target.ros2_texts import WRITTEN, write
 
@@ -100,7 +100,7 @@ def from_ros2(folder: Path, command: str, recorded: Callable[[Path, Ros2Target],
                 + ",".join(f"{line.strip('[]')}" for line in (folder / SUTS_FILE).read_text().splitlines()
                            if line.startswith("[")))
     if not target.properties:  # a campaign judges properties: it would refuse to start
-        print(f"next: write at least one [[property]] in {folder / 'properties.toml'} (none could be derived), "
+        print(f"next: write at least one [[property]] in {folder / PROPERTIES_FILE} (none could be derived), "
               f"then: {campaign}")
     else:
         print(f"next: {campaign}")

@@ -21,10 +21,10 @@ import sys
 import time
 from pathlib import Path
 
-from harness.sut.ros.lines import LineWriter, read_hello, run_main, serve
-from harness.sut.ros.mapping import check_cancels, load_mapping
+from harness.sut.roscommon.lines import LineWriter, read_hello, run_main, serve_runs
+from harness.sut.roscommon.mapping import check_cancels, load_mapping
 from harness.sut.processes import Child, stop_all
-from harness.sut.ros.recorder import recording_folder
+from harness.sut.roscommon.recording import recording_folder
 from harness.sut.protocol import PROTO
 
 RECORDER_DRAIN_S = 1.0  # within the bench's 2 s of grace after bye
@@ -32,7 +32,7 @@ RECORDER_DRAIN_S = 1.0  # within the bench's 2 s of grace after bye
 
 def run(args, out: LineWriter) -> None:
     mapping = load_mapping(args.mapping)
-    first = hello = read_hello(sys.stdin)
+    hello = read_hello(sys.stdin)
     if hello is None:
         return
     check_cancels(mapping, hello["interface"])  # before the node starts: a mapping it cannot serve is refused
@@ -55,19 +55,18 @@ def run(args, out: LineWriter) -> None:
             adapter.transition(BRING_UP, args.startup_timeout)
         adapter.start_probing()
         taken_services = adapter.find_introspection()
-        runs = 0
-        while hello is not None:
+
+        def ready() -> None:
             if mapping.ping_topic:
                 adapter.wait_echo(args.startup_timeout, node.failure)
-            runs += 1
+
+        def greet(runs: int, offers: list[str]) -> None:
             adapter.hello(PROTO, f"ROS 2 {os.environ.get('UNTIMELY_ROS2_DISTRO', '')} adapter (domain "
                                  f"{os.environ.get('ROS_DOMAIN_ID')}; node: {' '.join(args.node)}; up in {discovery:.2f} s; run {runs} of "
-                                 "this node)", ["reuse"] * reusable, taken_services)
-            if not (serve(adapter, sys.stdin) and reusable) or node.failure():
-                break
-            adapter.end_run()
-            adapter.transition(RESET, args.startup_timeout)
-            hello = read_hello(sys.stdin, first)
+                                 "this node)", offers, taken_services)
+
+        serve_runs(adapter, hello, node, ready, greet,
+                   (lambda: adapter.transition(RESET, args.startup_timeout)) if reusable else None)
     finally:
         if recorder:
             time.sleep(RECORDER_DRAIN_S)  # what is still in flight to the recorder (its topics lag the replies)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import importlib
 import json
 
-from harness.sut.ros.routes import Route
+from harness.sut.roscommon.routes import Route
 from harness.errors import UntimelyError
 
 

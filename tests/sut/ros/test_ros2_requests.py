@@ -5,7 +5,7 @@ from types import SimpleNamespace
 import pytest
 
 from harness.errors import InputFileError, UntimelyError
-from harness.sut.ros.mapping import DEFAULT_CANCEL_CODES, DEFAULT_STATUS_CODES, check_cancels, load_mapping
+from harness.sut.roscommon.mapping import DEFAULT_CANCEL_CODES, DEFAULT_STATUS_CODES, check_cancels, load_mapping
 
 REPLIES = {"ok": "T", "aborted": "Z", "canceled": "Z", "rejected": "R", "refused": "R", "transition_refused": "R",
            "cancel_rejected": "R", "unknown_goal": "R", "goal_terminated": "R"}

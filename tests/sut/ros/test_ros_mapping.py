@@ -2,7 +2,7 @@
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
-from harness.sut.ros.mapping import load_mapping
+from harness.sut.roscommon.mapping import load_mapping
 from harness.errors import InputFileError, UntimelyError
 
 DALA = load_mapping(DEFAULT_MISSION_DIR / "ros.toml")

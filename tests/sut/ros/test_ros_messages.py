@@ -14,7 +14,7 @@ PROBE = """
 import json, sys
 from pathlib import Path
 from harness.sut.ros.messages import action_classes, fill
-from harness.sut.ros.routes import Route
+from harness.sut.roscommon.routes import Route
 from harness.errors import UntimelyError
 route = Route("action", "/dock", "dock_msgs/Dock", {"x": "pose.position.x", "speed": "speed", "slow": "slow"},
               {"pose.orientation.w": 1.0}, code="code", definition="Dock.action")
@@ -49,7 +49,7 @@ import json, sys
 from pathlib import Path
 import roscpp.srv, std_srvs.srv
 from harness.sut.ros.messages import fill, service_class
-from harness.sut.ros.routes import Route
+from harness.sut.roscommon.routes import Route
 folder = Path(sys.argv[1])
 made = {name: service_class(Route("service", "/s", f"made_srvs/{name}", definition=f"{name}.srv"), folder)
         for name in ("Trigger", "SetBool", "GetLoggers", "Dock")}

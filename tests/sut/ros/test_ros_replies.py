@@ -1,5 +1,5 @@
-"""The reply rules for ROS events that arrive out of order (harness/sut/ros/replies.py). No ROS needed."""
-from harness.sut.ros.replies import Replies
+"""The reply rules for ROS events that arrive out of order (harness/sut/roscommon/replies.py). No ROS needed."""
+from harness.sut.roscommon.replies import Replies
 
 
 def lines_of(events):

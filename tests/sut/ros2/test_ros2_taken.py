@@ -16,7 +16,7 @@ from service_msgs.msg import ServiceEventInfo
 from unique_identifier_msgs.msg import UUID
 from untimely_msgs.action import Request
 from untimely_msgs.srv import Call
-from harness.sut.ros.replies import Replies
+from harness.sut.roscommon.replies import Replies
 from harness.sut.ros2.introspection import call_taken, goal_taken
 
 written, after_each, goal_id = [], [], bytes(range(16))

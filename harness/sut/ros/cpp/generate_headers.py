@@ -14,7 +14,7 @@ import sys
 from pathlib import Path
 
 from harness.sut.ros.messages import GENERIC_DEFINITION, action_sections, dependencies
-from harness.sut.ros.routes import GENERIC_TYPE
+from harness.sut.roscommon.routes import GENERIC_TYPE
 
 GEN_CPP = "/usr/lib/gencpp/gen_cpp.py"
 TEMPLATES = "/usr/share/gencpp"

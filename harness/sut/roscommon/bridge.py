@@ -17,8 +17,8 @@ import threading
 import time
 from typing import Callable
 
-from harness.sut.ros.mapping import Mapping
-from harness.sut.ros.replies import Replies
+from harness.sut.roscommon.mapping import Mapping
+from harness.sut.roscommon.replies import Replies
 
 ECHO_WAIT_S = 0.1  # a start-up ping's echo, before it is published again
 ECHO_POLL_S = 0.005

@@ -10,7 +10,7 @@ from typing import Annotated, Literal
 
 from pydantic import ConfigDict, Field, model_validator
 
-from harness.sut.ros.routes import GENERIC_SERVICE_TYPE, GENERIC_TYPE, Route, parse_route
+from harness.sut.roscommon.routes import GENERIC_SERVICE_TYPE, GENERIC_TYPE, Route, parse_route
 from harness.errors import InputFileError, UntimelyError
 from harness.files import read_toml
 from harness.schema import Strict, cut, validated

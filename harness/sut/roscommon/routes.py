@@ -19,6 +19,7 @@ No ROS import: the file is checked anywhere.
 """
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass, field
 
 from harness.errors import InputFileError
@@ -58,6 +59,16 @@ def read_field(message, path: str):
     for name in path.split("."):
         message = getattr(message, name)
     return message
+
+
+def generic_arguments(goal) -> dict | None:
+    """The arguments a goal or call of the generic type carries (its `args_json`, a JSON object);
+    None when that is not one."""
+    try:
+        args = json.loads(goal.args_json or "{}")
+    except ValueError:
+        return None
+    return args if isinstance(args, dict) else None
 
 
 def _text(path, key: str, value) -> str:

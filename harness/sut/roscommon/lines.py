@@ -6,6 +6,7 @@ import json
 import signal
 import sys
 import threading
+from typing import Callable
 
 from harness.errors import UntimelyError
 from harness.sut.protocol import BENCH_MESSAGES, PROTO, ProtocolViolation, decode, encode
@@ -56,6 +57,26 @@ def read_hello(stream, first: dict | None = None) -> dict | None:
     if first and (hello["time_scale"], hello["interface"]) != (first["time_scale"], first["interface"]):
         raise UntimelyError("the bench reused this adapter for another time scale or interface; start one for it")
     return hello
+
+
+def serve_runs(adapter, first: dict, node, ready: Callable[[], None], greet: Callable[[int, list[str]], None],
+               reset: Callable[[], None] | None) -> None:
+    """Run after run on one node, from the `first` hello on: `ready()` once the node can serve (its
+    servers answer), `greet(n, offers)` answers the n-th run's hello (offering `reuse` where the node
+    has a `reset`; None: it cannot be reused), requests until `bye`; then, with reuse and a node
+    still alive, the run ends, `reset()` gives the node a fresh layer and the next hello starts the
+    next run."""
+    reusable = reset is not None
+    hello, runs, offers = first, 0, ["reuse"] if reusable else []
+    while hello is not None:
+        ready()
+        runs += 1
+        greet(runs, offers)
+        if not (serve(adapter, sys.stdin) and reusable) or node.failure():
+            return
+        adapter.end_run()
+        reset()
+        hello = read_hello(sys.stdin, first)
 
 
 def run_main(run, args) -> int:
