@@ -29,6 +29,7 @@ from harness.textable import format_table
 Key = tuple[int, str, int]  # (trace_id, property_id, rqst_id): one verdict row
 ARGUMENT_ITEM = "arg "  # how a value-domain oracle names an argument among its items (sql/oracles/val.sql)
 SPAN_ITEM = "state"  # how IN and OUT name the state x(i) stands in (sql/oracles/_span.sql)
+EPSILON_SOURCES = {"pings": ", measured by the trace's pings", "taken": ", a taken reply to every request"}
 DEADLINE_ITEM = "deadline"  # how the ROS 2 types name their deadline, its events in `detail` (sql/oracles/_deadline.sql)
 
 
@@ -73,6 +74,9 @@ class Explainer:
         self.epsilon = con.execute("select epsilon from analysis").fetchone()[0]
         tables = relations(con)  # a store read as it is may lack the newer ones
         self.runs, self.taken = "trace_runs" in tables, "taken_events" in tables
+        # the epsilon each trace was judged with (its pings' for a real-time run), not the analysis's alone
+        self.trace_epsilon = {t: (e, source) for t, e, source in con.execute(
+            "select trace_id, epsilon_s, source from trace_epsilon").fetchall()} if "trace_epsilon" in tables else {}
 
     def explain(self, keys: list[Key]) -> dict[Key, str]:
         keys = [k for k in keys if k[1] in self.properties]
@@ -155,11 +159,15 @@ class Explainer:
             shift = None if pair["shift"] == float("inf") else pair["shift"]
             # the distance whose order is not sure (rule 7): a pair may say an order is sure whatever its shift
             movable = pair.get("movable", pair["shift"])
-            near = movable is not None and movable != float("inf") and round(movable, 6) < self.epsilon
+            near = movable is not None and movable != float("inf") and round(movable, 6) < self._epsilon(trace_id)[0]
             rows.append((*([pair["part"]] if "part" in pair else []), what, events,
                          "yes" if pair["conflicts"] else "no", "yes" if pair["conflict_rejected"] else "no",
                          shift, "yes" if near else "no"))
         return rows
+
+    def _epsilon(self, trace_id: int) -> tuple[float, str]:
+        """The epsilon the trace was judged with and where it comes from (view trace_epsilon)."""
+        return self.trace_epsilon.get(trace_id, (self.epsilon, "analysis"))
 
     def _instants(self, request: tuple[int, int], t: float, at: str, unit: str = "") -> str:
         """When a request was sent, and taken where the SUT replied `taken` to it (its instant `t`
@@ -167,6 +175,10 @@ class Explainer:
         if request not in self.sent:
             return f"sent{at} {_seconds(t)}{unit}"
         return f"sent{at} {_seconds(self.sent[request])}{unit}, taken{at} {_seconds(t)}{unit}"
+
+    def _epsilon_text(self, trace_id: int) -> str:
+        epsilon, source = self._epsilon(trace_id)
+        return f" (epsilon {epsilon:g} s{EPSILON_SOURCES.get(source, '')})"
 
     def _text(self, key: Key, verdict_row: tuple, requests: dict, oks: dict, pairs: list[dict]) -> str:
         trace_id, property_id, rqst_id = key
@@ -180,7 +192,7 @@ class Explainer:
                  f"{self._instants((trace_id, rqst_id), t, ' at', ' s')}; final reply "
                  + (f"{reply} (class {cls or 'not in the catalogue'}) at {_seconds(final_t)} s" if reply else "none"),
                  f"  C is {condition}; margin {_seconds(margin)} s; "
-                 + ("suspicious" if suspicious else "not suspicious") + f" (epsilon {self.epsilon:g} s)"]
+                 + ("suspicious" if suspicious else "not suspicious") + self._epsilon_text(trace_id)]
         rows = self._items(key, prop, pairs, requests, oks)
         if rows:
             head = (["part"] if "part" in pairs[0] else []) + ["item", "events", "makes C false", "rejected",

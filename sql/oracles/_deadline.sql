@@ -5,6 +5,7 @@
 {% import 'oracles/_base.sql' as base %}
 {% set factor = 10 %}{# a derived deadline: this many times the golden runs' largest latency ... #}
 {% set floor_s = 1.0 %}{# ... and never less than this, in seconds #}
+{% set golden_file = 'golden.mission' %}{# a target's golden mission (harness/target/mission.py GOLDEN_FILE) #}
 
 {% macro deadlines(name, services, deadline=none, first_reply=false) -%}
 {% if deadline %}
@@ -22,8 +23,10 @@
                  min(t) filter (where kind {{ "<> 'request'" if first_reply else "= 'final'" }}) as replied
           from events
           where {{ base.among(services) }} and trace_id in (
-              select trace_id from traces join scripts using (script_id)
-              where scripts.kind = 'golden' and traces.outcome = 'completed')
+              select trace_id from traces join scripts using (script_id) join campaigns c on c.campaign_id = traces.campaign_id
+              where scripts.kind = 'golden' and traces.outcome = 'completed'
+                  -- `untimely run` stores any script it runs as golden: only the target's golden is one
+                  and (c.config->>'kind' is distinct from 'run' or c.mission like '%/{{ golden_file }}'))
           group by trace_id, rqst_id) r
     join traces g using (trace_id)
     group by g.sut

@@ -178,3 +178,34 @@ def test_a_request_placed_at_its_taken_reply_is_said_sent_then_taken(tmp_path, c
     assert main(["explain", "1", "PEX(rflex)", "2", "--db", str(db)]) == 0
     out = capsys.readouterr().out
     assert "x(i) rflex.TrackSpeedStart sent at 1.000000 s, taken at 1.250000 s; final reply ok" in out, out
+
+
+def test_a_real_time_trace_is_explained_with_the_epsilon_its_pings_measured(tmp_path, capsys):
+    """A verdict is judged with its trace's own epsilon (view trace_epsilon); explain once printed the
+    analysis's beside it (an arm run: 'margin 0.500000 s; suspicious (epsilon 0.01 s)', judged with
+    the 0.6026 s its pings measured). Here 5 ms before Init's ok: unsure at 10 ms, sure at 1.9 ms."""
+    db = tmp_path / "store.duckdb"
+    con = connect(db)
+    add_campaign(con, 1, "missions/dala", 1, RunRecord(mission=str(DEFAULT_MISSION_DIR), sut="genom", target=str(DEFAULT_MISSION_DIR)))
+    add_reply_codes(con, INTERFACE)
+    events = [(0, 0.0, "request", 1, "rflex", "Init", None, None), (1, 1.0, "final", 1, "rflex", "Init", None, "ok"),
+              (2, 0.995, "request", 2, "rflex", "TrackSpeedStart", None, None),
+              (3, 2.0, "final", 2, "rflex", "TrackSpeedStart", None, "ok")]
+    for trace_id in (1, 2):
+        insert_trace(con, trace_id, 1, None, Trace("genom", 1, sim_s=3.0, events=events))
+    con.execute("""insert into trace_runs (trace_id, host, started_at, time_scale, pings, rtt_p50_s, rtt_p95_s,
+                   rtt_max_s) values (2, 'local', now(), 1, 12, 0.001, 0.0015, 0.0019)""")
+    properties = DEFAULT_MISSION_DIR / "properties.toml"
+    materialise(con, load_properties(properties, INTERFACE), EPSILON, INTERFACE, properties)
+    assert con.execute("select trace_id, suspicious from verdicts where property_id = 'PEX(rflex)' and rqst_id = 2 "
+                       "order by 1").fetchall() == [(1, True), (2, False)]
+    con.close()
+    said = {}
+    for trace_id in (1, 2):
+        assert main(["explain", str(trace_id), "PEX(rflex)", "2", "--db", str(db)]) == 0
+        said[trace_id] = capsys.readouterr().out
+    assert "C is false; margin 0.005000 s; suspicious (epsilon 0.01 s)" in said[1], said[1]
+    assert "C is false; margin 0.005000 s; not suspicious (epsilon 0.0019 s, measured by the trace's pings)" \
+        in said[2], said[2]
+    assert "q rflex.Init  ok at 1.000000" in said[2] and said[1].splitlines()[-2].endswith("yes") \
+        and said[2].splitlines()[-2].endswith("no"), said

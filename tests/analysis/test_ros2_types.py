@@ -7,8 +7,11 @@ import re
 import pytest
 
 from harness import ROOT
+from harness.analysis.analyzer import materialise
 from harness.analysis.explain import Explainer
 from harness.errors import InputFileError
+from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
+from harness.store.record import RunRecord
 from harness.target.interface import load_properties
 from harness.target.mission import load_mission
 from harness.trace import Trace
@@ -156,3 +159,22 @@ def test_the_fuzz_catches_an_oracle_that_trusts_every_order():
     con = judged_traces("ros2 fuzz", [(random_arm_trace(seed), None) for seed in range(400)], ARM.properties(),
                         0.0, interface=ARM.interface)
     assert {property_id.split("(")[0] for _, _, property_id, *_ in missed(con)} >= {"RSP", "CAN", "GOAL"}
+
+
+def test_a_hand_mission_run_by_untimely_run_derives_no_deadline(tmp_path):
+    """`untimely run` stores any script it runs as a golden one: the fib_pkg trial's hand mission,
+    its service answered 7 s late behind a blocked executor, set its own deadline to 70 s and was
+    judged a certain TN. Only a run of the target's golden.mission (or a campaign's golden) counts."""
+    con = connect(tmp_path / "store.duckdb")
+    add_reply_codes(con, ARM.interface)
+    runs = [("golden.mission", [(0.0, "request", 1, "grip", None), (0.05, "final", 1, "grip", "ok")]),
+            ("blocked.mission", [(0.0, "request", 1, "move", None), (1.0, "request", 2, "grip", None),
+                                 (8.0, "final", 1, "move", "ok"), (8.0, "final", 2, "grip", "ok")])]
+    for n, (name, rows) in enumerate(runs, 1):
+        add_campaign(con, n, str(tmp_path / name), 0, RunRecord(sut="arm", target=str(tmp_path)))
+        con.execute("insert into scripts values (?, ?, 'golden', null, '[]', '', true, null)", [n, n])
+        insert_trace(con, n, n, n, _arm_trace(rows))
+    prop = [p for p in ARM.properties() if p.id == "RSP(arm.grip,derived)"]
+    materialise(con, prop, EPSILON, ARM.interface)
+    assert con.execute("select trace_id, rqst_id, verdict, round(margin_s, 6) from verdicts order by 1").fetchall() == [
+        (1, 1, "TN", 0.95), (2, 2, "FN", 6.0)]  # the golden's 0.05 s: the 1 s floor, not 10 x 7 s
