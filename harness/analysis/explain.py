@@ -19,7 +19,7 @@ import duckdb
 from harness.errors import StoreError, UntimelyError
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.analysis.oracles import Judging, render_property
-from harness.store.reads import exists, relations, require_analysis
+from harness.store.reads import exists, relations, require_analysis, trace_epsilons
 from harness.store.sql import sql_id_list
 from harness.analysis.provenance import default_properties
 from harness.store.database import connect
@@ -75,8 +75,7 @@ class Explainer:
         tables = relations(con)  # a store read as it is may lack the newer ones
         self.runs, self.taken = "trace_runs" in tables, "taken_events" in tables
         # the epsilon each trace was judged with (its pings' for a real-time run), not the analysis's alone
-        self.trace_epsilon = {t: (e, source) for t, e, source in con.execute(
-            "select trace_id, epsilon_s, source from trace_epsilon").fetchall()} if "trace_epsilon" in tables else {}
+        self.trace_epsilon = trace_epsilons(con) if "trace_epsilon" in tables else {}
 
     def explain(self, keys: list[Key]) -> dict[Key, str]:
         keys = [k for k in keys if k[1] in self.properties]

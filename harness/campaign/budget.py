@@ -1,7 +1,7 @@
 """A campaign's mission-time budget (`--budget DURATION`) and its stopping rule.
 
 The budget bounds the mission seconds of every run the campaign makes: its traces (traces.sim_s)
-and its shrink runs. A test is admitted only if its upper bound (harness.mutator.focused.bound_s)
+and its shrink runs. A test is admitted only if its upper bound (harness.mutator.script_time.bound_s)
 still fits, so the sum never exceeds the budget.
 
 The stopping rule, per variant: once every aim has been exercised on it, the variant is done

@@ -32,10 +32,10 @@ from harness.store.scripts import ScriptRow, add_scripts
 from harness.store.sql import render_query
 from harness.analysis.judge import Judge
 from harness.errors import UntimelyError
-from harness.mutator.focused import Plan, bound_s
+from harness.mutator.focused import Plan
+from harness.mutator.script_time import bound_s
 from harness.target.script import parse
 from harness.dispatch.description import Task
-from harness.textable import format_table
 
 PATIENCE = 40  # tests per variant without anything new, once every aim was exercised (budget.RULE)
 AHEAD = 2  # rounds made ahead of the one being judged (judging one takes the bench seconds)
@@ -284,25 +284,3 @@ class FocusedRun:
         self.account_from_store()
         record(self.con, self.campaign_id, self.budget, self.shrink_s, tests, reason)
         return reason
-
-
-def stopped_line(run: FocusedRun, reason: str) -> str:
-    why = {"rule": "its stopping rule says nothing new is expected: "
-                   + RULE.format(patience=PATIENCE),
-           "budget": "the next test does not fit in the budget",
-           "tests": f"it made --mutants {run.config.mutants} tests"}[reason]
-    limit = "no budget" if run.budget.limit_s is None else f"budget {run.budget.limit_s:,.0f}"
-    # every other run is admitted only if its bound fits: only the golden runs, made first, overrun it
-    over = ("; the golden runs alone took more than the budget: give a larger --budget to a new --db"
-            if run.budget.left() < 0 else "")
-    return (f"stopped   ({reason}) {why}; spent {run.budget.spent_s:,.0f} mission s ({limit}), "
-            f"of which shrinking {run.shrink_s:,.0f}{over}")
-
-
-def findings_table(con) -> str:
-    rows = con.execute("select sut, coalesce(property_id, '-'), kind, first_trace, traces, reproducer, "
-                       "reproducer_steps from findings").fetchall()
-    if not rows:
-        return "nothing went wrong"
-    return format_table(["variant", "property", "kind", "first trace", "traces", "reproducer", "steps"], rows,
-                        null="-")

@@ -21,7 +21,7 @@ from harness import DEFAULT_MISSION_DIR, store
 from harness.analysis import analyzer
 from harness.analysis.summary import analysis_summary
 from harness.analysis.provenance import last_epsilon
-from harness.campaign import budget, budgeted, representatives, sharding, shrink
+from harness.campaign import budget, budgeted, focused_summary, representatives, sharding, shrink
 from harness.campaign.config import campaign_config, find_campaign
 from harness.campaign.context import CampaignContext
 from harness.campaign.request import CampaignRequest
@@ -142,9 +142,9 @@ def _focused(ctx: CampaignContext, start: float) -> None:
             raise
     tally.progress.close()
     print(summary(con, ctx.campaign_id, tally))
-    print(budgeted.stopped_line(focused_run, reason))
+    print(focused_summary.stopped_line(focused_run, reason))
     _judged(ctx)
-    print("\nfindings (view findings):\n" + budgeted.findings_table(con))
+    print("\nfindings (view findings):\n" + focused_summary.findings_table(con))
 
 
 def main(request: CampaignRequest, runner=None) -> int:

@@ -9,7 +9,7 @@ from harness.campaign.budget import parse_duration
 from harness.campaign.request import CampaignRequest
 from harness.errors import StoreError, UntimelyError
 from harness.mutator import strategies
-from harness.mutator.focused import least_s
+from harness.mutator.script_time import least_s
 from harness.mutator.operators import chosen as chosen_operators
 from harness.dispatch import cluster
 from harness.store.record import CampaignRecord, records

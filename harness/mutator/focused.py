@@ -18,7 +18,7 @@ r runs. A test for it is
      then s (in r's start phase), or r, a sleep shorter than r's shortest golden run, then s;
   3. after SETTLE_S, the request that ended r or s in the golden run if it never ends by itself
      (the golden's Stop); then the executive's drain (DRAIN_S) awaits the outstanding finals.
-So a test's mission time has an upper bound known before it runs (`bound_s`), which is what
+So a test's mission time has an upper bound known before it runs (script_time.bound_s), which is what
 lets a campaign keep within its budget (harness.campaign.budget).
 
 Generic: only the interface, the properties and the golden script and run are read.
@@ -34,7 +34,6 @@ from dataclasses import dataclass
 from itertools import zip_longest
 
 from harness.errors import UntimelyError
-from harness.sut.executive import DRAIN_S, REACTION_S
 from harness.target.interface import Interface, Property
 from harness.target.mission import PROPERTIES_FILE
 from harness.mutator.operators import Mutant, plausible, random_request, step_text, validated
@@ -42,6 +41,7 @@ from harness.mutator.states import entry_needs, leavers
 from harness.mutator.targeted import Falsifier, disturbers, falsifiers
 from harness.mutator.timeline import Timeline
 from harness.mutator.values import cases, with_value
+from harness.mutator.script_time import bound_s, least_s
 from harness.target.script import Script, Step
 
 UNSEEN_RUN_S = 5.0  # how long an activity the golden never ran is awaited
@@ -262,18 +262,6 @@ class Builder:
         if enders:  # else the drain would wait its full time for an activity that never ends
             steps += [Step(0, "sleep", seconds=SETTLE_S)] + [self.request(e, rng) for e in enders]
         return steps
-
-
-def bound_s(script: Script) -> float:
-    """The longest a run of a script can last in mission time: its sleeps, its waits' timeouts
-    and reactions, and the drain (a hang or crash ends it sooner)."""
-    return least_s(script) + DRAIN_S + \
-        sum((s.seconds or float("inf")) + REACTION_S for s in script.steps if s.op == "wait")
-
-
-def least_s(script: Script) -> float:
-    """The shortest a run of a script that completes can last in mission time: its sleeps."""
-    return sum(s.seconds for s in script.steps if s.op == "sleep")
 
 
 class Plan:

@@ -65,3 +65,9 @@ def trace_to_shrink(con, trace_id: int) -> tuple | None:
     return con.execute("""select t.trace_id, t.script_id, t.sut, t.seed, t.outcome, s.body, c.mission, c.config
                           from traces t left join scripts s using (script_id) join campaigns c
                           on c.campaign_id = t.campaign_id where t.trace_id = ?""", [trace_id]).fetchone()
+
+
+def findings(con) -> list[tuple]:
+    """(variant, property, kind, first trace, traces, reproducer, its steps) of each finding (view findings)."""
+    return con.execute("select sut, coalesce(property_id, '-'), kind, first_trace, traces, reproducer, "
+                       "reproducer_steps from findings").fetchall()

@@ -69,3 +69,9 @@ def observed_events(con, trace_id: int) -> list[tuple]:
 def trace_count(con) -> int:
     """How many traces the store holds, of every campaign."""
     return con.execute("select count(*) from traces").fetchone()[0]
+
+
+def trace_epsilons(con) -> dict[int, tuple[float, str]]:
+    """trace id -> the epsilon it is judged with and where that comes from (view trace_epsilon)."""
+    return {trace_id: (epsilon, source) for trace_id, epsilon, source in
+            con.execute("select trace_id, epsilon_s, source from trace_epsilon").fetchall()}

@@ -11,6 +11,8 @@ from pathlib import Path
 
 from harness.target.ros2_graph import CANCEL_CODES, REJECTED, REPLIES, Derived, Ros2Target
 from harness.target.draft import WAIT_TIMEOUT_S, Draft, properties_text
+from harness.target.mission import (GOLDEN_FILE, INTERFACE_FILE, PROPERTIES_FILE, ROS2_MAPPING_FILE,
+                                     SUTS_FILE)
 from harness.target.scaffold import write_all_or_none
 
 # The install prefixes of a user's interface packages (os.pathsep-separated) in a SUT's env; every
@@ -18,7 +20,7 @@ from harness.target.scaffold import write_all_or_none
 INTERFACES_VARIABLE = "UNTIMELY_ROS2_INTERFACES"
 from harness.target.script import Step
 
-WRITTEN = ("interface.toml", "ros2.toml", "suts.toml", "golden.mission", "properties.toml")
+WRITTEN = (INTERFACE_FILE, ROS2_MAPPING_FILE, SUTS_FILE, GOLDEN_FILE, PROPERTIES_FILE)
 # The node's executor answers get_parameters, and the bench's ping comes back, within this, or the
 # trace hangs. Longer than a goal of the golden's count (ros2_graph.LONG_RUN steps; at the ROS 2
 # tutorial's 1 s a step, 9 s) that blocks a single-threaded executor: such a node is late (RSP's
@@ -176,7 +178,7 @@ def write(folder: Path, target: Ros2Target, distros: dict[str, tuple[Path, ...]]
     """Write the target folder, all files or none; refuses to overwrite any file of it. `distros`:
     each installed distro -> the install prefixes of the user's interface packages built for it;
     `golden`: the golden mission's text (a recorded session's), else the derived one."""
-    texts = {"interface.toml": interface_text(target), "ros2.toml": mapping_text(target),
-             "suts.toml": suts_text(target, distros, cwd), "golden.mission": golden or golden_text(target),
-             "properties.toml": properties_text_of(target)}
+    texts = {INTERFACE_FILE: interface_text(target), ROS2_MAPPING_FILE: mapping_text(target),
+             SUTS_FILE: suts_text(target, distros, cwd), GOLDEN_FILE: golden or golden_text(target),
+             PROPERTIES_FILE: properties_text_of(target)}
     return write_all_or_none(folder, texts, {})

@@ -8,7 +8,8 @@ import pytest
 from harness import DEFAULT_MISSION_DIR, ROOT, store
 from harness.cli import main as cli
 from harness.campaign.budget import parse_duration
-from harness.mutator.focused import Plan, bound_s
+from harness.mutator.focused import Plan
+from harness.mutator.script_time import bound_s
 from harness.mutator.timeline import Timeline
 from harness.sut.executive import run_script
 from harness.target.mission import load_mission

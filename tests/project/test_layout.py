@@ -17,15 +17,11 @@ from harness.target.script import parse
 
 TARGET = ROOT / "harness" / "target"
 HOME = TARGET / "mission.py"
-# Literals left in harness/target/ (issue 45): files being edited elsewhere, the second home of
+# Literals left in harness/target/: the second home of
 # LAYER_FILE (mission.py imports it from there), and the adapter skeleton init copies into a
 # user's target, which runs without the bench and so spells its file's name.
 LEFT = frozenset({"harness/target/layer_description.py:43: 'layer.toml'",
-                  "harness/target/skeleton/adapter.py:40: 'interface.toml'"}
-                 | {f"harness/target/ros2_texts.py:{line}: {name!r}" for line, name in [
-                     (16, "interface.toml"), (16, "ros2.toml"), (16, "suts.toml"), (16, "golden.mission"),
-                     (16, "properties.toml"), (156, "interface.toml"), (156, "ros2.toml"), (157, "suts.toml"),
-                     (157, "golden.mission"), (158, "properties.toml")]})
+                  "harness/target/skeleton/adapter.py:40: 'interface.toml'"})
 FILE_NAMES = frozenset(value for name, value in vars(mission).items() if name.endswith("_FILE"))
 
 

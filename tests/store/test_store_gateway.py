@@ -78,7 +78,7 @@ READS_LEFT = {
     "bench/same_verdicts.py": 1, "bench/taken_bench.py": 1, "bench/writer_bench.py": 1,
     "harness/analysis/analyzer.py": 3, "harness/analysis/diff.py": 1, "harness/analysis/explain.py": 5,
     "harness/analysis/judge.py": 2, "harness/analysis/provenance.py": 2, "harness/analysis/summary.py": 9,
-    "harness/campaign/budgeted.py": 5, "harness/fingerprint.py": 1, "harness/report/junit.py": 1,
+    "harness/campaign/budgeted.py": 4, "harness/fingerprint.py": 1, "harness/report/junit.py": 1,
     "harness/report/paper.py": 3, "harness/report/queries.py": 15,
 }
 

@@ -57,7 +57,7 @@ from harness.target.mission import INTERFACE_FILE, ROS2_MAPPING_FILE, WORLD_FILE
 QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
 
 
-class Ending:
+class AwaitedEnding:
     """A request's replies as the layer gives them, awaited on the node's executor."""
 
     def __init__(self, executor, goal_id: str | None):
@@ -87,7 +87,7 @@ class DalaNode(LayerFace, LifecycleNode):
         self.host: LayerHost | None = None
         self.active, self.origin, self.failure = False, 0.0, None
         self.ids = itertools.count(1)
-        self.open: dict[int, Ending] = {}
+        self.open: dict[int, AwaitedEnding] = {}
         group = ReentrantCallbackGroup()
         topics = {name: self.create_publisher(String, topic, QOS) for name, topic in
                   (("world", self.mapping.world_topic), ("internal", self.mapping.internal_topic),
@@ -146,7 +146,7 @@ class DalaNode(LayerFace, LifecycleNode):
         async def execute(goal_handle):
             goal = goal_handle.request
             args = self._arguments(goal, route)
-            ending = Ending(self.executor, bytes(goal_handle.goal_id.uuid).hex())
+            ending = AwaitedEnding(self.executor, bytes(goal_handle.goal_id.uuid).hex())
             target = self.generic[route.name].get(goal.service) if route.generic else qualified
             if target is None or args is None:
                 ending.reply("final", f"{route.name} serves {sorted(self.generic.get(route.name, {qualified: 0}))}; "
@@ -175,7 +175,7 @@ class DalaNode(LayerFace, LifecycleNode):
         def cancel(_goal) -> CancelResponse:
             if canceller is None or not self.active:
                 return CancelResponse.REJECT
-            self._request(canceller, {}, Ending(self.executor, None))  # no ground truth: no request of the bench's
+            self._request(canceller, {}, AwaitedEnding(self.executor, None))  # no ground truth: no request of the bench's
             return CancelResponse.ACCEPT
         return cancel
 
@@ -188,7 +188,7 @@ class DalaNode(LayerFace, LifecycleNode):
                 # A call carries no id: the n-th call of a service (one client, in order) is named
                 # "SERVICE#n" in the ground truth, as the adapter names the n-th it made.
                 self.calls[route.name] = self.calls.get(route.name, 0) + 1
-                ending = Ending(self.executor, f"{route.name}#{self.calls[route.name]}")
+                ending = AwaitedEnding(self.executor, f"{route.name}#{self.calls[route.name]}")
                 self._request(qualified, args, ending)
                 code = await ending.ended
             if route.code or route.generic:
