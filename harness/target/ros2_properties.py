@@ -17,8 +17,13 @@ FROM_STATES = {
     "deactivate": ("IN", ["activate"], ["deactivate", "shutdown"], "only from active"),
     "shutdown": ("OUT", ["shutdown"], [], "from any state but finalized"),
 }
-# The requests a node serves only while active, by the code that refuses them (ACTIVE's r_p).
-GATED = {"goals": (REJECTED, "its goals are rejected"), "calls": (REFUSED, "its calls answer success = false")}
+# The requests a node serves only while active, by the code that refuses them (ACTIVE's r_p): its
+# goals. Not its calls: many a node answers queries (a status, a home check) in every state, and a
+# call answered while inactive is no defect unless the node's own rules say so (the user adds it).
+GATED = {"goals": (REJECTED, "its goals are rejected")}
+CALLS_GATED = ("Its calls are not gated by default (many a node answers queries in every state): if "
+               f"yours must answer success = false unless active, copy this property as ACTIVE_CALLS with x = "
+               f"those calls and r_p = \"{REFUSED}\". ")
 LEAVING = ("deactivate", "cleanup", "shutdown")  # the transitions that leave the active state behind
 OFF = "delete this [[property]] to turn it off"
 
@@ -32,7 +37,7 @@ def properties_of(module: str, services: list, managed: bool) -> list[dict]:
     found = _responsive(module, calls + cancels + transitions, goals)
     found += [_cancel_honoured(goal) for goal in goals] + [_one_goal(goal) for goal in goals]
     if managed:
-        found += _gated(module, {"goals": goals, "calls": calls}) + _transitions(module)
+        found += _gated(module, {"goals": goals}) + _transitions(module)
         found += [_outlived(module, goals)] if goals else []
     return found
 
@@ -70,8 +75,8 @@ def _gated(module: str, served: dict[str, list[str]]) -> list[dict]:
     return [{"id": f"ACTIVE_{what.upper()}({module})", "family": "ACTIVE", "type": "IN", "x": served[what],
              "q": [f"{module}.activate"], "y": [f"{module}.deactivate", f"{module}.shutdown"], "r_p": code,
              "why": (f"lifecycle (Managed nodes): a node does no processing unless active, so {refusal} "
-                     "before activate and after deactivate or shutdown. Leave out of x what your node serves in "
-                     f"every state, or {OFF}")}
+                     f"before activate and after deactivate or shutdown. {CALLS_GATED}Leave out of x what your "
+                     f"node serves in every state, or {OFF}")}
             for what, (code, refusal) in GATED.items() if served[what]]
 
 

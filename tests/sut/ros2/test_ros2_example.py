@@ -34,10 +34,10 @@ def target(tmp_path_factory):
 
 def test_init_reads_the_graph_of_the_running_node(target):
     folder, said = target
-    assert "12 services in 1 node(s), 13 properties; SUTs: jazzy, kilted" in said  # 2 actions' cancels
+    assert "12 services in 1 node(s), 12 properties; SUTs: jazzy, kilted" in said  # 2 actions' cancels
     mission = load_mission(folder)
     assert sorted(s for s in mission.interface.services if not s.startswith("sequencer.")) == []
-    assert {p.id for p in mission.properties()} == {"ACTIVE_GOALS(sequencer)", "ACTIVE_CALLS(sequencer)", *(
+    assert {p.id for p in mission.properties()} == {"ACTIVE_GOALS(sequencer)", *(
         f"TRANSITION(sequencer.{t})" for t in ("configure", "activate", "cleanup", "deactivate", "shutdown")),
         "RSP(sequencer)", "OUTLIVE(sequencer)", *(f"{family}(sequencer.{action})" for family in ("CAN", "GOAL")
                                                   for action in ("countdown", "fibonacci"))}
