@@ -21,11 +21,10 @@ INTERFACES_VARIABLE = "UNTIMELY_ROS2_INTERFACES"
 from harness.target.script import Step
 
 WRITTEN = (INTERFACE_FILE, ROS2_MAPPING_FILE, SUTS_FILE, GOLDEN_FILE, PROPERTIES_FILE)
-# The node's executor answers get_parameters, and the bench's ping comes back, within this, or the
-# trace hangs. Longer than a goal of the golden's count (ros2_graph.LONG_RUN steps; at the ROS 2
-# tutorial's 1 s a step, 9 s) that blocks a single-threaded executor: such a node is late (RSP's
-# FN), not dead. A dead node's trace is found hung this long after it stopped answering.
-LIVENESS_S = 12.0
+# The node's executor answers get_parameters within this, or the trace hangs: short enough that a
+# node an invalid transition killed (rclpy#1209) is found hung within the executive's drain. A goal
+# that blocks a single-threaded executor for longer ends its trace hung too (responsiveness FNs).
+HEARTBEAT_STALE_S = 2.0
 
 
 def value(item) -> str:
@@ -61,8 +60,7 @@ def mapping_text(target: Ros2Target) -> str:
              "# change_state. The mission drives the lifecycle itself (lifecycle = false): the adapter neither",
              "# brings the node up nor resets it, so every run starts the node afresh.",
              f"node = {value(node.name)}  # its executor must answer get_parameters, else the trace hangs",
-             "# within heartbeat_stale_s: longer than a golden goal that blocks a single-threaded executor",
-             "lifecycle = false", f"heartbeat_stale_s = {LIVENESS_S}", "",
+             "lifecycle = false", f"heartbeat_stale_s = {HEARTBEAT_STALE_S}", "",
              f"[status_codes]  # a goal's end: SUCCEEDED is ok; a rejected goal is {REJECTED}",
              'ABORTED = "aborted"', 'CANCELED = "canceled"', f'REJECTED = "{REJECTED}"']
     if target.cancels:
@@ -90,7 +88,7 @@ def suts_text(target: Ros2Target, distros: dict[str, tuple[Path, ...]], cwd: Pat
     for distro, prefixes in distros.items():
         command = f"{{python}} -m harness.sut.ros2 --distro {distro} --mapping {{mission}}/ros2.toml -- {node}"
         lines += ["", f"[{_sut_name(target)}-{distro}]", f"command = {value(command)}",
-                  "slots = 2", "time_scale = 1.0", "startup_s = 90.0", f"probe_timeout_s = {LIVENESS_S}"]
+                  "slots = 2", "time_scale = 1.0", "startup_s = 90.0", "probe_timeout_s = 5.0"]
         if prefixes:
             lines.append(f"env = {value({INTERFACES_VARIABLE: os.pathsep.join(str(p) for p in prefixes)})}")
     return "\n".join(lines) + "\n"
