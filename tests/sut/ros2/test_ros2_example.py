@@ -14,7 +14,7 @@ from harness.target.mission import load_mission
 
 DISTROS = ("jazzy", "kilted")
 COMMAND = "python3 examples/ros2/sequencer.py"
-BUDGET = "400s"  # mission seconds, held back per test by its bound: the first few focused tests of each property (13 derived)
+BUDGET = "240s"  # mission seconds, held back per test by its bound: the first few focused tests of each property
 pytestmark = [pytest.mark.skipif(any(installed(ROOT, d) for d in DISTROS),
                                 reason="; ".join(filter(None, (installed(ROOT, d) for d in DISTROS)))), pytest.mark.slow]
 
