@@ -68,6 +68,17 @@ def _stopped(how: str = "Ctrl-C", signum: int = 2) -> int:
     return 128 + signum
 
 
+def _interrupted(stop: KeyboardInterrupt) -> int:
+    return _stopped(stop.args[0], stop.signum) if isinstance(stop, processes.Stopped) else _stopped()
+
+
+def _crashed_unless_stopped(command: str) -> int:
+    """An error raised after a stop signal came is what the stop became (DuckDB makes a Ctrl-C
+    during a replacement scan a CatalogException): the stop, not a bug."""
+    stop = processes.stop_under_way()
+    return _interrupted(stop) if stop else _crashed(command)
+
+
 def _crashed(command: str) -> int:
     """A bug: its own status, so that a CI gate never takes it for a finding (status 1)."""
     traceback.print_exc()
@@ -91,16 +102,18 @@ def _run(args) -> int:
     try:
         return args.handler.execute(typed(args.handler.Request, args)) or 0
     except UntimelyError as e:
+        if processes.stop_under_way():  # e.g. a write the stop cut short, which the store calls a write problem
+            return _interrupted(processes.stop_under_way())
         print(f"error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as e:
-        return _stopped(e.args[0], e.signum) if isinstance(e, processes.Stopped) else _stopped()
+        return _interrupted(e)
     except RuntimeError as e:
-        return _stopped() if str(e).startswith(DUCKDB_INTERRUPTED) else _crashed(args.command)
+        return _stopped() if str(e).startswith(DUCKDB_INTERRUPTED) else _crashed_unless_stopped(args.command)
     except BrokenPipeError:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
     except Exception:
-        return _crashed(args.command)
+        return _crashed_unless_stopped(args.command)
     finally:
         os.environ.pop(ROSBAG_ENV, None)

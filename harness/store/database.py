@@ -199,32 +199,35 @@ def add_campaign(con, campaign_id: int, mission: str, seed: int, record: Record)
 def add_reply_codes(con, interface: Interface) -> None:
     """Record the interface's reply catalogue and its modules' order; a code whose class changed
     is refused."""
-    import pyarrow as pa
     rows = interface.reply_codes()
-    codes = pa.table({"position": range(len(rows)), **{  # noqa: F841 (read by DuckDB)
-        name: [r[i] for r in rows] for i, name in enumerate(("module", "service", "reply", "class"))}})
-    changed = con.execute("""select c.module, c.service, c.reply, c.class, r.class from codes c
-                             join reply_codes r using (module, service, reply) where c.class <> r.class
-                             order by c.position limit 1""").fetchone()
+    # The rows go in as list parameters, not as a local that DuckDB's replacement scan finds: a
+    # signal arriving while it walks Python's frames made that scan report "no table" (a crash).
+    codes = """(select unnest(?::varchar[]) as module, unnest(?::varchar[]) as service, unnest(?::varchar[]) as reply,
+                       unnest(?::varchar[]) as class,
+                       generate_subscripts(?::varchar[], 1) as position)"""
+    columns = [[r[i] for r in rows] for i in range(4)]
+    columns.append(columns[0])
+    changed = con.execute(f"""select c.module, c.service, c.reply, c.class, r.class from {codes} c
+                              join reply_codes r using (module, service, reply) where c.class <> r.class
+                              order by c.position limit 1""", columns).fetchone()
     if changed:
         module, service, reply, cls, known = changed
         raise StoreError(f"{interface.path}: reply {reply!r} of {module}.{service} has class {cls!r}, "
                          f"but the store already has class {known!r}; use a fresh --db")
-    con.execute("""insert into reply_codes (module, service, reply, class)
-                   select module, service, reply, class from codes
-                   anti join reply_codes using (module, service, reply)""")
+    con.execute(f"""insert into reply_codes (module, service, reply, class)
+                    select module, service, reply, class from {codes}
+                    anti join reply_codes using (module, service, reply) order by position""", columns)
     place(con, "module_positions", "module", [r[0] for r in rows])
 
 
 def place(con, table: str, column: str, names: list[str]) -> None:
     """Give the names a positions table (variant_positions, module_positions) does not hold yet
     the next positions, in the order given: the first order a store saw is the one it keeps."""
-    import pyarrow as pa
     names = list(dict.fromkeys(names))
-    given = pa.table({"name": names, "given": range(len(names))})  # noqa: F841 (read by DuckDB)
     con.execute(f"""insert into {table} ({column}, position)
                     select name, (select coalesce(max(position), 0) from {table}) + row_number() over (order by given)
-                    from given where name not in (select {column} from {table})""")
+                    from (select unnest(?::varchar[]) as name, generate_subscripts(?::varchar[], 1) as given)
+                    where name not in (select {column} from {table})""", [names, names])
 
 
 def _table(rows: list[tuple], columns: tuple[str, ...], schema: pa.Schema, trace_ids: list[int]) -> pa.Table:

@@ -63,8 +63,15 @@ def raise_if_stopping() -> None:
     stop became (DuckDB turns a KeyboardInterrupt raised during a query into RuntimeError('Query
     interrupted')); the repeats of the signal are ignored from its first, so a stop lost there
     would let the bench run on and exit 0."""
-    if _STOPPING:
-        raise _stop(_STOPPING[0])
+    stop = stop_under_way()
+    if stop:
+        raise stop
+
+
+def stop_under_way() -> KeyboardInterrupt | None:
+    """The stop signal that came, as the exception it raised, or None: DuckDB turns one raised while
+    it reads Python objects into another error (a table not found, a schema not read)."""
+    return _stop(_STOPPING[0]) if _STOPPING else None
 
 
 def _handled() -> tuple:

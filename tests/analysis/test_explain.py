@@ -1,6 +1,8 @@
 """`explain TRACE_ID PROPERTY [RQST_ID]`: the events that decided a verdict."""
 import shutil
+import signal
 
+import duckdb
 import pytest
 
 from harness import DEFAULT_MISSION_DIR
@@ -8,6 +10,8 @@ from harness.analysis import explain
 from harness.analysis.analyzer import materialise
 from harness.analysis.explain import Explainer, judged_properties
 from harness.cli import main
+from harness.errors import StoreError
+from harness.sut import processes
 from harness.store.database import add_campaign, add_reply_codes, connect, insert_trace
 from harness.store.record import RunRecord
 from harness.target.interface import load_properties
@@ -209,3 +213,23 @@ def test_a_real_time_trace_is_explained_with_the_epsilon_its_pings_measured(tmp_
         in said[2], said[2]
     assert "q rflex.Init  ok at 1.000000" in said[2] and said[1].splitlines()[-2].endswith("yes") \
         and said[2].splitlines()[-2].endswith("no"), said
+
+
+@pytest.mark.parametrize("became", [duckdb.CatalogException("Table with name given does not exist!"),
+                                    StoreError("could not write the store: ...")])
+def test_an_error_that_a_stop_signal_became_reads_as_the_stop_not_a_crash(tmp_path, capsys, monkeypatch, became):
+    # measured: a Ctrl-C arriving while DuckDB reads a Python object (a replacement scan) comes out
+    # of the query as a CatalogException, or through a transaction as the store's write problem
+    def stopped_mid_query(*args):
+        try:
+            processes._raise_stopped(signal.SIGINT, None)
+        except KeyboardInterrupt:
+            raise became from None
+    monkeypatch.setattr(processes, "_STOPPING", [])
+    monkeypatch.setattr(explain, "main", stopped_mid_query)
+    try:
+        assert main(["explain", "1", "P", "--db", str(tmp_path / "none.duckdb")]) == 130
+    finally:
+        processes.stop_on_signals()  # the handlers that the first stop replaced, back for the next tests
+    err = capsys.readouterr().err
+    assert "stopped (Ctrl-C)" in err and "crashed" not in err and "Traceback" not in err

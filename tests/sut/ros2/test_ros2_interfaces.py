@@ -80,8 +80,10 @@ def test_init_reads_a_node_of_its_own_interfaces_and_writes_suts_that_find_them(
                            f"python3 {HERE / 'demo_node.py'}", "--interfaces", str(DEMO)],
                           cwd=ROOT, capture_output=True, text=True, timeout=1200)
     assert done.returncode == 0, done.stderr[-3000:]
-    # a plain node: no lifecycle rule to derive, and a campaign needs a property; init says so
-    assert "next: write at least one [[property]] in" in done.stdout and "none could be derived" in done.stdout
+    # a plain node: the ROS 2 model's properties of its action and service, none of the lifecycle's
+    families = {p["family"] for p in tomllib.loads((folder / "properties.toml").read_text())["property"]}
+    assert {"RSP", "CAN", "GOAL"} <= families and not families & {"ACTIVE_GOALS", "TRANSITION"}, families
+    assert "--strategy focused" in done.stdout, done.stdout
     interface = load_interface(folder / "interface.toml")
     assert {n: s.kind for n, s in interface.services.items()} == {
         "demo.fib": "exec", "demo.fib_cancel": "control", "demo.toggle": "control"}
