@@ -6,7 +6,7 @@ It runs in a distro's environment (environment.py), in the adapter's process or 
     python -m harness.sut.ros2.recorder BAG --action /dala/goto=untimely_msgs/action/Request \\
         --service /dala/set=untimely_msgs/srv/Call [--wait 10]
 
-records until SIGINT or SIGTERM, then closes the bag; it prints "recording" once every topic that
+records until SIGINT or SIGTERM, then until nothing has come for DRAIN_S, and closes the bag; it prints "recording" once every topic that
 has publishers at all has one discovered. Per action NAME it records NAME/_action/status and
 NAME/_action/feedback, and on Kilted (ROS_DISTRO), whose action servers and clients have
 introspection, NAME/_action/{send_goal,get_result,cancel_goal}/_service_event; per service NAME,
@@ -38,6 +38,9 @@ from rosbags.rosbag2 import StoragePlugin, Writer
 INTROSPECTED_ACTIONS = {"jazzy": False, "kilted": True}  # rclpy's action introspection came in Kilted
 DERIVED = re.compile(r"(\w+)/(srv|action)/(\w+?)(_SendGoal|_GetResult|_CancelGoal)?(_Request|_Response|_Event|_Goal|_Result|_Feedback|_FeedbackMessage)?")
 SEPARATOR = "=" * 80
+# After a stop, the recorder writes on until nothing has come for this long: what the peers published
+# just before the stop may still be on its way (measured: a loaded machine's bag lacked a whole run).
+DRAIN_S = 0.5
 
 
 def action_topics(name: str, action_type: str, distro: str | None = None) -> list[tuple[str, str]]:
@@ -129,6 +132,7 @@ class Recorder:
         self.writer = Writer(Path(path), version=9, storage_plugin=StoragePlugin.MCAP)
         self.writer.open()
         self.connections: dict[str, object] = {}
+        self.written = 0
         self.node = rclpy.create_node("untimely_record")
         self.subscriptions = {}
         for topic, msgtype in self.topics.items():
@@ -147,6 +151,7 @@ class Recorder:
             if topic not in self.connections:
                 self.connections[topic] = self._connection(topic)
             self.writer.write(self.connections[topic], instant_ns, raw)
+            self.written += 1
 
     def _connection(self, topic: str):
         """The topic's connection, typed by the hash its publisher announces."""
@@ -166,6 +171,14 @@ class Recorder:
             if not missing or time.monotonic() > deadline:
                 return missing
             rclpy.spin_once(self.node, timeout_sec=0.05)
+
+    def drain(self) -> None:
+        """Spins until nothing has come for DRAIN_S."""
+        written, quiet_since = self.written, time.monotonic()
+        while time.monotonic() - quiet_since < DRAIN_S:
+            rclpy.spin_once(self.node, timeout_sec=0.05)
+            if self.written != written:
+                written, quiet_since = self.written, time.monotonic()
 
     def close(self) -> None:
         with self.lock:
@@ -203,6 +216,7 @@ def main(argv: list[str] | None = None) -> None:
         print("recording", flush=True)
         while not stop.is_set():
             rclpy.spin_once(recorder.node, timeout_sec=0.05)
+        recorder.drain()
     except ExternalShutdownException:
         pass
     finally:
