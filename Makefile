@@ -95,13 +95,18 @@ ros2: $(foreach d,$(ROS2_DISTROS),build/ros2/$(d)/install/.built)
 build/ros2/%/install/.built: .venv-ros2-%/.installed $(ROS2_DIR)/build.py $(ROS2_MSGS)
 	.venv-ros2-$*/bin/python -m harness.sut.ros2.build $*
 
+# Two processes, a test file each at a time (pytest-xdist): most slow tests wait on real time (ROS
+# nodes, missions at 1x), and a file's module-scoped fixtures are built once. TEST_JOBS=0: one process.
+TEST_JOBS ?= 2
+TEST_PROCESSES := $(if $(filter 0,$(TEST_JOBS)),,-n $(TEST_JOBS) --dist loadfile)
+
 test: system $(STAMP) ros ros-cpp ros2
-	$(PY) -m pytest
+	$(PY) -m pytest $(TEST_PROCESSES)
 
 # The tests not marked slow (docs/contributing.md): every package, in minutes, with .venv alone; a
 # test that needs what `make test` installs (ROS, chromium, Node.js) is slow or skips, saying why.
 test-fast: $(STAMP)
-	$(PY) -m pytest -m "not slow"
+	$(PY) -m pytest $(TEST_PROCESSES) -m "not slow"
 
 # The suite's counts that README.md and docs/contributing.md state, collected and written there.
 counts: $(STAMP)

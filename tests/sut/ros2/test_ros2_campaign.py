@@ -10,15 +10,16 @@ pytestmark = pytest.mark.slow
 
 @requires_ros2("jazzy")
 def test_ros2_campaign_judges_like_the_simulator_in_process(tmp_path, capsys):
-    """Golden + 20 mutants on `reference` in process and on `ros2-reference` on 8 slots, twice real
+    """Golden + 9 mutants (the golden run, then one wave of the 8 slots: a node's second run on the
+    golden's slot) on `reference` in process and on `ros2-reference` on 8 slots, twice real
     time (to halve the test's minutes): every run completes on both, every verdict that differs is
     suspicious on one side, Table III is the same when none differs; the ground truth of every goal that
     started before the run's last second reached the bench; one node per slot served run after run, each on a fresh layer (the verdicts
     agree with in-process runs, each of which starts a fresh layer)."""
     db = tmp_path / "c.duckdb"
-    assert campaign(db, "--mutants", "20", "--sut", "reference,ros2-reference", "--jobs", "8",
+    assert campaign(db, "--mutants", "9", "--sut", "reference,ros2-reference", "--jobs", "8",
                     "--time-scale", "2") == 0
-    con = assert_judges_like_in_process(db, capsys.readouterr().out, "ros2-reference", 2)
+    con = assert_judges_like_in_process(db, capsys.readouterr().out, "ros2-reference", 2, min_runs=9)
     # The ground truth travels on a topic of its own, later than the replies on a loaded machine, and
     # the bench reads nothing of a run after its bye: only the run's last second may lack it.
     untold = con.execute("""
