@@ -102,8 +102,9 @@ def _run(args) -> int:
     try:
         return args.handler.execute(typed(args.handler.Request, args)) or 0
     except UntimelyError as e:
-        if processes.stop_under_way():  # e.g. a write the stop cut short, which the store calls a write problem
-            return _interrupted(processes.stop_under_way())
+        stop = processes.stop_under_way()  # e.g. a write the stop cut short, which the store calls a write problem
+        if stop:
+            return _interrupted(stop)
         print(f"error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as e:

@@ -200,34 +200,37 @@ def add_reply_codes(con, interface: Interface) -> None:
     """Record the interface's reply catalogue and its modules' order; a code whose class changed
     is refused."""
     rows = interface.reply_codes()
-    # The rows go in as list parameters, not as a local that DuckDB's replacement scan finds: a
-    # signal arriving while it walks Python's frames made that scan report "no table" (a crash).
-    codes = """(select unnest(?::varchar[]) as module, unnest(?::varchar[]) as service, unnest(?::varchar[]) as reply,
-                       unnest(?::varchar[]) as class,
-                       generate_subscripts(?::varchar[], 1) as position)"""
-    columns = [[r[i] for r in rows] for i in range(4)]
-    columns.append(columns[0])
+    columns = ("module", "service", "reply", "class")
+    codes, lists = _listed(columns), {name: [r[i] for r in rows] for i, name in enumerate(columns)}
     changed = con.execute(f"""select c.module, c.service, c.reply, c.class, r.class from {codes} c
                               join reply_codes r using (module, service, reply) where c.class <> r.class
-                              order by c.position limit 1""", columns).fetchone()
+                              order by c.given limit 1""", lists).fetchone()
     if changed:
         module, service, reply, cls, known = changed
         raise StoreError(f"{interface.path}: reply {reply!r} of {module}.{service} has class {cls!r}, "
                          f"but the store already has class {known!r}; use a fresh --db")
     con.execute(f"""insert into reply_codes (module, service, reply, class)
                     select module, service, reply, class from {codes}
-                    anti join reply_codes using (module, service, reply) order by position""", columns)
+                    anti join reply_codes using (module, service, reply) order by given""", lists)
     place(con, "module_positions", "module", [r[0] for r in rows])
 
 
 def place(con, table: str, column: str, names: list[str]) -> None:
     """Give the names a positions table (variant_positions, module_positions) does not hold yet
     the next positions, in the order given: the first order a store saw is the one it keeps."""
-    names = list(dict.fromkeys(names))
     con.execute(f"""insert into {table} ({column}, position)
                     select name, (select coalesce(max(position), 0) from {table}) + row_number() over (order by given)
-                    from (select unnest(?::varchar[]) as name, generate_subscripts(?::varchar[], 1) as given)
-                    where name not in (select {column} from {table})""", [names, names])
+                    from {_listed(("name",))} where name not in (select {column} from {table})""",
+                {"name": list(dict.fromkeys(names))})
+
+
+def _listed(columns: tuple[str, ...]) -> str:
+    """A subquery of the rows given as one list parameter per column (named as the column), with
+    `given`, each row's place in the lists. Lists, not an Arrow table in a local that DuckDB's
+    replacement scan finds: a signal arriving while that scan walks Python's frames made it report
+    "table not found" (a crash where a stop was due)."""
+    unnested = ", ".join(f"unnest(${c}::varchar[]) as {c}" for c in columns)
+    return f"(select {unnested}, generate_subscripts(${columns[0]}::varchar[], 1) as given)"
 
 
 def _table(rows: list[tuple], columns: tuple[str, ...], schema: pa.Schema, trace_ids: list[int]) -> pa.Table:

@@ -6,8 +6,8 @@ It runs in a distro's environment (environment.py), in the adapter's process or 
     python -m harness.sut.ros2.recorder BAG --action /dala/goto=untimely_msgs/action/Request \\
         --service /dala/set=untimely_msgs/srv/Call [--wait 10]
 
-records until SIGINT or SIGTERM, then until nothing has come for DRAIN_S, and closes the bag; it prints "recording" once every topic that
-has publishers at all has one discovered. Per action NAME it records NAME/_action/status and
+records until SIGINT or SIGTERM, then until nothing has come for DRAIN_S, and closes the bag; it
+prints "recording" once every topic that has publishers at all has one discovered. Per action NAME it records NAME/_action/status and
 NAME/_action/feedback, and on Kilted (ROS_DISTRO), whose action servers and clients have
 introspection, NAME/_action/{send_goal,get_result,cancel_goal}/_service_event; per service NAME,
 NAME/_service_event. An introspection event is written at its own stamp (the instant the side
