@@ -3,6 +3,7 @@ lines out from any thread, the bench's messages in, and the hello that starts ea
 from __future__ import annotations
 
 import json
+import os
 import signal
 import sys
 import threading
@@ -79,10 +80,19 @@ def serve_runs(adapter, first: dict, node, ready: Callable[[], None], greet: Cal
         hello = read_hello(sys.stdin, first)
 
 
+def protocol_stdout():
+    """This process's stdout as the protocol's own stream, and file descriptor 1 sent to stderr: what
+    a library writes there itself (Fast DDS logs its errors to std::cout) cannot break a line."""
+    sys.stdout.flush()
+    stream = os.fdopen(os.dup(1), "w", encoding="utf-8")
+    os.dup2(2, 1)
+    return stream
+
+
 def run_main(run, args) -> int:
     """A launcher's life on stdio: `run(args, out)` until it returns or SIGTERM comes (torn down as on
     bye); its UntimelyError is an `error` line and exit status 2."""
-    out = LineWriter(sys.stdout)
+    out = LineWriter(protocol_stdout())
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     try:
         run(args, out)
