@@ -7,7 +7,8 @@ still fits, so the sum never exceeds the budget.
 The stopping rule, per variant: once every aim has been exercised on it, the variant is done
 when its last PATIENCE tests showed nothing new (no (property, kind) it had not shown before).
 The campaign stops when every variant is done (`rule`), when the next test no longer fits in the
-budget (`budget`), or after --mutants tests (`tests`).
+budget once the runs before it are back and have said what they took (`budget`), or after
+--mutants tests (`tests`).
 """
 from __future__ import annotations
 
@@ -60,11 +61,22 @@ class VariantState:
 
 @dataclass
 class Budget:
+    """What a campaign has spent, runs in flight counted at their bounds until they say what they took."""
     limit_s: float | None  # None: no budget, only the rule stops the campaign
     spent_s: float = 0.0
+    in_flight: int = 0  # runs reserved at their bounds and not yet settled
 
     def fits(self, bound: float) -> bool:
         return self.limit_s is None or self.spent_s + bound <= self.limit_s
+
+    def reserve(self, bound: float) -> None:
+        self.spent_s += bound
+        self.in_flight += 1
+
+    def settle(self, bound: float, took: float) -> None:
+        """A reserved run came back having taken `took` mission seconds (0: it never started)."""
+        self.spent_s += took - bound
+        self.in_flight -= 1
 
     def left(self) -> float:
         return float("inf") if self.limit_s is None else self.limit_s - self.spent_s
@@ -73,21 +85,30 @@ class Budget:
 @dataclass
 class MeteredOriginal(shrink.Original):
     """A trace to shrink whose re-runs are counted against the campaign's budget (shrinks run
-    side by side: one lock keeps the budget's account), each on a slot taken for that run alone."""
+    side by side: one condition keeps the budget's account), each on a slot taken for that run
+    alone. A run that does not fit waits while other runs are in flight at their bounds (they
+    mostly take far less): the budget is spent only when nothing is left to come back."""
     budget: Budget | None = None
     bound: float = 0.0  # no candidate outlasts the original script's bound
-    account: threading.Lock = field(default_factory=threading.Lock)  # shared by the shrinks of a campaign
+    account: threading.Condition = field(default_factory=threading.Condition)  # shared by the campaign's runs
     slots: Slots | None = None  # None: in process, on slot 0
 
     def run(self, body: str, runner=None):
         with self.account:
-            if not self.budget.fits(self.bound):
-                raise BudgetSpent()
-            self.budget.spent_s += self.bound  # reserved until the run says what it took
-        with self.slots.taken() if self.slots else nullcontext(self.slot) as self.slot:
-            trace = super().run(body, runner) if runner else super().run(body)
-        with self.account:
-            self.budget.spent_s += trace.sim_s - self.bound
+            while not self.budget.fits(self.bound):
+                if not self.budget.in_flight:
+                    raise BudgetSpent()
+                self.account.wait()
+            self.budget.reserve(self.bound)
+        took = self.bound  # kept counted if the run fails
+        try:
+            with self.slots.taken() if self.slots else nullcontext(self.slot) as self.slot:
+                trace = super().run(body, runner) if runner else super().run(body)
+            took = trace.sim_s
+        finally:
+            with self.account:
+                self.budget.settle(self.bound, took)
+                self.account.notify_all()
         return trace
 
 

@@ -53,7 +53,7 @@ class FocusedRun:
         self.run_tasks = slots.run_all if slots else ctx.executor.run_all
         self.properties, self.interface, self.shrink_to = ctx.properties, ctx.interface, ctx.shrink_to
         self.judge = Judge(ctx.interface, ctx.properties)
-        self.account = threading.Lock()  # the budget's, shared with shrinks running in the background
+        self.account = threading.Condition()  # the budget's, shared with shrinks running in the background
         self.shrinking: list[tuple[shrink.Behaviour, MeteredOriginal, Future]] = []
         self.state = {sut: VariantState() for sut in config.sut}
         self.in_flight: list[Round] = []  # the rounds whose runs were started on slots, not all back
@@ -114,7 +114,7 @@ class FocusedRun:
             self._store_shrunk(wait=False)  # on slots, once the runs ahead are started
             self._collect(current)
             n = self._judged(current)
-            if current.cut is not None:
+            if current.cut is not None and not current.bounds:  # not one more run fits, none in flight
                 return self._stop("budget", n)
             self._release(ahead)
 
@@ -160,10 +160,12 @@ class FocusedRun:
                 if not self.budget.fits(bound):
                     rnd.cut = k
                     break
-                self.budget.spent_s += bound
+                self.budget.reserve(bound)
                 rnd.bounds[task.trace_id] = bound
             if held is not None and rnd.cut is not None:
-                self.budget.spent_s -= sum(rnd.bounds.values())
+                for bound in rnd.bounds.values():
+                    self.budget.settle(bound, 0.0)
+                self.account.notify_all()
                 return None
         admitted = [t for _, tasks in tests for t in tasks if t.trace_id in rnd.bounds]
         rnd.held = [t for t in admitted if t.sut in (held or ())]
@@ -186,7 +188,9 @@ class FocusedRun:
             sure = [t for t in rnd.held if t.sut not in ended
                     and self.state[t.sut].stays_active(before, len(self.plan.aims), PATIENCE)]
             with self.account:
-                self.budget.spent_s -= sum(rnd.bounds.pop(t.trace_id) for t in rnd.held if t.sut in ended)
+                for task in [t for t in rnd.held if t.sut in ended]:
+                    self.budget.settle(rnd.bounds.pop(task.trace_id), 0.0)
+                self.account.notify_all()
             rnd.pending.update(self.slots.submit(sure, rnd.number))
             rnd.held = [t for t in rnd.held if t.sut not in ended and t not in sure]
             before += len(rnd.tests)
@@ -212,7 +216,8 @@ class FocusedRun:
         rnd.fresh[task.trace_id] = trace
         self.batches.add(task, trace)
         with self.account:
-            self.budget.spent_s += trace.sim_s - rnd.bounds[task.trace_id]
+            self.budget.settle(rnd.bounds[task.trace_id], trace.sim_s)
+            self.account.notify_all()
 
     def _judged(self, rnd: Round) -> int:
         """Judges a round's traces, applies the rule to its tests in order, shrinks what is new;

@@ -24,7 +24,7 @@ from functools import cached_property
 from pathlib import Path
 
 from harness import DEFAULT_EPSILON_S, store
-from harness.errors import ScriptError, StoreError, UntimelyError
+from harness.errors import BudgetSpent, ScriptError, StoreError, UntimelyError
 from harness.files import make_folder
 from harness.store import campaign_reads
 from harness.sut.executive import run_script
@@ -139,7 +139,7 @@ class Reproducer:
         related = [p for p in properties if target and (p is target or _codes(p) & _codes(target))]
         self.judge = Judge(self.interface, related or properties[:1], DEFAULT_EPSILON_S)
         self.runs, self.seen = 0, {}
-
+        self.smallest: list | None = None  # the fewest steps a run has shown the behaviour with
 
     def shows(self, steps) -> bool:
         script = Script(tuple(steps), "shrink candidate").renumbered()
@@ -150,9 +150,11 @@ class Reproducer:
             except ScriptError:
                 self.seen[body] = False
                 return False
-            self.runs += 1
             trace = self.orig.run(body, self.runner)
+            self.runs += 1
             self.seen[body] = self.behaviour.shown_by(trace.outcome, self.judge.verdicts([trace])[0])
+            if self.seen[body] and (self.smallest is None or len(steps) <= len(self.smallest)):
+                self.smallest = list(steps)
         return self.seen[body]
 
 
@@ -190,18 +192,27 @@ def shorter_sleeps(steps: list, shows) -> list:
     return steps
 
 
-def shrink(orig: Original, behaviour: Behaviour, properties: list[Property], runner=run_script) -> tuple[Script, int]:
-    """The shrunk script and the number of runs it took."""
+def shrink(orig: Original, behaviour: Behaviour, properties: list[Property],
+           runner=run_script) -> tuple[Script, int, bool]:
+    """The shrunk script, the number of runs it took, and whether it went to its end: a budget
+    spent once the script has shown the behaviour again gives the smallest one a run showed it with."""
     reproducer = Reproducer(orig, behaviour, properties, runner)
     steps = list(parse(orig.body, f"trace {orig.trace_id}").steps)
     if not reproducer.shows(steps):
         raise UntimelyError(f"trace {orig.trace_id}'s script does not show the {behaviour} again when re-run "
                             f"with seed {orig.seed}; it cannot be shrunk")
-    steps = shorter_sleeps(ddmin(steps, reproducer.shows), reproducer.shows)
+    try:
+        steps = shorter_sleeps(ddmin(steps, reproducer.shows), reproducer.shows)
+    except BudgetSpent:
+        return Script(tuple(reproducer.smallest), "shrunk").renumbered(), reproducer.runs, False
     awaited = {s.handle for s in steps if s.op == "wait"}
     tidy = [replace(s, comment="", handle=s.handle if s.op != "send" or s.handle in awaited else None)
             for s in steps]  # a handle no wait names should change nothing; checked by one more run
-    return Script(tuple(tidy if reproducer.shows(tidy) else steps), "shrunk").renumbered(), reproducer.runs
+    try:
+        shown = reproducer.shows(tidy)
+    except BudgetSpent:
+        return Script(tuple(steps), "shrunk").renumbered(), reproducer.runs, False
+    return Script(tuple(tidy if shown else steps), "shrunk").renumbered(), reproducer.runs, True
 
 
 def mission_file(out: Path, script_id: int) -> Path:
@@ -209,7 +220,7 @@ def mission_file(out: Path, script_id: int) -> Path:
 
 
 def store_shrink(con, orig: Original, behaviour: Behaviour, script: Script | None, runs: int,
-                 interrupted: bool = False) -> int | None:
+                 interrupted: bool = False, budget_spent: bool = False) -> int | None:
     """Stores a shrink as a campaign of kind "shrink": every run it made (orig.made, as traces linked
     to the trace it shrinks) and the shrunk script if it came out; returns the script's id. A shrink
     `interrupted` (Ctrl-C, SIGTERM) keeps the runs it made so far, marked so: it is tried again."""
@@ -218,7 +229,8 @@ def store_shrink(con, orig: Original, behaviour: Behaviour, script: Script | Non
                           seed=orig.seed, verdict=behaviour.verdict, property=behaviour.property_id,
                           steps_before=len(parse(orig.body).steps),
                           **({"steps_after": len(script.steps)} if script else {}), runs=runs,
-                          **({"interrupted": True} if interrupted else {}))
+                          **({"interrupted": True} if interrupted else {}),
+                          **({"budget_spent": True} if budget_spent else {}))
     if script is None and not made:
         return None
     with store.transaction(con):
@@ -274,26 +286,28 @@ class Shrunk:
     runs: int
     seconds: float
     error: str | None = None
+    whole: bool = True  # False: the budget was spent before the shrink's end (the smallest shown so far)
 
 
 def shrunk(orig: Original, behaviour: Behaviour, properties: list[Property], runner=run_script) -> Shrunk:
     started = time.perf_counter()
     try:
-        script, runs = shrink(orig, behaviour, properties, runner)
+        script, runs, whole = shrink(orig, behaviour, properties, runner)
     except UntimelyError as e:
         return Shrunk(orig, None, 0, time.perf_counter() - started, str(e))
-    return Shrunk(orig, script, runs, time.perf_counter() - started)
+    return Shrunk(orig, script, runs, time.perf_counter() - started, whole=whole)
 
 
 def stored(con, behaviour: Behaviour, result: Shrunk, out: Path) -> str:
     """Store a shrink (its runs, its script) and write its .mission file; one line saying what came out."""
     orig, script = result.orig, result.script
-    script_id = store_shrink(con, orig, behaviour, script, result.runs)
+    script_id = store_shrink(con, orig, behaviour, script, result.runs, budget_spent=not result.whole)
     if script is None:
         return f"{behaviour}: not shrunk: {result.error}"
     path = write_mission(out, orig, behaviour, script_id, script.render(), result.runs)
+    cut = "" if result.whole else " (the budget ran out: the smallest script a run showed it with)"
     return (f"{behaviour}: trace {orig.trace_id} shrunk from {len(parse(orig.body).steps)} to "
-            f"{len(script.steps)} steps in {result.runs} runs, {result.seconds:.1f} s -> {path}")
+            f"{len(script.steps)} steps in {result.runs} runs, {result.seconds:.1f} s{cut} -> {path}")
 
 
 def default_out(db: str) -> Path:

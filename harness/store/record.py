@@ -105,6 +105,7 @@ class ShrinkRecord(Record):
     steps_after: int | None = None  # None: no shrunk script came out
     runs: int
     interrupted: bool = False  # stopped by Ctrl-C or a signal: a resumed campaign tries it again
+    budget_spent: bool = False  # its campaign's budget ran out first: steps_after is the smallest shown by then
 
 
 class ImportRecord(Record):

@@ -1,13 +1,16 @@
 """Focused campaigns (issue 21): short tests made from any target folder, a budget that bounds
 every run's mission time, a stopping rule, findings with shrunk reproducers."""
 import sys
+import threading
 from pathlib import Path
 
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, ROOT, store
 from harness.cli import main as cli
-from harness.campaign.budget import parse_duration
+from harness.campaign import shrink
+from harness.campaign.budget import Budget, MeteredOriginal, parse_duration
+from harness.errors import BudgetSpent
 from harness.mutator.focused import Plan
 from harness.mutator.script_time import bound_s
 from harness.mutator.timeline import Timeline
@@ -237,3 +240,35 @@ def test_a_finding_the_golden_run_shows_is_shrunk_like_any_other(tmp_path, capsy
     con.close()
     assert cli(args) == 0  # resumed: nothing shrunk again
     assert "shrunk in" not in capsys.readouterr().out
+
+
+class Took:
+    sim_s = 3.0
+
+
+def metered(budget, monkeypatch):
+    """A shrink's original whose runs take 3 mission s (no SUT: the budget's account is the test)."""
+    monkeypatch.setattr(shrink.Original, "run", lambda self, body, runner=None: Took())
+    return MeteredOriginal(1, 1, "genom", 0, "FN", "body", ROOT, 0.0, {}, budget=budget, bound=10.0)
+
+
+def test_a_shrink_run_that_does_not_fit_waits_for_the_runs_in_flight_then_takes_what_they_left(monkeypatch):
+    budget = Budget(20.0)
+    budget.reserve(10.0)  # a test's run in flight at its bound: 10 of 20 spent
+    budget.spent_s += 5.0  # and 5 spent before
+    original = metered(budget, monkeypatch)
+    done = threading.Event()
+    threading.Thread(target=lambda: (original.run("body"), done.set()), daemon=True).start()
+    assert not done.wait(0.3), "a shrink run started with 15 of 20 s spent and a bound of 10 s"
+    with original.account:
+        budget.settle(10.0, 2.0)  # the run came back having taken 2 s: 7 of 20 spent
+        original.account.notify_all()
+    assert done.wait(10), "the shrink run never started once the budget had room"
+    assert budget.spent_s == pytest.approx(10.0) and budget.in_flight == 0
+
+
+def test_a_shrink_run_that_does_not_fit_with_nothing_in_flight_finds_the_budget_spent(monkeypatch):
+    budget = Budget(20.0, spent_s=15.0)
+    with pytest.raises(BudgetSpent):
+        metered(budget, monkeypatch).run("body")
+    assert budget.spent_s == 15.0 and budget.in_flight == 0

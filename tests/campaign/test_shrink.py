@@ -7,17 +7,19 @@ import shlex
 import subprocess
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import duckdb
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, store
 from harness.cli import main
-from harness.errors import StoreError
+from harness.errors import BudgetSpent, StoreError
 from harness.mutator.ddmin import ddmin
 from harness.target.script import parse
 from harness.campaign.context import CampaignContext
 from harness.campaign.representatives import representatives
+from harness.campaign import shrink as shrink_module
 from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, replay_command, shorter_sleeps, store_shrink
 from harness.sut.executive import run_script
 from harness.dispatch import transport
@@ -236,3 +238,29 @@ def test_a_replay_line_names_the_installed_command_absolute_paths_and_no_missing
     assert words == ["untimely", "run", str(Path("shrunk/script-9.mission").resolve()), "--sut", "ros2-node",
                      "--seed", "42", "--max-delay", "0.003", "--interface", str(target / "interface.toml"),
                      "--time-scale", "2"]
+
+
+class Spending(Original):
+    """A shrink's original on no SUT: a run hangs while its script sends rflex.Init (the behaviour),
+    and the budget is spent after `runs` runs."""
+    runs = 4
+
+    def run(self, body, runner=None):
+        if len(self.made) == self.runs:
+            raise BudgetSpent()
+        trace = SimpleNamespace(outcome="hung" if "rflex.Init" in body else "completed")
+        self.made.append((body, trace))
+        return trace
+
+
+def test_a_shrink_the_budget_cuts_short_keeps_the_smallest_script_a_run_showed_it_with(monkeypatch):
+    monkeypatch.setattr(shrink_module, "Judge", lambda *args: SimpleNamespace(verdicts=lambda traces: [[]]))
+    body = "".join(f"send {service}\nsleep 1\n" for service in ("sick.Init", "rflex.Init", "ndd.Init", "aspect.Init"))
+    orig = Spending(1, 1, "genom", 0, "hung", body, DEFAULT_MISSION_DIR, 0.003, {})
+    result = shrink_module.shrunk(orig, Behaviour("genom", "hung"), [])
+    assert result.error is None and not result.whole and result.runs == 4
+    shown = [len(parse(b).steps) for b, trace in orig.made if trace.outcome == "hung"]
+    assert len(result.script.steps) == min(shown) < 8 and "rflex.Init" in result.script.render()
+    orig.made, orig.runs = [], 0  # spent before the script showed the hang again: nothing came out
+    result = shrink_module.shrunk(orig, Behaviour("genom", "hung"), [])
+    assert result.script is None and result.error == "the budget is spent"

@@ -96,7 +96,7 @@ def from_ros2(folder: Path, command: str, recorded: Callable[[Path, Ros2Target],
           f"SUTs: {', '.join(d for d in distros)}")
     for note in target.notes:
         print(f"  not derived: {note}")
-    campaign = (f"untimely campaign --mission {folder} --strategy focused --budget 10m --sut "
+    campaign = (f"untimely campaign --mission {folder} --strategy focused --budget 10m --shrink --sut "
                 + ",".join(f"{line.strip('[]')}" for line in (folder / SUTS_FILE).read_text().splitlines()
                            if line.startswith("[")))
     if not target.properties:  # a campaign judges properties: it would refuse to start
