@@ -157,7 +157,7 @@ ROS2_TYPES = (Property("RSP(arm.home)", "RSP", "RSP", ("arm.home",), ("arm.move"
 
 @pytest.mark.parametrize("situation, expected", [
     ("arm.home while arm.move runs", ["arm.move", "arm.home"]),
-    ("arm.move_cancel in the start phase of arm.move", ["arm.move", "arm.move_cancel"]),
+    ("arm.move_cancel in the start phase of arm.move", ["arm.move", "cancel"]),  # of that goal, by its handle
     ("arm.move while arm.move runs", ["arm.move", "arm.move"]),
     ("arm.deactivate while arm.move runs", ["arm.move", "arm.deactivate"]),
     # cleanup while a goal runs: its own state (inactive) would leave move's, so it lands in active
@@ -166,7 +166,11 @@ def test_the_goal_that_must_run_is_sent_in_its_state(tmp_path, situation, expect
     """RSP, CAN, GOAL and OUTLIVE aims (their falsifiers are targeted.py's generic ones): the goal
     that must run is sent with its own context, the node brought up first."""
     for test in made_for(plan(tmp_path, LIFECYCLE, ROS2_TYPES), situation):
-        assert sends(test) == ["arm.configure", "arm.activate"] + expected
+        requests = [line.split()[1] if line.startswith("send") else "cancel"
+                    for line in test if line.startswith(("send", "cancel"))]
+        assert requests == ["arm.configure", "arm.activate"] + expected
+        goals = {line.split()[-1]: line.split()[1] for line in test if line.startswith("send") and " as " in line}
+        assert all(goals.get(line.split()[1]) == "arm.move" for line in test if line.startswith("cancel")), test
 
 
 def test_a_targeted_mutants_fresh_goal_goes_where_the_node_was_brought_up(tmp_path):

@@ -107,29 +107,34 @@ def _full(namespace: str, name: str) -> str:
 
 def call_taken(adapter, service: str, event) -> None:
     """The server's record of a call it received, named by its sequence number."""
-    if event.info.event_type == ServiceEventInfo.REQUEST_RECEIVED and call_topic(service) in adapter.introspected:
-        with adapter.lock:
-            rqst_id, replies = adapter.calls.pop((service, event.info.sequence_number), None), adapter.replies
-        if rqst_id is not None:
-            replies.taken(rqst_id)
+    _relayed(adapter, call_topic(service), event,
+             lambda: adapter.calls.pop((service, event.info.sequence_number), None))
 
 
 def goal_taken(adapter, action: str, event) -> None:
     """The server's record of a goal request it received, with its contents: the goal id."""
-    if (event.info.event_type == ServiceEventInfo.REQUEST_RECEIVED and event.request
-            and goal_topic(action) in adapter.introspected):
-        with adapter.lock:
-            rqst_id, replies = adapter.goal_ids.get(bytes(event.request[0].goal_id.uuid).hex()), adapter.replies
-        if rqst_id is not None:
-            replies.taken(rqst_id)
+    _relayed(adapter, goal_topic(action), event,
+             lambda: adapter.goal_ids.get(_goal(event.request[0].goal_id)) if event.request else None)
 
 
 def cancel_taken(adapter, action: str, event) -> None:
     """The server's record of a cancel request it received, named by the goal it cancels."""
-    if (event.info.event_type == ServiceEventInfo.REQUEST_RECEIVED and event.request
-            and cancel_topic(action) in adapter.introspected):
-        with adapter.lock:
-            waiting = adapter.cancelling.get(bytes(event.request[0].goal_info.goal_id.uuid).hex())
-            rqst_id, replies = (waiting.pop(0) if waiting else None), adapter.replies
-        if rqst_id is not None:
-            replies.taken(rqst_id)
+    def first_waiting() -> int | None:
+        waiting = adapter.cancelling.get(_goal(event.request[0].goal_info.goal_id)) if event.request else None
+        return waiting.pop(0) if waiting else None
+    _relayed(adapter, cancel_topic(action), event, first_waiting)
+
+
+def _relayed(adapter, topic: str, event, request_named) -> None:
+    """A `taken` reply for the request `request_named()` finds (under the adapter's lock; None: none
+    of this run's), when the event is a server's receipt of it and its server publishes `topic`."""
+    if event.info.event_type != ServiceEventInfo.REQUEST_RECEIVED or topic not in adapter.introspected:
+        return
+    with adapter.lock:
+        rqst_id, replies = request_named(), adapter.replies
+    if rqst_id is not None:
+        replies.taken(rqst_id)
+
+
+def _goal(goal_id) -> str:
+    return bytes(goal_id.uuid).hex()
