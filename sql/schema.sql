@@ -88,6 +88,8 @@ create table if not exists world_events (
 -- Where, when and how fast a real-time run against an external SUT ran (docs/reference/protocol.md): such runs
 -- are not reproducible, so their circumstances are kept. rtt_* are the liveness pings' round
 -- trips in wall seconds (times time_scale for mission seconds); none for simulated runs.
+-- transport_max_s: the largest round trip less what the SUT held its pong for (`held_s`: a ROS 2
+-- adapter waits for the node's executor), the transport alone; null in runs stored before it was kept.
 create table if not exists trace_runs (
     trace_id    integer primary key,
     host        varchar not null,
@@ -97,8 +99,10 @@ create table if not exists trace_runs (
     pings       integer not null,
     rtt_p50_s   double,
     rtt_p95_s   double,
-    rtt_max_s   double
+    rtt_max_s   double,
+    transport_max_s double
 );
+alter table trace_runs add column if not exists transport_max_s double;  -- a store from before it
 
 -- The schema versions this store went through (harness.store.SCHEMA_VERSION): created or migrated;
 -- and which versions of Untimely wrote it.

@@ -158,15 +158,17 @@ class Explainer:
             shift = None if pair["shift"] == float("inf") else pair["shift"]
             # the distance whose order is not sure (rule 7): a pair may say an order is sure whatever its shift
             movable = pair.get("movable", pair["shift"])
-            near = movable is not None and movable != float("inf") and round(movable, 6) < self._epsilon(trace_id)[0]
+            # a deadline's distance is to an instant of the bench's own clock: only the transport blurs it
+            epsilon = self._epsilon(trace_id)[2 if pair["item"] == DEADLINE_ITEM else 0]
+            near = movable is not None and movable != float("inf") and round(movable, 6) < epsilon
             rows.append((*([pair["part"]] if "part" in pair else []), what, events,
                          "yes" if pair["conflicts"] else "no", "yes" if pair["conflict_rejected"] else "no",
                          shift, "yes" if near else "no"))
         return rows
 
-    def _epsilon(self, trace_id: int) -> tuple[float, str]:
-        """The epsilon the trace was judged with and where it comes from (view trace_epsilon)."""
-        return self.trace_epsilon.get(trace_id, (self.epsilon, "analysis"))
+    def _epsilon(self, trace_id: int) -> tuple[float, str, float]:
+        """The epsilon the trace was judged with, where it comes from, and the transport's (view trace_epsilon)."""
+        return self.trace_epsilon.get(trace_id, (self.epsilon, "analysis", self.epsilon))
 
     def _instants(self, request: tuple[int, int], t: float, at: str, unit: str = "") -> str:
         """When a request was sent, and taken where the SUT replied `taken` to it (its instant `t`
@@ -176,8 +178,9 @@ class Explainer:
         return f"sent{at} {_seconds(self.sent[request])}{unit}, taken{at} {_seconds(t)}{unit}"
 
     def _epsilon_text(self, trace_id: int) -> str:
-        epsilon, source = self._epsilon(trace_id)
-        return f" (epsilon {epsilon:g} s{EPSILON_SOURCES.get(source, '')})"
+        epsilon, source, transport = self._epsilon(trace_id)
+        deadlines = f"; deadlines {transport:g} s, the transport's" if transport != epsilon else ""
+        return f" (epsilon {epsilon:g} s{EPSILON_SOURCES.get(source, '')}{deadlines})"
 
     def _text(self, key: Key, verdict_row: tuple, requests: dict, oks: dict, pairs: list[dict]) -> str:
         trace_id, property_id, rqst_id = key

@@ -28,13 +28,13 @@ from harness.errors import BudgetSpent, ScriptError, StoreError, UntimelyError
 from harness.files import make_folder
 from harness.store import campaign_reads
 from harness.sut.executive import run_script
-from harness.target.mission import INTERFACE_FILE, SUTS_FILE, WORLD_FILE
+from harness.target.mission import INTERFACE_FILE, WORLD_FILE
 from harness.target.interface import Interface, Property, load_interface
 from harness.analysis.judge import Judge
 from harness.mutator.ddmin import ddmin
 from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
-from harness.sut.definitions import from_configs, load_suts_file, resolve
+from harness.sut.definitions import from_configs
 from harness.trace import Trace
 from harness.dispatch import transport
 from harness.dispatch.description import Task
@@ -100,28 +100,6 @@ def original(con, trace_id: int, mission: str | None = None) -> Original:
     folder = record.target(campaign_mission)
     return Original(trace_id, script_id, sut, seed, outcome, body, Path(mission) if mission else folder,
                     record.max_delay, record.external)
-
-
-def with_trusted_sut(orig: Original, sut_option: str | None, mission_given: bool, confirmed: bool) -> Original:
-    """The trace with the definition of its SUT that the user gave: --sut, else the suts.toml of
-    the --mission folder; the one recorded in the store only if it runs no command or the user
-    confirmed it."""
-    if sut_option:
-        names, external = resolve(sut_option, orig.mission)
-        if orig.sut not in names:
-            raise UntimelyError(f"--sut {sut_option!r} does not name trace {orig.trace_id}'s SUT {orig.sut!r}; "
-                                f"give --sut {orig.sut} (with =cmd:COMMAND or =tcp://HOST:PORT if it is external)")
-        return replace(orig, external={n: s.config() for n, s in external.items() if n == orig.sut})
-    defined = load_suts_file(orig.mission / SUTS_FILE) if mission_given else {}
-    if orig.sut in defined:
-        return replace(orig, external={orig.sut: defined[orig.sut].config()})
-    command = orig.external.get(orig.sut, {}).get("command")
-    if command and not confirmed:
-        raise UntimelyError(f"trace {orig.trace_id} ran on {orig.sut!r}, whose command the store records as "
-                            f"{command!r}; shrink does not run a command read from a store: name the SUT "
-                            f"again with --sut {orig.sut}=cmd:COMMAND, or --mission FOLDER whose suts.toml "
-                            f"defines {orig.sut!r}, or pass --run-stored-command if you trust this store")
-    return orig
 
 
 def _codes(prop: Property) -> set[str]:
@@ -220,7 +198,7 @@ def mission_file(out: Path, script_id: int) -> Path:
 
 
 def store_shrink(con, orig: Original, behaviour: Behaviour, script: Script | None, runs: int,
-                 interrupted: bool = False, budget_spent: bool = False) -> int | None:
+                 ended: dict | None = None) -> int | None:
     """Stores a shrink as a campaign of kind "shrink": every run it made (orig.made, as traces linked
     to the trace it shrinks) and the shrunk script if it came out; returns the script's id. A shrink
     `interrupted` (Ctrl-C, SIGTERM) keeps the runs it made so far, marked so: it is tried again."""
@@ -229,8 +207,7 @@ def store_shrink(con, orig: Original, behaviour: Behaviour, script: Script | Non
                           seed=orig.seed, verdict=behaviour.verdict, property=behaviour.property_id,
                           steps_before=len(parse(orig.body).steps),
                           **({"steps_after": len(script.steps)} if script else {}), runs=runs,
-                          **({"interrupted": True} if interrupted else {}),
-                          **({"budget_spent": True} if budget_spent else {}))
+                          **(ended or {}))
     if script is None and not made:
         return None
     with store.transaction(con):
@@ -247,7 +224,7 @@ def store_shrink(con, orig: Original, behaviour: Behaviour, script: Script | Non
 
 def store_interrupted(con, orig: Original, behaviour: Behaviour) -> None:
     """Store the runs a shrink stopped by Ctrl-C or a signal made so far."""
-    store_shrink(con, orig, behaviour, None, len(orig.made), interrupted=True)
+    store_shrink(con, orig, behaviour, None, len(orig.made), {"interrupted": True})
 
 
 def header(orig: Original, behaviour: Behaviour, script_id: int, path: Path, runs: int, steps_before: int) -> str:
@@ -301,7 +278,7 @@ def shrunk(orig: Original, behaviour: Behaviour, properties: list[Property], run
 def stored(con, behaviour: Behaviour, result: Shrunk, out: Path) -> str:
     """Store a shrink (its runs, its script) and write its .mission file; one line saying what came out."""
     orig, script = result.orig, result.script
-    script_id = store_shrink(con, orig, behaviour, script, result.runs, budget_spent=not result.whole)
+    script_id = store_shrink(con, orig, behaviour, script, result.runs, None if result.whole else {"budget_spent": True})
     if script is None:
         return f"{behaviour}: not shrunk: {result.error}"
     path = write_mission(out, orig, behaviour, script_id, script.render(), result.runs)

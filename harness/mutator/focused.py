@@ -30,19 +30,19 @@ a resumed campaign makes the same tests.
 from __future__ import annotations
 
 import random
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from itertools import zip_longest
 
 from harness.errors import UntimelyError
 from harness.target.interface import Interface, Property
 from harness.target.mission import PROPERTIES_FILE
-from harness.mutator.operators import Mutant, plausible, random_request, step_text, validated
+from harness.mutator.operators import Mutant, as_cancel, plausible, random_request, step_text, validated
 from harness.mutator.states import entry_needs, leavers
 from harness.mutator.targeted import Falsifier, disturbers, falsifiers
 from harness.mutator.timeline import Timeline
 from harness.mutator.values import cases, with_value
 from harness.mutator.script_time import bound_s, least_s
-from harness.target.script import Script, Step, cancel_service
+from harness.target.script import Script, Step
 
 UNSEEN_RUN_S = 5.0  # how long an activity the golden never ran is awaited
 # A start-phase (or "while q runs") aim sleeps FIRST_SLEEP_S, longer than the interface's delays so
@@ -257,24 +257,12 @@ class Builder:
         else:
             steps = self.context(self.running_context(aim, self.closure([aim.send, aim.other])), rng)
             steps += [self.request(aim.other, rng)]
-        steps, sent = self._cancel(steps, self.request(aim.send, rng, value=aim.value))
+        steps, sent = as_cancel(steps, self.request(aim.send, rng, value=aim.value))
         steps += self.sleep(aim, rng, repeat) + [sent]
         enders = list(dict.fromkeys(self.enders[s] for s in (aim.other, aim.send) if s in self.enders))
         if enders:  # else the drain would wait its full time for an activity that never ends
             steps += [Step(0, "sleep", seconds=SETTLE_S)] + [self.request(e, rng) for e in enders]
         return steps
-
-
-    @staticmethod
-    def _cancel(steps: list[Step], sent: Step) -> tuple[list[Step], Step]:
-        """A request of a goal's cancel service written as a `cancel` of the latest goal of that
-        service the steps send (given a handle if it has none), so the test and its reproducer say
-        which goal it cancels; any other request as it is."""
-        goal = next((s for s in reversed(steps) if s.op == "send" and cancel_service(s.service) == sent.service), None)
-        if goal is None or sent.args:
-            return steps, sent
-        handle = goal.handle or "goal"
-        return [replace(s, handle=handle) if s is goal else s for s in steps], Step(0, "cancel", cancelled=handle)
 
 
 class Plan:

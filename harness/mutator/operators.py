@@ -21,7 +21,7 @@ from typing import Callable, Iterator
 from harness.errors import ScriptError, UntimelyError
 from harness.target.interface import Interface, Service
 from harness.mutator.values import replace_value
-from harness.target.script import CANCEL_SUFFIX, Script, Step, step_text, validate
+from harness.target.script import CANCEL_SUFFIX, Script, Step, cancel_service, step_text, validate
 
 INSERTED_HANDLE_PREFIX = "extra"
 REQUEST_STEPS = ("send", "cancel")  # the steps that send a request
@@ -113,6 +113,17 @@ def insert_request(steps, rng, interface):
         step = Step(0, "cancel", handle=handle, cancelled=rng.choice(goals))
     steps.insert(at, step)
     return {"op": "insert_request", "position": at + 1, "step": step_text(step)}
+
+
+def as_cancel(steps: list[Step], sent: Step) -> tuple[list[Step], Step]:
+    """A request of a goal's cancel service, to come after `steps`, written as a `cancel` of the
+    latest goal of that service they send (given a handle if it has none), so that a test and its
+    reproducer say which goal it cancels; any other request as it is."""
+    goal = next((s for s in reversed(steps) if s.op == "send" and cancel_service(s.service) == sent.service), None)
+    if goal is None or sent.args:
+        return steps, sent
+    handle = goal.handle or "goal"
+    return [replace(s, handle=handle) if s is goal else s for s in steps], Step(0, "cancel", cancelled=handle)
 
 
 def swap_requests(steps, rng, interface):

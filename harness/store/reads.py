@@ -71,7 +71,10 @@ def trace_count(con) -> int:
     return con.execute("select count(*) from traces").fetchone()[0]
 
 
-def trace_epsilons(con) -> dict[int, tuple[float, str]]:
-    """trace id -> the epsilon it is judged with and where that comes from (view trace_epsilon)."""
-    return {trace_id: (epsilon, source) for trace_id, epsilon, source in
-            con.execute("select trace_id, epsilon_s, source from trace_epsilon").fetchall()}
+def trace_epsilons(con) -> dict[int, tuple[float, str, float]]:
+    """trace id -> the epsilon it is judged with, where that comes from, and the transport's, which
+    deadlines are judged with (view trace_epsilon; one made before the transport's was kept has no
+    column of it: the same epsilon then)."""
+    transport = "transport_epsilon_s" if "transport_epsilon_s" in con.table("trace_epsilon").columns else "epsilon_s"
+    return {trace_id: (epsilon, source, deadline) for trace_id, epsilon, source, deadline in
+            con.execute(f"select trace_id, epsilon_s, source, {transport} from trace_epsilon").fetchall()}

@@ -50,7 +50,7 @@ case when goal_id is null then (case when reply is null then 'omega' else 'op' e
 {{ name }}_cancels as (
     select x.*, t.goal_id, g.t as g_t, g.final_t as g_final_t, g.class as g_class,
            coalesce(g.reply = {{ z_p | lit }}, false) as ended_z, s.sent_t, d.deadline, s.sent_t + d.deadline as due_t,
-           coalesce(g.final_t, n.end_t) as decided_t, e.epsilon,
+           coalesce(g.final_t, n.end_t) as decided_t, e.epsilon, e.transport_epsilon,
            g.class is distinct from 'R' and {{ base.before('g.', 'x.') }}
                and not coalesce({{ base.before('g.final_', 'x.') }}, false) as running,
            case when g.class = 'R' then 'infinity'::double
@@ -82,7 +82,7 @@ case when goal_id is null then (case when reply is null then 'omega' else 'op' e
 ),
 {{ name }}_facts as (
     select *, {{ due.after('decided_t', 'due_t') }} as late, {{ judge.near('movable', 'epsilon') }} as running_near,
-           {{ judge.near('abs(decided_t - due_t)', 'epsilon') }} as late_near
+           {{ judge.near('abs(decided_t - due_t)', 'transport_epsilon') }} as late_near
     from {{ name }}_cancels
 ),
 {{ name }}_judged as (

@@ -60,7 +60,7 @@ case when class = 'R' then 'op'
 ),
 {{ name }}_facts as (
     select x.*, coalesce(l.running, false) as running, l.c_shift, l.left_t + d.deadline as due_t, d.deadline,
-           coalesce(x.final_t, n.end_t) as decided_t, e.epsilon,
+           coalesce(x.final_t, n.end_t) as decided_t, e.transport_epsilon,
            coalesce(case when l.running then l.all_near else l.some_near end, false) as running_near,
            coalesce(l.some_near, false) as some_near
     from {{ name }}_x x left join {{ name }}_left l using (trace_id, rqst_id)
@@ -69,7 +69,7 @@ case when class = 'R' then 'op'
 ),
 {{ name }}_verdict as (
     select *, coalesce({{ due.after('decided_t', 'due_t') }}, false) as late,
-           some_near or {{ judge.near('abs(decided_t - due_t)', 'epsilon') }} as late_near
+           some_near or {{ judge.near('abs(decided_t - due_t)', 'transport_epsilon') }} as late_near
     from {{ name }}_facts
 ),
 -- the items explain shows: the transitions, and the deadline of the goal's end

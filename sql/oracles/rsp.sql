@@ -22,7 +22,7 @@ case when {{ late }} then 'FN' when reply is null then 'omega' else 'TN' end
 -- each x(i) with its deadline instant, and the instant that decides: its reply, else the trace's end
 {{ name }}_timed as (
     select x.*, s.sent_t, d.deadline, s.sent_t + d.deadline as due_t, coalesce(x.final_t, n.end_t) as decided_t,
-           e.epsilon
+           e.transport_epsilon
     from {{ name }}_x x join {{ name }}_sent s using (trace_id, rqst_id)
     join {{ name }}_deadlines d using (trace_id) join {{ name }}_ends n using (trace_id)
     left join epsilons e using (trace_id)
@@ -52,7 +52,7 @@ case when {{ late }} then 'FN' when reply is null then 'omega' else 'TN' end
 ),
 {{ name }}_verdict as (
     select t.*, not coalesce(c.running, false) as c_holds, {{ due.after('decided_t', 'due_t') }} as late,
-           {{ judge.near('abs(decided_t - due_t)', 'epsilon') }} as late_near
+           {{ judge.near('abs(decided_t - due_t)', 'transport_epsilon') }} as late_near
     from {{ name }}_timed t
     left join (select trace_id, rqst_id, bool_or(conflicts) as running from {{ name }}_met
                group by trace_id, rqst_id) c using (trace_id, rqst_id)

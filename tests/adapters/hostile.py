@@ -4,7 +4,8 @@ that ends every request `ok` at once and answers pings, except as `--case` says.
 Cases: error-hello (an error instead of hello), nested-hello (a hello nested 100,000 levels
 deep), nested-later (such a line after the first request), flood (a million `world` events
 while it keeps answering), stderr-flood (20 MB on stderr, then exit 3), endless-line (an
-endless line without newline), never-pong (answers requests, never pings), deaf (stops reading
+endless line without newline), never-pong (answers requests, never pings), held-back (says it held
+each pong a negative time), deaf (stops reading
 its input after hello, answers nothing), stubborn (ignores SIGTERM, forks a child that ignores
 it too and a double-forked setsid daemon; writes their pids, one a line, to $HOSTILE_PIDS).
 """
@@ -103,6 +104,6 @@ for raw in sys.stdin:
         else:
             send(final)
     elif op == "ping" and case != "never-pong":
-        send(json.dumps({"op": "pong", "id": msg["id"]}))
+        send(json.dumps({"op": "pong", "id": msg["id"], **({"held_s": -1} if case == "held-back" else {})}))
     elif op == "bye":
         break

@@ -3,6 +3,7 @@ docs/reference/verdicts.md#ros-2-types) beyond their hand-made traces (tests/tra
 the deadline parameter, explain, and a fuzz of both timelines proving that no reordering within
 epsilon leaves a verdict certain that the server's own timeline contradicts."""
 import re
+from datetime import datetime
 
 import pytest
 
@@ -178,3 +179,78 @@ def test_a_hand_mission_run_by_untimely_run_derives_no_deadline(tmp_path):
     materialise(con, prop, EPSILON, ARM.interface)
     assert con.execute("select trace_id, rqst_id, verdict, round(margin_s, 6) from verdicts order by 1").fetchall() == [
         (1, 1, "TN", 0.95), (2, 2, "FN", 6.0)]  # the golden's 0.05 s: the 1 s floor, not 10 x 7 s
+
+
+BLOCKED = """[[property]]
+id = "R"
+family = "R"
+type = "RSP"
+x = ["arm.grip"]
+y = ["arm.move"]
+deadline = 0.5
+
+[[property]]
+id = "C"
+family = "C"
+type = "CAN"
+x = ["arm.move_cancel"]
+y = ["arm.move"]
+z_p = "canceled"
+deadline = 0.5
+
+[[property]]
+id = "O"
+family = "O"
+type = "OUTLIVE"
+x = ["arm.move"]
+y = ["arm.deactivate"]
+deadline = 0.5
+"""
+
+
+def _run(transport_max_s: float | None) -> dict:
+    """A real-time run's provenance whose slowest ping took 2 s (held for the node's blocked executor)."""
+    return {"host": "here", "started_at": datetime(2026, 12, 3, 12), "time_scale": 1.0, "sut_info": "arm", "pings": 3,
+            "rtt_p50_s": 2.0, "rtt_p95_s": 2.0, "rtt_max_s": 2.0, "transport_max_s": transport_max_s}
+
+
+# Each ends 1.4 to 1.6 s past its deadline, and the order it is judged in is sure at any epsilon
+# below 2.1 s: the grip's while a goal runs (RSP), a cancelled goal's ended canceled late (CAN), a goal's
+# that outlived a deactivate (OUTLIVE).
+BLOCKED_TRACES = {
+    "R": [(0.0, "request", 1, "move", None), (0.5, "request", 2, "grip", None), (2.5, "final", 2, "grip", "ok"),
+          (4.0, "final", 1, "move", "ok")],
+    "C": [(0.0, "request", 1, "move", None), (2.5, "request", 2, "move_cancel", None),
+          (2.6, "final", 2, "move_cancel", "ok"), (4.6, "final", 1, "move", "canceled")],
+    "O": [(0.0, "request", 1, "move", None), (2.5, "request", 2, "deactivate", None),
+          (2.6, "final", 2, "deactivate", "ok"), (4.7, "final", 1, "move", "ok")],
+}
+
+
+@pytest.mark.parametrize("transport_max_s, suspicious", [
+    (0.002, False),  # the transport took 2 ms: late in every order
+    (None, True),  # no measure of the transport (a store or an SUT from before held_s): the pings' 2 s
+])
+def test_a_deadline_is_judged_with_the_transports_epsilon_not_the_executors_wait(tmp_path, transport_max_s,
+                                                                                  suspicious):
+    """In runs whose pings waited 2 s for the node's executor, a reply or a goal's end 1.4-1.6 s
+    past its deadline is an FN, certain once the transport's own round trip is known."""
+    (tmp_path / "p.toml").write_text(BLOCKED)
+    traces = []
+    for rows in BLOCKED_TRACES.values():
+        traces.append((_arm_trace(rows), None))
+        traces[-1][0].provenance = _run(transport_max_s)
+    con = judged_traces("blocked", traces, load_properties(tmp_path / "p.toml", ARM.interface), EPSILON,
+                        interface=ARM.interface)
+    assert con.execute("select count(*) from oracle_failures").fetchone()[0] == 0
+    judged = con.execute("""select property_id, verdict, suspicious from verdicts
+                            where (trace_id, property_id, rqst_id) in ((1, 'R', 2), (2, 'C', 2), (3, 'O', 1))
+                            order by trace_id""").fetchall()
+    assert judged == [(name, "FN", suspicious) for name in BLOCKED_TRACES]
+    assert con.execute("select distinct epsilon_s, transport_epsilon_s from trace_epsilon").fetchall() == [
+        (2.0, 2.0 if transport_max_s is None else 0.002)]
+    properties = {p.id: p for p in load_properties(tmp_path / "p.toml", ARM.interface)}
+    text = Explainer(con, ARM.interface, properties).explain([(1, "R", 2)])[(1, "R", 2)]
+    deadline = next(line for line in text.splitlines() if line.strip().startswith("deadline"))
+    assert deadline.rstrip().endswith("yes" if suspicious else "no"), text
+    assert ("deadlines 0.002 s, the transport's" in text) is not suspicious, text

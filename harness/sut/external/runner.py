@@ -50,6 +50,7 @@ class ProtocolLayer:
         self.pings: dict[int, tuple] = {}  # id -> (answer, monotonic time sent), until its pong
         self.ping_ids = itertools.count(1)
         self.round_trips: list[float] = []  # wall seconds
+        self.transport_trips: list[float] = []  # the same, less what the SUT says it held each pong
         self.internal: list[tuple] = []
         self.world_events: list[tuple] = []
         self.hello: dict | None = None
@@ -153,8 +154,13 @@ class ProtocolLayer:
         elif op == "pong":
             if message["id"] not in self.pings:
                 raise ProtocolViolation(f"pong {message['id']} answers no ping waiting for one")
+            held = message.get("held_s", 0.0)
+            if not (isinstance(held, (int, float)) and not isinstance(held, bool) and 0 <= held < float("inf")):
+                raise ProtocolViolation(f"a pong's held_s must be seconds >= 0, got {held!r}")
             answer, sent = self.pings.pop(message["id"])
-            self.round_trips.append(time.monotonic() - sent)
+            trip = time.monotonic() - sent
+            self.round_trips.append(trip)
+            self.transport_trips.append(max(trip - held, 0.0))
             answer()
         elif op == "internal":
             if message["kind"] not in INTERNAL_KINDS:
@@ -180,7 +186,8 @@ class ProtocolLayer:
         return {"host": socket.gethostname(), "started_at": started_at, "time_scale": self.env.time_scale,
                 "sut_info": str((self.hello or {}).get("sut", "")), "pings": len(trips),
                 "rtt_p50_s": statistics.median(trips) if trips else None, "rtt_p95_s": percentile(0.95),
-                "rtt_max_s": trips[-1] if trips else None}
+                "rtt_max_s": trips[-1] if trips else None,
+                "transport_max_s": max(self.transport_trips) if self.transport_trips else None}
 
 
 def _session(sut: ExternalSut, seed: int, interface: Interface) -> tuple:

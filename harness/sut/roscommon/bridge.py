@@ -6,7 +6,9 @@ being served, its reply lines, and the topics of JSON strings beside the servers
 - `internal` and `world` events carry the SUT's wall-clock stamps, told in mission seconds since
   the hello was answered;
 - a ping is answered once the SUT has echoed it on the mapping's pong topic (if it has one) and
-  while the middleware's own evidence of life holds (`alive`, each adapter's own).
+  while the middleware's own evidence of life holds (`alive`, each adapter's own); its pong says
+  how long it was held after the echo (`held_s`), so the bench tells the transport's round trip
+  from the waits for the SUT's executor.
 
 No middleware import: a message is anything with a `data` string.
 """
@@ -33,7 +35,8 @@ class Bridge:
         self.generation, self.live = 0, False  # the run being served (one per hello), and whether it is on
         self.catalogue: dict[str, str] = dict(interface.get("replies") or {})
         self.lock = threading.Lock()  # guards the state below
-        self.pending_pings: dict[int, bool] = {}  # ping id -> echoed through the middleware (or no ping topic)
+        # ping id -> when it was echoed through the middleware (when it came, without a ping topic); None: not yet
+        self.pending_pings: dict[int, float | None] = {}
         self.goal_ids: dict[str, int] = {}  # the middleware's goal or call id -> request id
         self.replies = Replies(self._writer(0))
         self.hello_epoch = time.time()  # reset when the hello is answered: the SUT's clock starts there
@@ -81,7 +84,7 @@ class Bridge:
     # -- pings ---------------------------------------------------------------------------------
     def ping(self, message: dict) -> None:
         with self.lock:
-            self.pending_pings[message["id"]] = not self.mapping.ping_topic
+            self.pending_pings[message["id"]] = None if self.mapping.ping_topic else time.monotonic()
             if self.mapping.ping_topic:
                 self.publish_ping(json.dumps({"id": message["id"]}))
             self._answer_pings()
@@ -101,29 +104,30 @@ class Bridge:
         ping_id = json.loads(message.data)["id"]
         with self.lock:
             if ping_id in self.pending_pings:
-                self.pending_pings[ping_id] = True
+                self.pending_pings[ping_id] = time.monotonic()
                 self._answer_pings()
 
     def _answer_pings(self) -> None:
         """Pong the pings echoed (if there is a ping topic), while the SUT is alive; the start-up
         ping (id 0) is the launcher's, never the bench's."""
         if self.alive():
-            for ping_id in [p for p, echoed in self.pending_pings.items() if echoed and p != 0 and self.ping_done(p)]:
-                del self.pending_pings[ping_id]
-                self.write({"op": "pong", "id": ping_id})
+            for ping_id in [p for p, echoed in self.pending_pings.items()
+                            if echoed is not None and p != 0 and self.ping_done(p)]:
+                held = time.monotonic() - self.pending_pings.pop(ping_id)
+                self.write({"op": "pong", "id": ping_id, "held_s": round(held, 6)})
 
     def echoed(self) -> bool:
         """One start-up ping (id 0; the bench's count from 1) through the SUT and back within
         ECHO_WAIT_S; looked at every ECHO_POLL_S, as a hello waits for it (once per run)."""
         with self.lock:
-            self.pending_pings[0] = False
+            self.pending_pings[0] = None
             self.publish_ping(json.dumps({"id": 0}))
         deadline = time.monotonic() + ECHO_WAIT_S
         while True:
             time.sleep(ECHO_POLL_S)
             with self.lock:
-                if self.pending_pings[0] or time.monotonic() > deadline:
-                    return self.pending_pings.pop(0)
+                if self.pending_pings[0] is not None or time.monotonic() > deadline:
+                    return self.pending_pings.pop(0) is not None
 
     # -- ground truth and virtual damage ---------------------------------------------------------
     def _t(self, stamp: float) -> float:

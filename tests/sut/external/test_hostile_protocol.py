@@ -37,6 +37,7 @@ def run(sut: ExternalSut, interface, body: str = SHORT):
     ("nested-later", "crashed", r"^JSON nested too deeply to read; the SUT's line: '\{\"a\":"),
     ("never-pong", "hung", r"^ping 1 got no pong within the probe timeout \(\d+\.\d s unanswered when the run "
                            r"ended\); the last line read from the SUT, \d+\.\d s before, was '\{\"op\": \"reply\""),
+    ("held-back", "crashed", r"^a pong's held_s must be seconds >= 0, got -1; the SUT's line: '\{\"op\": \"pong\""),
     ("endless-line", "crashed", rf"^the SUT ended before answering hello \(the SUT sent a line of more than "
                                 rf"{MAX_LINE_BYTES:,} bytes without a newline \(it starts 'xxxx"),
 ])

@@ -34,7 +34,7 @@ def test_golden_first_steps_through_ros():
         launcher.send(request(31, "rflex.TrackSpeedStart"))
         launcher.expect(lambda m: m["op"] == "reply" and m["id"] == 31)
         launcher.send({"op": "ping", "id": 1})
-        launcher.expect(lambda m: m == {"op": "pong", "id": 1}, timeout=30)
+        launcher.expect(lambda m: m["op"] == "pong" and m["id"] == 1 and m["held_s"] >= 0, timeout=30)
         launcher.send(request(32, "rflex.Stop"))  # dominates the running TrackSpeedStart: PREEMPTED
         assert (launcher.final(31), launcher.final(32)) == ("interrupted", "ok")
         # Exec goals got the feedback (intermediate) first; control and init goals none; one final each.
@@ -81,7 +81,7 @@ def test_a_deadlocked_module_silences_the_heartbeat():
         launcher.send(request(1, "rflex.Init"))
         assert launcher.final(1) == "ok"
         launcher.send({"op": "ping", "id": 1})
-        launcher.expect(lambda m: m == {"op": "pong", "id": 1}, timeout=30)
+        launcher.expect(lambda m: m["op"] == "pong" and m["id"] == 1 and m["held_s"] >= 0, timeout=30)
         launcher.send(request(2, "rflex.TrackSpeedStart"))
         launcher.send(request(3, "rflex.Stop"))
         launcher.expect(lambda m: m["op"] == "internal" and m["id"] == 3 and m["kind"] == "request")
@@ -105,7 +105,7 @@ def test_a_server_killed_mid_goal_hangs_and_gets_no_invented_final():
         launcher.expect(lambda m: m["op"] == "reply" and m["id"] == 3 and m["kind"] == "intermediate")
         node = launcher.node_pid()
         launcher.send({"op": "ping", "id": 1})
-        launcher.expect(lambda m: m == {"op": "pong", "id": 1}, timeout=30)
+        launcher.expect(lambda m: m["op"] == "pong" and m["id"] == 1 and m["held_s"] >= 0, timeout=30)
         os.kill(node, signal.SIGKILL)
         assert wait_gone({node}) == set()
         time.sleep(2.0)  # the last heartbeat goes stale 1 s (ros.toml) after the kill
