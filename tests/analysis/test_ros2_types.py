@@ -181,31 +181,13 @@ def test_a_hand_mission_run_by_untimely_run_derives_no_deadline(tmp_path):
         (1, 1, "TN", 0.95), (2, 2, "FN", 6.0)]  # the golden's 0.05 s: the 1 s floor, not 10 x 7 s
 
 
-BLOCKED = """[[property]]
-id = "R"
-family = "R"
-type = "RSP"
-x = ["arm.grip"]
-y = ["arm.move"]
-deadline = 0.5
+def entry(name: str, type_: str, x: str, y: str, extra: str) -> str:
+    return f'[[property]]\nid = "{name}"\nfamily = "{name}"\ntype = "{type_}"\nx = ["{x}"]\ny = ["{y}"]\n{extra}\n'
 
-[[property]]
-id = "C"
-family = "C"
-type = "CAN"
-x = ["arm.move_cancel"]
-y = ["arm.move"]
-z_p = "canceled"
-deadline = 0.5
 
-[[property]]
-id = "O"
-family = "O"
-type = "OUTLIVE"
-x = ["arm.move"]
-y = ["arm.deactivate"]
-deadline = 0.5
-"""
+BLOCKED = (entry("R", "RSP", "arm.grip", "arm.move", "deadline = 0.5")
+           + entry("C", "CAN", "arm.move_cancel", "arm.move", 'z_p = "canceled"\ndeadline = 0.5')
+           + entry("O", "OUTLIVE", "arm.move", "arm.deactivate", "deadline = 0.5"))
 
 
 def _run(transport_max_s: float | None) -> dict:
