@@ -61,10 +61,13 @@ class VariantState:
 
 @dataclass
 class Budget:
-    """What a campaign has spent, runs in flight counted at their bounds until they say what they took."""
+    """What a campaign has spent, runs in flight counted at their bounds until they say what they
+    took; read and changed under `account` (shrinks run in the background), whose waiters a
+    settled run wakes."""
     limit_s: float | None  # None: no budget, only the rule stops the campaign
     spent_s: float = 0.0
     in_flight: int = 0  # runs reserved at their bounds and not yet settled
+    account: threading.Condition = field(default_factory=threading.Condition, repr=False)
 
     def fits(self, bound: float) -> bool:
         return self.limit_s is None or self.spent_s + bound <= self.limit_s
@@ -74,9 +77,11 @@ class Budget:
         self.in_flight += 1
 
     def settle(self, bound: float, took: float) -> None:
-        """A reserved run came back having taken `took` mission seconds (0: it never started)."""
+        """A reserved run came back having taken `took` mission seconds (0: it never started); the
+        caller holds `account`."""
         self.spent_s += took - bound
         self.in_flight -= 1
+        self.account.notify_all()
 
     def left(self) -> float:
         return float("inf") if self.limit_s is None else self.limit_s - self.spent_s
@@ -85,20 +90,19 @@ class Budget:
 @dataclass
 class MeteredOriginal(shrink.Original):
     """A trace to shrink whose re-runs are counted against the campaign's budget (shrinks run
-    side by side: one condition keeps the budget's account), each on a slot taken for that run
-    alone. A run that does not fit waits while other runs are in flight at their bounds (they
-    mostly take far less): the budget is spent only when nothing is left to come back."""
+    side by side, under the budget's account), each on a slot taken for that run alone. A run
+    that does not fit waits while other runs are in flight at their bounds (they mostly take far
+    less): the budget is spent only when nothing is left to come back."""
     budget: Budget | None = None
     bound: float = 0.0  # no candidate outlasts the original script's bound
-    account: threading.Condition = field(default_factory=threading.Condition)  # shared by the campaign's runs
     slots: Slots | None = None  # None: in process, on slot 0
 
     def run(self, body: str, runner=None):
-        with self.account:
+        with self.budget.account:
             while not self.budget.fits(self.bound):
                 if not self.budget.in_flight:
                     raise BudgetSpent()
-                self.account.wait()
+                self.budget.account.wait()
             self.budget.reserve(self.bound)
         took = self.bound  # kept counted if the run fails
         try:
@@ -106,9 +110,8 @@ class MeteredOriginal(shrink.Original):
                 trace = super().run(body, runner) if runner else super().run(body)
             took = trace.sim_s
         finally:
-            with self.account:
+            with self.budget.account:
                 self.budget.settle(self.bound, took)
-                self.account.notify_all()
         return trace
 
 

@@ -16,7 +16,6 @@ campaign_budgets records the budget, the rule, the shrink runs' share of that su
 from __future__ import annotations
 
 import json
-import threading
 from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import fields
 
@@ -53,7 +52,6 @@ class FocusedRun:
         self.run_tasks = slots.run_all if slots else ctx.executor.run_all
         self.properties, self.interface, self.shrink_to = ctx.properties, ctx.interface, ctx.shrink_to
         self.judge = Judge(ctx.interface, ctx.properties)
-        self.account = threading.Condition()  # the budget's, shared with shrinks running in the background
         self.shrinking: list[tuple[shrink.Behaviour, MeteredOriginal, Future]] = []
         self.state = {sut: VariantState() for sut in config.sut}
         self.in_flight: list[Round] = []  # the rounds whose runs were started on slots, not all back
@@ -79,7 +77,7 @@ class FocusedRun:
         runs in flight at their bounds (with no shrink running: its runs are counted, not stored)."""
         traces_s, self.shrink_s = self.con.execute(render_query("campaign_spent"),
                                                    {"campaign": self.campaign_id}).fetchone()
-        with self.account:
+        with self.budget.account:
             self.budget.spent_s = traces_s + self.shrink_s + sum(
                 bound for rnd in self.in_flight for trace_id, bound in rnd.bounds.items() if trace_id not in rnd.fresh)
 
@@ -154,7 +152,7 @@ class FocusedRun:
         tests = [(k, [t for t in runs.tasks([self.script(k)], self.golden_id, self.config) if t.sut in active])
                  for k in range(n, min(n + ROUND_TESTS, cap))]
         rnd = Round(n // ROUND_TESTS, tests)
-        with self.account:
+        with self.budget.account:
             for k, task in ((k, t) for k, tasks in tests for t in tasks if t.trace_id not in self.stored):
                 bound = bound_s(parse(task.body))
                 if not self.budget.fits(bound):
@@ -165,7 +163,6 @@ class FocusedRun:
             if held is not None and rnd.cut is not None:
                 for bound in rnd.bounds.values():
                     self.budget.settle(bound, 0.0)
-                self.account.notify_all()
                 return None
         admitted = [t for _, tasks in tests for t in tasks if t.trace_id in rnd.bounds]
         rnd.held = [t for t in admitted if t.sut in (held or ())]
@@ -187,10 +184,9 @@ class FocusedRun:
             rnd.tests = [(k, [t for t in tasks if t.sut not in ended]) for k, tasks in rnd.tests]
             sure = [t for t in rnd.held if t.sut not in ended
                     and self.state[t.sut].stays_active(before, len(self.plan.aims), PATIENCE)]
-            with self.account:
+            with self.budget.account:
                 for task in [t for t in rnd.held if t.sut in ended]:
                     self.budget.settle(rnd.bounds.pop(task.trace_id), 0.0)
-                self.account.notify_all()
             rnd.pending.update(self.slots.submit(sure, rnd.number))
             rnd.held = [t for t in rnd.held if t.sut not in ended and t not in sure]
             before += len(rnd.tests)
@@ -215,9 +211,8 @@ class FocusedRun:
     def _arrived(self, rnd: Round, task: Task, trace) -> None:  # stored as it comes back, its bound freed
         rnd.fresh[task.trace_id] = trace
         self.batches.add(task, trace)
-        with self.account:
+        with self.budget.account:
             self.budget.settle(rnd.bounds[task.trace_id], trace.sim_s)
-            self.account.notify_all()
 
     def _judged(self, rnd: Round) -> int:
         """Judges a round's traces, applies the rule to its tests in order, shrinks what is new;
@@ -248,7 +243,7 @@ class FocusedRun:
                 continue
             orig = shrink.original(self.con, task.trace_id)
             metered = MeteredOriginal(**{f.name: getattr(orig, f.name) for f in fields(orig) if f.init},
-                                      budget=self.budget, bound=bound_s(parse(orig.body)), account=self.account,
+                                      budget=self.budget, bound=bound_s(parse(orig.body)),
                                       slots=self.slots)
             behaviour = shrink.Behaviour(task.sut, kind, property_id)
             self.shrunk.add((behaviour.sut, behaviour.verdict, behaviour.property_id))

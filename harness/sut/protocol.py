@@ -45,7 +45,8 @@ def encode(op: str, **fields) -> str:
     return json.dumps({"op": op, **fields}, separators=(",", ":"), allow_nan=False) + "\n"
 
 
-def _has_type(value, kind: type) -> bool:
+def has_type(value, kind: type) -> bool:
+    """Whether a field's value is of the JSON type `kind` (a float: any finite number; no bool is a number)."""
     if kind is float:
         return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
     if kind is int:
@@ -67,7 +68,7 @@ def decode(line: str, messages: dict[str, dict[str, type]] = SUT_MESSAGES) -> di
     if op not in messages:
         raise ProtocolViolation(f"unknown op {op!r}; expected one of {', '.join(messages)}")
     for name, kind in messages[op].items():
-        if not _has_type(message.get(name), kind):
+        if not has_type(message.get(name), kind):
             raise ProtocolViolation(f"{op!r} needs a field {name!r} of type {kind.__name__}, "
                                     f"got {message.get(name)!r}")
     return message

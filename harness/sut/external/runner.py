@@ -28,7 +28,7 @@ from harness.sut.executive import Executive, LayerMisbehaved, Probe, trace_of
 from harness.target.interface import Interface
 from harness.target.script import Script
 from harness.sut.protocol import (INTERNAL_KINDS, PROTO, REPLY_KINDS, REUSE, SUT_FAREWELL,
-                                           ProtocolViolation, decode, encode)
+                                           ProtocolViolation, decode, encode, has_type)
 from harness.sut.simulated.realtime import RealtimeEnvironment
 from harness.sut.definitions import ExternalSut
 from harness.trace import Trace
@@ -155,7 +155,7 @@ class ProtocolLayer:
             if message["id"] not in self.pings:
                 raise ProtocolViolation(f"pong {message['id']} answers no ping waiting for one")
             held = message.get("held_s", 0.0)
-            if not (isinstance(held, (int, float)) and not isinstance(held, bool) and 0 <= held < float("inf")):
+            if not (has_type(held, float) and held >= 0):
                 raise ProtocolViolation(f"a pong's held_s must be seconds >= 0, got {held!r}")
             answer, sent = self.pings.pop(message["id"])
             trip = time.monotonic() - sent

@@ -37,9 +37,14 @@ def send_cancel(adapter, rqst_id: int, canceller: str, args: dict) -> None:
         replies = adapter.replies
         goal_id = named_goal(adapter.sent_goals, rqst_id, canceller, target, args) if "goal" in args else \
             adapter.latest.get(target) or UUID(uuid=list(os.urandom(16)))
-        adapter.cancelling.setdefault(bytes(goal_id.uuid).hex(), []).append(rqst_id)
+        adapter.cancelling.setdefault(goal_key(goal_id), []).append(rqst_id)
         future = ClientGoalHandle(client, goal_id, None).cancel_goal_async()
     future.add_done_callback(lambda f: _answered(adapter.mapping, replies, rqst_id, f))
+
+
+def goal_key(goal_id) -> str:
+    """How the adapter keys a goal id (unique_identifier_msgs/UUID) in its tables."""
+    return bytes(goal_id.uuid).hex()
 
 
 def named_goal(sent_goals: dict[int, tuple[str, object]], rqst_id: int, canceller: str, target: str, args: dict):

@@ -18,6 +18,8 @@ import time
 from rclpy.action import ActionServer
 from service_msgs.msg import ServiceEventInfo
 
+from harness.sut.ros2.cancels import goal_key
+
 # Service introspection came with Jazzy (rclpy 7), action introspection with Kilted (rclpy 9).
 ACTION_INTROSPECTION = hasattr(ActionServer, "configure_introspection")
 SETTLE_S = 0.5  # discovery of the servers' event publishers, after their services are up
@@ -114,13 +116,13 @@ def call_taken(adapter, service: str, event) -> None:
 def goal_taken(adapter, action: str, event) -> None:
     """The server's record of a goal request it received, with its contents: the goal id."""
     _relayed(adapter, goal_topic(action), event,
-             lambda: adapter.goal_ids.get(_goal(event.request[0].goal_id)) if event.request else None)
+             lambda: adapter.goal_ids.get(goal_key(event.request[0].goal_id)) if event.request else None)
 
 
 def cancel_taken(adapter, action: str, event) -> None:
     """The server's record of a cancel request it received, named by the goal it cancels."""
     def first_waiting() -> int | None:
-        waiting = adapter.cancelling.get(_goal(event.request[0].goal_info.goal_id)) if event.request else None
+        waiting = adapter.cancelling.get(goal_key(event.request[0].goal_info.goal_id)) if event.request else None
         return waiting.pop(0) if waiting else None
     _relayed(adapter, cancel_topic(action), event, first_waiting)
 
@@ -134,7 +136,3 @@ def _relayed(adapter, topic: str, event, request_named) -> None:
         rqst_id, replies = request_named(), adapter.replies
     if rqst_id is not None:
         replies.taken(rqst_id)
-
-
-def _goal(goal_id) -> str:
-    return bytes(goal_id.uuid).hex()
