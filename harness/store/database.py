@@ -49,8 +49,12 @@ def connect(path: str | Path = ":memory:", read_only: bool = False,
         raise StoreError(f"the store {str(path)!r} has schema version {found}, written by a newer Untimely "
                          f"than this one (schema version {SCHEMA_VERSION}); update the bench to open it")
     if read_only:
-        if found is not None:
-            _older_positions(con, _missing_positions(con), temp=True)
+        if found is None:
+            con.close()
+            raise StoreError(f"{str(path)!r} holds no store: no traces table (a campaign stopped before it "
+                             "wrote its schema, or another DuckDB database); run the campaign again with "
+                             "this --db (it starts afresh), or pass another --db")
+        _older_positions(con, _missing_positions(con), temp=True)
         return con
     if found == 0:
         con.close()

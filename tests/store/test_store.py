@@ -1,3 +1,4 @@
+import duckdb
 import pytest
 
 from harness import store
@@ -81,3 +82,13 @@ def test_read_only_open_of_a_missing_store_says_what_to_do(tmp_path):
     with pytest.raises(StoreError, match="no store at"):
         store.connect(tmp_path / "missing.duckdb", create=False)
     assert list(tmp_path.iterdir()) == [], "a refused store leaves no file and no folder behind"
+
+
+def test_read_only_open_of_an_empty_database_says_it_holds_no_store(tmp_path):
+    """A campaign SIGKILLed between creating its file and writing its schema leaves an empty one."""
+    path = tmp_path / "killed.duckdb"
+    duckdb.connect(str(path)).close()
+    with pytest.raises(StoreError, match="'.*killed.duckdb' holds no store: no traces table .*run the campaign again"):
+        store.connect(path, read_only=True)
+    con = store.connect(path)
+    assert con.execute("select count(*) from traces").fetchall() == [(0,)], "written, it gets its schema"
