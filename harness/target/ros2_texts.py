@@ -57,10 +57,15 @@ def mapping_text(target: Ros2Target) -> str:
     node = next((n for n in target.nodes if n.managed), target.nodes[0])
     lines = ["# How the interface reaches ROS 2 (docs/ros2.md), made by `untimely init --from-ros2`.",
              "# Each service has its route: an action server, a service, or a lifecycle transition called on",
-             "# change_state. The mission drives the lifecycle itself (lifecycle = false): the adapter neither",
-             "# brings the node up nor resets it, so every run starts the node afresh.",
+             *(["# change_state. The mission drives the lifecycle itself (lifecycle = \"mission\"): between runs",
+                "# the adapter takes the node back to unconfigured, as it started, and the next run reuses it; a",
+                "# node it cannot take back (shut down, a goal or call still unanswered) is started afresh. If",
+                "# your node's cleanup leaves state behind, give lifecycle = false: every run starts it afresh."]
+               if node.managed else
+               ["# change_state. The node has no lifecycle to reset it (lifecycle = false): every run starts it",
+                "# afresh."]),
              f"node = {value(node.name)}  # its executor must answer get_parameters, else the trace hangs",
-             "lifecycle = false", f"heartbeat_stale_s = {HEARTBEAT_STALE_S}", "",
+             f"lifecycle = {value('mission') if node.managed else 'false'}", f"heartbeat_stale_s = {HEARTBEAT_STALE_S}", "",
              f"[status_codes]  # a goal's end: SUCCEEDED is ok; a rejected goal is {REJECTED}",
              'ABORTED = "aborted"', 'CANCELED = "canceled"', f'REJECTED = "{REJECTED}"']
     if target.cancels:

@@ -11,7 +11,7 @@ from harness.sut.roscommon.mapping import load_mapping
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface, load_properties
 from harness.target.ros2_graph import derive
-from harness.target.ros2_texts import golden_text, write
+from harness.target.ros2_texts import golden_text, mapping_text, write
 from harness.target.script import load_script, parse, validate
 
 TRIGGER = {"success": "boolean", "message": "string"}
@@ -74,7 +74,7 @@ def test_the_mapping_routes_every_service_and_tells_the_transitions_apart(writte
     assert (routes["sequencer.fibonacci"].kind, routes["sequencer.fibonacci"].fields) == ("action", {"order": "order"})
     assert (routes["sequencer.reset"].success, routes["sequencer.reset"].failure) == ("success", "refused")
     assert routes["sequencer.activate"].failure == "transition_refused"
-    assert (mapping.node, mapping.lifecycle, mapping.status_codes["REJECTED"]) == ("/sequencer", False, "rejected")
+    assert (mapping.node, mapping.lifecycle, mapping.status_codes["REJECTED"]) == ("/sequencer", "mission", "rejected")
 
 
 def test_every_action_gets_its_cancel_with_codes_the_catalogue_tells_apart(written):
@@ -210,6 +210,7 @@ def test_what_cannot_be_derived_is_said():
     assert not [p for p in target.properties if p["family"] in ("ACTIVE", "TRANSITION", "OUTLIVE")]
     golden = golden_text(target)
     assert "configure" not in golden and "every action and service once" in golden  # no lifecycle to speak of
+    assert "\nlifecycle = false\n" in mapping_text(target) and "no lifecycle to reset it" in mapping_text(target)
     notes = "\n".join(target.notes)
     for words in ("/sequencer is not a lifecycle node", "field fast (boolean) is no argument",
                   "field path (sequence<double>) is no argument",

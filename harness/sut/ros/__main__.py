@@ -28,8 +28,8 @@ from harness.sut.roscommon.recording import recording_folder
 from harness.errors import UntimelyError
 from harness.sut.protocol import PROTO
 
-def reset(service: str, timeout_s: float) -> None:
-    """The node back to its initial state, through its std_srvs/Trigger `service`."""
+def reset(service: str, timeout_s: float) -> bool:
+    """The node back to its initial state, through its std_srvs/Trigger `service` (True: done)."""
     import rospy
     from std_srvs.srv import Trigger
     try:
@@ -39,6 +39,7 @@ def reset(service: str, timeout_s: float) -> None:
         raise UntimelyError(f"the node's reset service {service} failed: {e}") from None
     if not answer.success:
         raise UntimelyError(f"the node's reset service {service} refused: {answer.message}")
+    return True
 
 
 def node_environment(mapping, hello: dict) -> dict[str, str]:

@@ -64,6 +64,8 @@ STATUS_NAMES = {GoalStatus.STATUS_SUCCEEDED: "SUCCEEDED", GoalStatus.STATUS_ABOR
                 GoalStatus.STATUS_CANCELED: "CANCELED"}
 QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
 PROBE_PERIOD_S = 0.2
+# rclpy counts no client's unanswered requests publicly; these are its tables of them (Jazzy, Kilted)
+PENDING_TABLES = ("_pending_requests", "_pending_goal_requests", "_pending_cancel_requests", "_pending_result_requests")
 
 
 class Adapter(Bridge):
@@ -192,6 +194,15 @@ class Adapter(Bridge):
                 self.probe_sent, self.stale_said = None, False
                 self._answer_pings()
             self.stopped.wait(PROBE_PERIOD_S)
+
+    def unanswered(self, timeout_s: float) -> int:
+        """How many requests of the ended run the node still has not answered (a call, a goal's
+        acceptance, cancel or result: a goal still executing), once they are none or `timeout_s` is past."""
+        deadline = time.monotonic() + timeout_s
+        while (count := sum(len(getattr(client, table, ())) for client in self.clients.values()
+                            for table in PENDING_TABLES)) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        return count
 
     def transition(self, transitions: tuple[int, ...], timeout_s: float) -> None:
         self.lifecycle.transition(transitions, timeout_s)

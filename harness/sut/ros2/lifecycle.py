@@ -27,6 +27,11 @@ STATES = {Transition.TRANSITION_CONFIGURE: (State.PRIMARY_STATE_UNCONFIGURED, St
           Transition.TRANSITION_ACTIVATE: (State.PRIMARY_STATE_INACTIVE, State.PRIMARY_STATE_ACTIVE),
           Transition.TRANSITION_DEACTIVATE: (State.PRIMARY_STATE_ACTIVE, State.PRIMARY_STATE_INACTIVE),
           Transition.TRANSITION_CLEANUP: (State.PRIMARY_STATE_INACTIVE, State.PRIMARY_STATE_UNCONFIGURED)}
+# The transitions that take a node in each primary state back to unconfigured, the state a fresh
+# node starts in (a mission that drives the lifecycle itself begins there).
+TO_UNCONFIGURED = {State.PRIMARY_STATE_UNCONFIGURED: (),
+                   State.PRIMARY_STATE_INACTIVE: (Transition.TRANSITION_CLEANUP,),
+                   State.PRIMARY_STATE_ACTIVE: (Transition.TRANSITION_DEACTIVATE, Transition.TRANSITION_CLEANUP)}
 ANSWER_S = 5.0  # a response later than this is taken as lost (a resent transition must not overtake a slow one)
 
 
@@ -39,23 +44,43 @@ class Lifecycle:
     def clients(self) -> list:
         return [self.change, self.state]
 
-    def transition(self, transitions: tuple[int, ...], timeout_s: float) -> None:
+    def transition(self, transitions: tuple[int, ...], timeout_s: float, answer_s: float = ANSWER_S) -> None:
         """Drive the node through `transitions`, each done before the next."""
         deadline = time.monotonic() + timeout_s
         for transition in transitions:
             while True:
-                answer = _call(self.change, ChangeState.Request(transition=Transition(id=transition)), ANSWER_S)
+                answer = _call(self.change, ChangeState.Request(transition=Transition(id=transition)), answer_s)
                 if answer is not None and not answer.success:
                     raise UntimelyError(f"the node {self.name} refused lifecycle transition {transition}")
-                if answer is not None or self._done(transition, deadline, timeout_s):
+                if answer is not None or self._done(transition, deadline, timeout_s, answer_s):
                     break
 
-    def _done(self, transition: int, deadline: float, timeout_s: float) -> bool:
+    def unconfigure(self, timeout_s: float) -> str | None:
+        """Take the node back to unconfigured from the primary state a run left it in, each call
+        answered within `timeout_s` (a node that answers later, e.g. its executor busy with a goal,
+        is not worth the wait: a fresh one starts sooner); why it cannot be (finalized, a transition
+        refused, no state said), or None once it is there."""
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            answer = _call(self.state, GetState.Request(), timeout_s)
+            state = answer.current_state if answer is not None else None
+            if state is not None and state.id in TO_UNCONFIGURED:
+                try:
+                    self.transition(TO_UNCONFIGURED[state.id], timeout_s, answer_s=timeout_s)
+                except UntimelyError as e:
+                    return str(e)
+                return None
+            if state is not None and state.id == State.PRIMARY_STATE_FINALIZED:
+                return f"the node {self.name} is finalized (shut down)"
+            time.sleep(0.05)  # unanswered, or a transition still under way
+        return f"the node {self.name} said no primary state within {timeout_s:g} s"
+
+    def _done(self, transition: int, deadline: float, timeout_s: float, answer_s: float) -> bool:
         """Whether an unanswered transition happened (the node is in its end state) or not (in its
         start state: send it again), asking NODE/get_state until it says one or the other."""
         start, end = STATES[transition]
         while time.monotonic() < deadline:
-            answer = _call(self.state, GetState.Request(), ANSWER_S)
+            answer = _call(self.state, GetState.Request(), answer_s)
             state = answer.current_state.id if answer is not None else None
             if state in (start, end):
                 return state == end

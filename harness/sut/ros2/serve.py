@@ -6,9 +6,11 @@ Order: the bench's hello gives the time scale, passed to the node as $UNTIMELY_T
 every mapped server and service answers, a lifecycle node has been configured and activated, and
 the node has echoed a first ping, the hello is answered and requests flow; it names the services
 whose servers publish introspection (`taken_services`: their requests may get `taken` replies).
-With a lifecycle node the hello offers `reuse`: on `bye` the node is reset (deactivate, cleanup,
-configure, activate: a fresh layer), bye is answered, and the next hello starts the next run on
-the same node. With $UNTIMELY_ROSBAG set (a folder), the run's traffic is recorded into the MCAP
+With a lifecycle node the hello offers `reuse`: on `bye`, bye is answered and the node is reset
+(deactivate, cleanup, configure, activate: a fresh layer), and the next hello starts the next run
+on the same node; a node the mission drives itself (lifecycle = "mission") is taken back to
+unconfigured instead, and when it cannot be (finalized, a request still unanswered) the adapter
+ends and the bench starts a fresh one. With $UNTIMELY_ROSBAG set (a folder), the run's traffic is recorded into the MCAP
 bag FOLDER/trace-ID (ID: the hello's run), once every recorded topic has its publisher, and reuse
 is not offered. On end of input, SIGTERM, or `bye` without reuse, the node is stopped. A failure
 is an `error` line.
@@ -28,6 +30,9 @@ from harness.sut.roscommon.recording import recording_folder
 from harness.sut.protocol import PROTO
 
 RECORDER_DRAIN_S = 1.0  # within the bench's 2 s of grace after bye
+# How long a node the mission drove may take to answer its way back to unconfigured, and to end the
+# ended run's goals: a fresh node's start-up (about a second) is the alternative.
+TAKE_BACK_S = 2.0
 
 
 def run(args, out: LineWriter) -> None:
@@ -50,8 +55,7 @@ def run(args, out: LineWriter) -> None:
         discovery = time.monotonic() - started  # the node's start-up and its discovery by the adapter
         if recording_folder():  # one bag per run, so no reuse
             recorder = adapter.record(Path(recording_folder()) / f"trace-{hello['run']}", args.startup_timeout)
-        reusable = mapping.lifecycle and not recorder
-        if mapping.lifecycle:
+        if mapping.lifecycle is True:
             adapter.transition(BRING_UP, args.startup_timeout)
         adapter.start_probing()
         taken_services = adapter.find_introspection()
@@ -65,8 +69,22 @@ def run(args, out: LineWriter) -> None:
                                  f"{os.environ.get('ROS_DOMAIN_ID')}; node: {' '.join(args.node)}; up in {discovery:.2f} s; run {runs} of "
                                  "this node)", offers, taken_services)
 
+        def reset() -> bool:
+            adapter.transition(RESET, args.startup_timeout)
+            return True
+
+        def take_back() -> bool:
+            """The node as a fresh one starts (unconfigured, nothing of the ended run unanswered), else
+            False: this adapter ends, and the bench starts a fresh node for the next run."""
+            why = adapter.lifecycle.unconfigure(TAKE_BACK_S)
+            unanswered = adapter.unanswered(TAKE_BACK_S) if why is None else 0
+            why = why or (f"{unanswered} request(s) of the ended run still unanswered" if unanswered else None)
+            if why:
+                print(f"ros2 adapter: not reused: {why}; a fresh node serves the next run", file=sys.stderr, flush=True)
+            return why is None
+
         serve_runs(adapter, hello, node, ready, greet,
-                   (lambda: adapter.transition(RESET, args.startup_timeout)) if reusable else None)
+                   None if recorder else {True: reset, "mission": take_back}.get(mapping.lifecycle))
     finally:
         if recorder:
             time.sleep(RECORDER_DRAIN_S)  # what is still in flight to the recorder (its topics lag the replies)

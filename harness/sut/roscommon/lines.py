@@ -61,12 +61,13 @@ def read_hello(stream, first: dict | None = None) -> dict | None:
 
 
 def serve_runs(adapter, first: dict, node, ready: Callable[[], None], greet: Callable[[int, list[str]], None],
-               reset: Callable[[], None] | None) -> None:
+               reset: Callable[[], bool] | None) -> None:
     """Run after run on one node, from the `first` hello on: `ready()` once the node can serve (its
     servers answer), `greet(n, offers)` answers the n-th run's hello (offering `reuse` where the node
     has a `reset`; None: it cannot be reused), requests until `bye`; then, with reuse and a node
     still alive, the run ends, `reset()` gives the node a fresh layer and the next hello starts the
-    next run."""
+    next run. A reset that cannot (False) ends the adapter: the bench replaces an idle one that
+    ended, never blaming it."""
     reusable = reset is not None
     hello, runs, offers = first, 0, ["reuse"] if reusable else []
     while hello is not None:
@@ -76,7 +77,8 @@ def serve_runs(adapter, first: dict, node, ready: Callable[[], None], greet: Cal
         if not (serve(adapter, sys.stdin) and reusable) or node.failure():
             return
         adapter.end_run()
-        reset()
+        if not reset():
+            return
         hello = read_hello(sys.stdin, first)
 
 

@@ -52,7 +52,9 @@ class Mapping:
     # (NODE/get_parameters) and, with lifecycle, whose transitions bring it up and reset it
     service: str | None = None
     node: str | None = None
-    lifecycle: bool = False
+    # true: the adapter brings the node up and resets it between runs; "mission": the mission drives
+    # its transitions and the adapter takes it back to unconfigured between runs; false: no lifecycle
+    lifecycle: bool | str = False
     # ROS 2: "module.Service" -> "module.Service" of the goals a request of it cancels, and the
     # reply code of each CancelGoal return code
     cancels: dict[str, str] = field(default_factory=dict)
@@ -179,7 +181,9 @@ class MappingFile(Strict):
                                 "{module} and {service}, such as \"/robot/{module}/{service}\"")
     node: str | None = Field(None, pattern=r"^/[A-Za-z_][A-Za-z0-9_/]*$",
                              description="give the ROS 2 node's full name, such as \"/robot\"")
-    lifecycle: bool = Field(False, description="give true for a lifecycle node (rclpy.lifecycle), else false")
+    lifecycle: bool | Literal["mission"] = Field(False, description=(
+        "give true for a lifecycle node the adapter brings up and resets, \"mission\" for one the mission "
+        "drives (the adapter takes it back to unconfigured between runs), else false"))
     cancels: dict[str, str] = Field({}, description='give a table of "module.Service" = "module.Service": a '
                                     "request of the first cancels the latest goal of the second (ROS 2)")
     cancel_codes: dict[Literal[CANCEL_RESPONSES], Annotated[str, Field(min_length=1)]] = Field(
@@ -193,7 +197,8 @@ class MappingFile(Strict):
             except (KeyError, IndexError, ValueError):
                 raise ValueError(f"{key} = {cut(template)} may only use {{module}} and {{service}}") from None
         if self.lifecycle and not self.node:
-            raise ValueError("lifecycle = true needs node, the lifecycle node's name")
+            shown = "true" if self.lifecycle is True else f'"{self.lifecycle}"'
+            raise ValueError(f"lifecycle = {shown} needs node, the lifecycle node's name")
         for key, names in (("services", list(self.services)), ("cancels", [*self.cancels, *self.cancels.values()])):
             for service in names:
                 if service.count(".") != 1:

@@ -60,6 +60,8 @@ def test_fallback_codes_and_single_actions_come_from_the_file(tmp_path):
     ('[services]\n"nav.Go" = ["/x"]\n', "ros.toml:2: services.nav.Go = ['/x']; give a valid string"),
     ('world_topic = 5\n', "ros.toml:1: world_topic = 5; give a topic name"),
     ('lifecycle = true', "lifecycle = true needs node"),  # ROS 2's keys
+    ('lifecycle = "mission"', 'lifecycle = "mission" needs node'),
+    ('lifecycle = "sometimes"\nnode = "/n"', "lifecycle = 'sometimes'"),
     ('node = "dala"', "node = 'dala'"),
     ('service = "/x/{unit}"', "service = '/x/{unit}' may only use {module} and {service}"),
 ])
@@ -76,6 +78,11 @@ def test_services_a_mapping_cannot_tell_apart_are_refused(tmp_path):
     by_service = load_mapping(write(tmp_path, 'action = "/{service}"\n[services]\n"sick.Init" = "/Init"\n"rflex.Init" = "/Init"\n'))
     with pytest.raises(UntimelyError, match="sick.Init and rflex.Init both map to /Init"):
         by_service.routes([("sick", "Init"), ("rflex", "Init")])
+
+
+def test_a_lifecycle_the_mission_drives_is_its_own_value(tmp_path):
+    assert load_mapping(write(tmp_path, 'node = "/arm"\nlifecycle = "mission"\n')).lifecycle == "mission"
+    assert load_mapping(write(tmp_path, 'node = "/arm"\nlifecycle = true\n')).lifecycle is True
 
 
 def test_a_missing_mapping_file_says_what_to_pass(tmp_path):

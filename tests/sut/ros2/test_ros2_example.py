@@ -63,6 +63,10 @@ def test_a_focused_campaign_finds_rclpy_1209_on_jazzy_and_kilted_refusing(target
     golden = dict(con.execute("""select sut, outcome from traces join scripts using (script_id)
                                  where kind = 'golden'""").fetchall())
     assert golden == {"sequencer-jazzy": "completed", "sequencer-kilted": "completed"}
+    # lifecycle = "mission": the node a run left, taken back to unconfigured, serves the next run
+    reused = con.execute("""select distinct sut from traces join trace_runs using (trace_id)
+                            where regexp_extract(sut_info, 'run ([0-9]+) of this node', 1)::int > 1""").fetchall()
+    assert sorted(reused) == [("sequencer-jazzy",), ("sequencer-kilted",)]
     hung = con.execute("""select sut, error from traces where outcome = 'hung'""").fetchall()
     # the reason: the executor died of an invalid transition, on Jazzy only (a run of either distro
     # may also hang for want of CPU on a loaded machine: its reason names no transition)
