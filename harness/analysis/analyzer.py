@@ -226,8 +226,13 @@ def judges_every_trace(con: duckdb.DuckDBPyConnection) -> bool:
 
 def main(db: str, properties: str | None = None, interface: str | None = None,
          epsilon: float | None = None) -> int:
-    """`analyze`: the verdicts of every stored trace, and Tables II-IV."""
-    con = connect(db, create=False)
+    """`analyze`: the verdicts of every stored trace, and Tables II-IV; the store closed on return, so
+    that what reads it next (the --junit gate) opens it afresh, whenever the collector would."""
+    with connect(db, create=False) as con:
+        return _analyze(con, properties, interface, epsilon)
+
+
+def _analyze(con, properties: str | None, interface: str | None, epsilon: float | None) -> int:
     properties_path = Path(properties) if properties else default_properties(con)
     epsilon = last_epsilon(con) if epsilon is None else epsilon
     interface_path = Path(interface) if interface else properties_path.parent / INTERFACE_FILE

@@ -61,7 +61,13 @@ case when reply is null then 'omega'
      else 'op' end
 {%- endmacro %}
 
-{% macro judged(name, code, accepted, keyed=false) -%}
+{% macro undefined_alternatives(code, accepted, keyed) -%}
+list_sort(list_distinct(list_filter([{{ verdict('true', 'false', code, accepted, keyed) }},
+                                     {{ verdict('false', 'false', code, accepted, keyed) }}],
+                                    lambda other: reply is not null and other <> 'op')))
+{%- endmacro %}
+
+{% macro judged(name, code, accepted, keyed=false, undefined_settles=false) -%}
 -- the verdict table: `code` is the property's own rejection or interruption code, `accepted`
 -- the reply classes that mean the activity ran; c_holds NULL = C undefined for this request.
 -- alternatives: the other verdicts that the conditions reordering the near pairs could give
@@ -69,6 +75,9 @@ case when reply is null then 'omega'
 -- the layer's account that C was false when it took x(i): C true is no alternative for it. No
 -- final reply in a trace that ended first: the reply may have been lost, any reply in any
 -- reachable condition is an alternative (the property's code, an accepted one, another one).
+-- `undefined_settles`: C undefined (op) because the order of two requests cannot be observed (a
+-- state change pending at x(i)); either order may be the layer's, so the verdicts C true and C
+-- false give are its alternatives: a rejection with the code is TP or FP, an accepted x TN or FN.
 {{ name }}_verdict as (
     select *, {{ verdict('c_holds', 'conflicts_rejected', code, accepted, keyed) }} as verdict
     from {{ name }}_cond
@@ -76,7 +85,8 @@ case when reply is null then 'omega'
 {{ name }}_judged as (
     select {{ key(keyed) }}, module, service, reply, c_holds, verdict,
            case when c_holds is not null then nullif(margin_s, 'infinity') end as margin_s,
-           case when c_holds is null then []::varchar[]
+           case when c_holds is null then {{ undefined_alternatives(code, accepted, keyed) if undefined_settles
+                                              else '[]::varchar[]' }}
                 else list_sort(list_distinct(list_filter([
                     case when may_hold and not (reply = {{ code if keyed else code | lit }} and class = 'R')
                          then {{ verdict('true', 'false', code, accepted, keyed) }} end,

@@ -51,5 +51,5 @@
 ),
 {{ judge.condition(name, defined='not exists (select 1 from ' ~ name ~ '_pending n where n.trace_id = x.trace_id '
                    ~ 'and n.rqst_id = x.rqst_id)', movable='p.movable') }},
-{{ judge.judged(name, r_p, ['T', 'Z']) }}
+{{ judge.judged(name, r_p, ['T', 'Z'], undefined_settles=true) }}
 {%- endmacro %}

@@ -236,3 +236,27 @@ def test_a_deadline_is_judged_with_the_transports_epsilon_not_the_executors_wait
     deadline = next(line for line in text.splitlines() if line.strip().startswith("deadline"))
     assert deadline.rstrip().endswith("yes" if suspicious else "no"), text
     assert ("deadlines 0.002 s, the transport's" in text) is not suspicious, text
+
+
+# A ROS 2 rejection carries no reason: the grip interlock (ES) and the lifecycle's gating (IN) both
+# reject with `rejected`. A grip sent while the activation is pending and rejected: the node may
+# have taken it before activating (IN's TP), so ES's FP may be the gating's rejection, not an
+# unasked one: uncertain. The same grip rejected once the node is active is both properties' FP.
+GATED = (entry("ACTIVE", "IN", "arm.grip", "arm.deactivate", 'q = ["arm.activate"]\nr_p = "rejected"')
+         + entry("NO_GRIP", "ES", "arm.grip", "arm.move", 'r_p = "rejected"'))
+GATED_TRACES = {
+    "pending": [(0.0, "request", 1, "activate", None), (0.1, "request", 2, "grip", None),
+                (0.2, "final", 2, "grip", "rejected"), (0.3, "final", 1, "activate", "ok")],
+    "active": [(0.0, "request", 1, "activate", None), (0.1, "final", 1, "activate", "ok"),
+               (0.5, "request", 2, "grip", None), (0.6, "final", 2, "grip", "rejected")],
+}
+
+
+def test_a_rejection_another_property_may_have_called_for_is_no_certain_fp(tmp_path):
+    (tmp_path / "p.toml").write_text(GATED)
+    con = judged_traces("gated", [(_arm_trace(rows), None) for rows in GATED_TRACES.values()],
+                        load_properties(tmp_path / "p.toml", ARM.interface), EPSILON, interface=ARM.interface)
+    judged = con.execute("""select trace_id, property_id, verdict, certain, alternatives from verdicts
+                            where rqst_id = 2 order by all""").fetchall()
+    assert judged == [(1, "ACTIVE", "op", False, ["FP", "TP"]), (1, "NO_GRIP", "FP", False, ["op"]),
+                      (2, "ACTIVE", "FP", True, []), (2, "NO_GRIP", "FP", True, [])]
