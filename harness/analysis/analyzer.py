@@ -228,6 +228,16 @@ def main(db: str, properties: str | None = None, interface: str | None = None,
          epsilon: float | None = None) -> int:
     """`analyze`: the verdicts of every stored trace, and Tables II-IV."""
     con = connect(db, create=False)
+    try:
+        return _analyze(con, properties, interface, epsilon)
+    finally:
+        # closed before the caller opens the store again (the CI gate reads it): a connection a
+        # failed oracle's traceback still holds would keep it open with another configuration
+        con.close()
+
+
+def _analyze(con, properties: str | None, interface: str | None, epsilon: float | None) -> int:
+    """The analysis of `main` on its open store, and what it prints."""
     properties_path = Path(properties) if properties else default_properties(con)
     epsilon = last_epsilon(con) if epsilon is None else epsilon
     interface_path = Path(interface) if interface else properties_path.parent / INTERFACE_FILE
