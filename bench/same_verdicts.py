@@ -33,9 +33,10 @@ def checkout(revision: str, into: Path) -> Path:
     return into
 
 
-def analyse(code: Path | None, store: Path, properties: Path | None) -> None:
-    """`analyze` of the store by the code under `code` (None: this checkout, as installed)."""
-    env = dict(os.environ, **({"PYTHONPATH": str(code)} if code else {}))
+def analyse(code: Path, store: Path, properties: Path | None) -> None:
+    """`analyze` of the store by the code under `code` (the installed bench may be another
+    checkout's: a git worktree shares its main checkout's environment)."""
+    env = dict(os.environ, PYTHONPATH=str(code))
     given = ["--properties", str(properties.resolve())] if properties else []
     done = subprocess.run([sys.executable, "-m", "harness", "analyze", "--db", str(store), *given],
                           cwd=store.parent, env=env, capture_output=True, text=True)
@@ -70,7 +71,7 @@ def main() -> int:
         old = checkout(args.before, Path(tmp) / "before")
         for store in args.stores:
             copies = [Path(tmp) / f"{side}-{store.name}" for side in ("before", "after")]
-            for code, copy in zip((old, None), copies):
+            for code, copy in zip((old, ROOT), copies):
                 shutil.copy(store, copy)
                 analyse(code, copy, args.properties)
             found = differences(*copies)
