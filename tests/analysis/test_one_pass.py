@@ -13,8 +13,9 @@ FIXTURES = [f for f in all_fixtures() if any(one_pass(p) for p in f.properties)]
 COLUMNS = "trace_id, property_id, rqst_id, module, service, c_holds, verdict, margin_s, alternatives"
 
 
-def test_pc_ee_mx_i_and_val_have_a_one_pass_form():
-    assert {f.path.stem for f in FIXTURES} >= {"pc", "ee", "causes", "val", "manipulator_val"}
+def test_pc_ee_es_mutual_and_val_have_a_one_pass_form():
+    assert {f.path.stem for f in FIXTURES} >= {"pc", "ee", "causes", "es", "manipulator_es", "mx", "manipulator_mxr",
+                                               "val", "manipulator_val"}
 
 
 def _no_fallback(oracle, failures):
