@@ -18,6 +18,10 @@ from pathlib import Path
 import duckdb
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from harness.store.sql import render_bench  # noqa: E402
+
 # The verdict tables, and the views of Tables II-IV and of the flag's accuracy read from them.
 COMPARED = ("verdicts", "verdicts_internal", "trace_robustness", "tp_rates", "fp_rates", "table_values", "inversions")
 
@@ -50,10 +54,7 @@ def differences(before: Path, after: Path) -> list[str]:
     con.execute(f"attach '{before}' as b (read_only); attach '{after}' as a (read_only)")
     found = []
     for table in COMPARED:
-        only_before, only_after, rows = con.execute(f"""
-            select (select count(*) from (from b.{table} except all from a.{table})),
-                   (select count(*) from (from a.{table} except all from b.{table})),
-                   (select count(*) from a.{table})""").fetchone()
+        only_before, only_after, rows = con.execute(render_bench("same_rows", table=table)).fetchone()
         found.append(f"{table}: {rows:,} rows, {only_before} only before, {only_after} only after")
         if only_before or only_after:
             found[-1] += "  <-- DIFFERENT"
