@@ -38,7 +38,7 @@ from time_split import time_split  # noqa: E402
 from harness import DEFAULT_MISSION_DIR  # noqa: E402
 from harness.analysis.analyzer import materialise  # noqa: E402
 from harness.target.interface import load_interface, load_properties  # noqa: E402
-from harness.store.analysis_reads import event_count  # noqa: E402
+from harness.store.judging_reads import event_count  # noqa: E402
 from harness.store.database import add_campaign, add_reply_codes, connect, place  # noqa: E402
 from harness.store.record import ImportRecord  # noqa: E402
 from harness.store.sql import render_bench  # noqa: E402

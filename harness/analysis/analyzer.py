@@ -23,7 +23,7 @@ from harness.analysis.summary import analysis_summary
 from harness.errors import InputFileError, PropertyError, StoreError
 from harness.store.analyses import (OracleFailure, drop_staged, keep_previous, publish, record, replace_old_analysis,
                                     stage, staged, try_statement)
-from harness.store.analysis_reads import analysis_is_current, sizes
+from harness.store.judging_reads import analysis_is_current, sizes
 from harness.store.appends import transaction
 from harness.store.database import connect
 from harness.store.reads import holds_rows, relations

@@ -10,7 +10,7 @@ from __future__ import annotations
 from harness import DEFAULT_EPSILON_S, store
 from harness.target.interface import Interface, Property
 from harness.analysis.oracles import oracle_statements
-from harness.store import analysis_reads
+from harness.store import judging_reads
 from harness.store.sql import render_view
 from harness.trace import Trace
 
@@ -37,7 +37,7 @@ class Judge:
         for n, trace in enumerate(traces, 1):
             store.insert_trace(con, n, 0, None, trace)
         con.execute(self.sql)
-        cursor = analysis_reads.ordered_verdicts(con)
+        cursor = judging_reads.ordered_verdicts(con)
         names = [d[0] for d in cursor.description]
         judged = [[] for _ in traces]
         for row in cursor.fetchall():
@@ -49,6 +49,6 @@ class Judge:
         """Per trace, the (property_id, kind) that went wrong in it (view trace_findings)."""
         self.verdicts(traces)
         found = [set() for _ in traces]
-        for trace_id, property_id, kind in analysis_reads.findings(self.con):
+        for trace_id, property_id, kind in judging_reads.findings(self.con):
             found[trace_id - 1].add((property_id, kind))
         return found
