@@ -38,6 +38,7 @@ from time_split import time_split  # noqa: E402
 from harness import DEFAULT_MISSION_DIR  # noqa: E402
 from harness.analysis.analyzer import materialise  # noqa: E402
 from harness.target.interface import load_interface, load_properties  # noqa: E402
+from harness.store.judging_reads import event_count  # noqa: E402
 from harness.store.database import add_campaign, add_reply_codes, connect, place  # noqa: E402
 from harness.store.record import ImportRecord  # noqa: E402
 from harness.store.sql import render_bench  # noqa: E402
@@ -62,7 +63,7 @@ def synthesise(con, interface, traces: int, requests: int, seed: int) -> int:
     con.execute(render_bench("synthetic_traces", seed=seed, traces=traces, requests=requests, replies=REPLIES,
                              services=[(s.module, s.name) for s in interface.services.values()]))
     place(con, "variant_positions", "sut", [f"variant-{n % 3}" for n in range(1, 4)])  # as their first traces
-    return con.execute("select count(*) from events").fetchone()[0]
+    return event_count(con)
 
 
 def traces_for(events: int, requests: int) -> int:
@@ -113,7 +114,7 @@ def judge(path: Path, properties, threads: int) -> Judged:
     started, cpu = time.perf_counter(), time.process_time()
     _analyse(con, properties)
     wall_s, cpu_s = time.perf_counter() - started, time.process_time() - cpu
-    events = con.execute("select count(*) from events").fetchone()[0]
+    events = event_count(con)
     con.close()
     return Judged(events, len(properties), threads, wall_s, cpu_s, before + calibrate(), (load, os.getloadavg()[0]))
 

@@ -18,6 +18,10 @@ from pathlib import Path
 import duckdb
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from harness.store.sql import render_bench  # noqa: E402
+
 # The verdict tables, and the views of Tables II-IV and of the flag's accuracy read from them.
 COMPARED = ("verdicts", "verdicts_internal", "trace_robustness", "tp_rates", "fp_rates", "table_values", "inversions")
 
@@ -33,9 +37,10 @@ def checkout(revision: str, into: Path) -> Path:
     return into
 
 
-def analyse(code: Path | None, store: Path, properties: Path | None) -> None:
-    """`analyze` of the store by the code under `code` (None: this checkout, as installed)."""
-    env = dict(os.environ, **({"PYTHONPATH": str(code)} if code else {}))
+def analyse(code: Path, store: Path, properties: Path | None) -> None:
+    """`analyze` of the store by the code under `code` (the installed bench may be another
+    checkout's: a git worktree shares its main checkout's environment)."""
+    env = dict(os.environ, PYTHONPATH=str(code))
     given = ["--properties", str(properties.resolve())] if properties else []
     done = subprocess.run([sys.executable, "-m", "harness", "analyze", "--db", str(store), *given],
                           cwd=store.parent, env=env, capture_output=True, text=True)
@@ -49,10 +54,7 @@ def differences(before: Path, after: Path) -> list[str]:
     con.execute(f"attach '{before}' as b (read_only); attach '{after}' as a (read_only)")
     found = []
     for table in COMPARED:
-        only_before, only_after, rows = con.execute(f"""
-            select (select count(*) from (from b.{table} except all from a.{table})),
-                   (select count(*) from (from a.{table} except all from b.{table})),
-                   (select count(*) from a.{table})""").fetchone()
+        only_before, only_after, rows = con.execute(render_bench("same_rows", table=table)).fetchone()
         found.append(f"{table}: {rows:,} rows, {only_before} only before, {only_after} only after")
         if only_before or only_after:
             found[-1] += "  <-- DIFFERENT"
@@ -70,7 +72,7 @@ def main() -> int:
         old = checkout(args.before, Path(tmp) / "before")
         for store in args.stores:
             copies = [Path(tmp) / f"{side}-{store.name}" for side in ("before", "after")]
-            for code, copy in zip((old, None), copies):
+            for code, copy in zip((old, ROOT), copies):
                 shutil.copy(store, copy)
                 analyse(code, copy, args.properties)
             found = differences(*copies)

@@ -23,6 +23,7 @@ from harness.analysis.summary import analysis_summary
 from harness.errors import InputFileError, PropertyError, StoreError
 from harness.store.analyses import (OracleFailure, drop_staged, keep_previous, publish, record, replace_old_analysis,
                                     stage, staged, try_statement)
+from harness.store.judging_reads import analysis_is_current, sizes
 from harness.store.appends import transaction
 from harness.store.database import connect
 from harness.store.reads import holds_rows, relations
@@ -221,18 +222,23 @@ def judges_every_trace(con: duckdb.DuckDBPyConnection) -> bool:
     """True when the stored verdicts were made after the last trace came in."""
     if not {"verdicts", "analysis"} <= relations(con):
         return False
-    return con.execute("select traces = (select count(*) from traces) from analysis").fetchone()[0]
+    return analysis_is_current(con)
 
 
 def main(db: str, properties: str | None = None, interface: str | None = None,
          epsilon: float | None = None) -> int:
-    """`analyze`: the verdicts of every stored trace, and Tables II-IV; the store closed on return, so
-    that what reads it next (the --junit gate) opens it afresh, whenever the collector would."""
-    with connect(db, create=False) as con:
+    """`analyze`: the verdicts of every stored trace, and Tables II-IV."""
+    con = connect(db, create=False)
+    try:
         return _analyze(con, properties, interface, epsilon)
+    finally:
+        # closed before the caller opens the store again (the CI gate reads it): a connection a
+        # failed oracle's traceback still holds would keep it open with another configuration
+        con.close()
 
 
 def _analyze(con, properties: str | None, interface: str | None, epsilon: float | None) -> int:
+    """The analysis of `main` on its open store, and what it prints."""
     properties_path = Path(properties) if properties else default_properties(con)
     epsilon = last_epsilon(con) if epsilon is None else epsilon
     interface_path = Path(interface) if interface else properties_path.parent / INTERFACE_FILE
@@ -242,8 +248,7 @@ def _analyze(con, properties: str | None, interface: str | None, epsilon: float 
     interface = load_interface(interface_path)
     properties = load_properties(properties_path, interface)
     elapsed = materialise(con, properties, epsilon, interface, properties_path, interface_path)
-    traces, events = con.execute("select (select count(*) from traces), (select count(*) from events)").fetchone()
-    verdicts = con.execute("select count(*) from verdicts").fetchone()[0]
+    traces, events, verdicts = sizes(con)
     print(f"Judged {events} events of {traces} traces against {len(properties)} properties of "
           f"{properties_path} in {elapsed:.2f} s: {counted(verdicts, 'verdict')} in table verdicts.\n")
     if not traces:

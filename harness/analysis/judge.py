@@ -10,6 +10,7 @@ from __future__ import annotations
 from harness import DEFAULT_EPSILON_S, store
 from harness.target.interface import Interface, Property
 from harness.analysis.oracles import oracle_statements
+from harness.store import judging_reads
 from harness.store.sql import render_view
 from harness.trace import Trace
 
@@ -36,8 +37,7 @@ class Judge:
         for n, trace in enumerate(traces, 1):
             store.insert_trace(con, n, 0, None, trace)
         con.execute(self.sql)
-        cursor = con.execute("select v.* from verdicts v join properties p using (property_id) "
-                             "order by v.trace_id, p.position, v.rqst_id")
+        cursor = judging_reads.ordered_verdicts(con)
         names = [d[0] for d in cursor.description]
         judged = [[] for _ in traces]
         for row in cursor.fetchall():
@@ -49,7 +49,6 @@ class Judge:
         """Per trace, the (property_id, kind) that went wrong in it (view trace_findings)."""
         self.verdicts(traces)
         found = [set() for _ in traces]
-        for trace_id, property_id, kind in self.con.execute(
-                "select trace_id, property_id, kind from trace_findings").fetchall():
+        for trace_id, property_id, kind in judging_reads.findings(self.con):
             found[trace_id - 1].add((property_id, kind))
         return found

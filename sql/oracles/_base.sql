@@ -73,12 +73,6 @@ requests as (
 )
 {%- endmacro %}
 
-{% macro both_ways(name, ctes, x, y, code) -%}
-{{ ctes(name ~ '_xy', x, y, code) }},
-{{ ctes(name ~ '_yx', y, x, code) }},
-{{ joined(name) }}
-{%- endmacro %}
-
 {% macro joined(name) -%}
 -- a mutual property judges the x requests against y and the y requests against x
 {{ name }}_pairs as (

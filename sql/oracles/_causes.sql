@@ -6,32 +6,12 @@
 {% import 'oracles/_base.sql' as base %}
 {% import 'oracles/_judge.sql' as judge with context %}
 
-{% macro ctes(name, ended, modules) -%}
-{% if shared_causes %}
--- the causes of the requests of the CTEs `ended`, from the analysis's search: an interruption's,
--- and an end of an activity that runs until stopped from one of `modules`
-{{ name }}_candidates as (
-    select trace_id, rqst_id, cause_id, module, service
-    from {{ shared_causes }}
-    semi join ({% for e in ended %}select trace_id, rqst_id from {{ e }}{{ ' union all ' if not loop.last }}{% endfor %}) using (trace_id, rqst_id)
-    where interrupted or module in ({{ modules | map('lit') | join(', ') }})
-),
-{% else %}
-{{ name }}_ended as (
-    {% for e in ended %}select * from {{ e }}{{ ' union ' if not loop.last }}{% endfor %}
-
-),
-{{ search(name, name ~ '_ended', modules) }},
-{% endif %}
-{{ sole(name) }}
-{%- endmacro %}
-
-{% macro sole(name, keyed=false) -%}
+{% macro sole(name) -%}
 -- an end with a single candidate cause orders it: the ended request was taken before its cause,
 -- and the cause before that end, whatever the observed order
 {{ name }}_sole as (
-    select {{ judge.key(keyed) }}, any_value(cause_id) as cause_id
-    from {{ name }}_candidates group by {{ judge.key(keyed) }} having count(*) = 1
+    select {{ judge.key(true) }}, any_value(cause_id) as cause_id
+    from {{ name }}_candidates group by {{ judge.key(true) }} having count(*) = 1
 )
 {%- endmacro %}
 

@@ -27,6 +27,6 @@
     select p.property_id, c.* from {{ name }}_one_candidates c cross join {{ name }}_properties p
 ),
 {% endif %}
-{{ causes.sole(name, true) }}
+{{ causes.sole(name) }}
 {%- endmacro %}
 

@@ -87,6 +87,10 @@ list_sort(list_distinct(list_filter([{{ verdict('true', 'false', code, accepted,
            case when c_holds is not null then nullif(margin_s, 'infinity') end as margin_s,
            case when c_holds is null then {{ undefined_alternatives(code, accepted, keyed) if undefined_settles
                                               else '[]::varchar[]' }}
+                -- most requests can reach their observed condition alone: no alternative, and
+                -- no lists built for them
+                when reply is not null and not may_be_na and (c_holds and may_hold and not may_fail
+                     or not c_holds and not conflicts_rejected and may_fail and not may_hold) then []::varchar[]
                 else list_sort(list_distinct(list_filter([
                     case when may_hold and not (reply = {{ code if keyed else code | lit }} and class = 'R')
                          then {{ verdict('true', 'false', code, accepted, keyed) }} end,

@@ -30,3 +30,14 @@
     join {{ name }}_properties p using (property_id)
 )
 {%- endmacro %}
+
+{% macro swapped(name, way) -%}
+-- the parameter table `name` as `name`_{{ way }}: the roles x and y swapped for 'yx' (a mutual
+-- type judges each way with its one-way type's one pass)
+{{ name }}_{{ way }}_properties as (from {{ name }}_properties),
+{{ name }}_{{ way }}_services as (
+    select property_id, {{ "case role when 'x' then 'y' when 'y' then 'x' else role end" if way == 'yx' else 'role' }} as role,
+           module, service
+    from {{ name }}_services
+)
+{%- endmacro %}

@@ -38,7 +38,7 @@
     left join {{ name }}_by_es b using (trace_id, rqst_id)
 ),
 {{ name }}_sided as (
-    select * from {{ name }}_es_judged semi join {{ name }}_by_es using (trace_id, rqst_id)
+    select * exclude (property_id) from {{ name }}_es_judged semi join {{ name }}_by_es using (trace_id, rqst_id)
     union all
     select * exclude (property_id) from {{ name }}_ee_judged anti join {{ name }}_by_es using (trace_id, rqst_id)
 ),

@@ -17,12 +17,7 @@
     roles x and y swapped. -#}
 {% macro one_pass(name, modules=none) -%}
 {% for way in ['xy', 'yx'] %}
-{{ name }}_{{ way }}_properties as (from {{ name }}_properties),
-{{ name }}_{{ way }}_services as (
-    select property_id, {{ "case role when 'x' then 'y' when 'y' then 'x' else role end" if way == 'yx' else 'role' }} as role,
-           module, service
-    from {{ name }}_services
-),
+{{ parameters.swapped(name, way) }},
 {{ ee.one_pass(name ~ '_' ~ way, modules) }},
 {% endfor %}
 {{ base.joined(name) }}

@@ -15,7 +15,8 @@ EPSILON = 0.01
 # A template broken on purpose: (file, text replaced, by), and the property types it breaks.
 BREAKS = {
     "pc": ("pc.sql", "false as conflict_rejected", "no_such_flag as conflict_rejected", {"PC"}),
-    "mx_i": ("mx_i.sql", "    from {{ name }}_services\n", "    from {{ name }}_services where no_such_role\n", {"MX_I"}),
+    "mx_i": ("mx_i.sql", "{{ parameters.swapped(name, way) }}",
+             "{{ parameters.swapped(name, way) | replace('_services\\n', '_services where no_such_role\\n') }}", {"MX_I"}),
 }
 FIXTURES = all_fixtures()
 # Each broken template with every fixture that has properties of the types it breaks.
