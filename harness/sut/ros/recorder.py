@@ -23,7 +23,8 @@ import xmlrpc.client
 from pathlib import Path
 
 from harness.sut.roscommon.mapping import Mapping
-from harness.sut.processes import Child, ChildError
+from harness.errors import ChildError
+from harness.sut.processes import Child
 
 ACTION_TOPICS = ("goal", "cancel", "status", "feedback", "result")
 RECORDER_NODE = "untimely_record"  # its node name; the master and the publishers say "/untimely_record"
