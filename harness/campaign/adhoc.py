@@ -72,7 +72,7 @@ def summary(trace: Trace, replies: dict[str, str]) -> str:
 
 
 def run(args: RunRequest) -> int:
-    script_path = existing_file(args.mission, "file not found; run takes a mission script such as "
+    script_path = existing_file(args.script, "file not found; run takes a mission script such as "
                                               "missions/dala/golden.mission")
     interface_path, world_file = mission_files(script_path, args.interface, args.world)
     interface = load_interface(interface_path)
