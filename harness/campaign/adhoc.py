@@ -15,8 +15,7 @@ from harness.sut.executive import run_script
 from harness.files import existing_file
 from harness.dispatch import transport
 from harness.target.interface import load_interface
-from harness.target.layer_description import LAYER_FILE
-from harness.target.mission import INTERFACE_FILE, WORLD_FILE
+from harness.target.mission import INTERFACE_FILE, LAYER_FILE, WORLD_FILE
 from harness.target.script import load_script
 from harness.sut.definitions import resolve
 from harness.store.record import RunRecord
