@@ -15,6 +15,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from rosbags.rosbag2 import StoragePlugin  # noqa: E402
 
 from harness import DEFAULT_MISSION_DIR  # noqa: E402
+from harness.store.bench_reads import event_count, events_in_order  # noqa: E402
 from harness.store.database import connect  # noqa: E402
 from harness.campaign.importing import import_path  # noqa: E402
 from harness.target.interface import load_interface  # noqa: E402
@@ -50,13 +51,13 @@ def timed(path: Path, interface, **options) -> tuple[float, int]:
     start = time.perf_counter()
     import_path(con, path, interface, **options)
     wall = time.perf_counter() - start
-    return wall, con.execute("select count(*) from events").fetchone()[0]
+    return wall, event_count(con)
 
 
 def as_csv(bag: Path, interface, out: Path, **options) -> Path:
     con = connect(":memory:")
     import_path(con, bag, interface, **options)
-    rows = con.execute(f"select 'bag', {', '.join(EVENT_COLUMNS)} from events order by seq")
+    rows = events_in_order(con, EVENT_COLUMNS, "bag")
     with out.open("w", newline="") as f:
         writer = csv.writer(f)
         writer.writerow(["trace_id", *EVENT_COLUMNS])

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from harness.target.interface import Property
-from harness.target.layer_description import load_layer
+from harness.target.mission import load_layer
 from harness.target.layer_file import CHECKING
 from harness.store.sql import render_bench
 

@@ -25,6 +25,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from harness import DEFAULT_MISSION_DIR, ROOT, store
+from harness.store import bench_reads
 from harness.sut.ros2.environment import installed
 from harness.target.mission import load_mission
 
@@ -46,13 +47,12 @@ def campaign(db: Path, mission: Path, suts: str, *options: str) -> float:
 def first_exposures(con, wanted) -> tuple[float | None, int]:
     """Mission seconds of the runs up to the last first exposure (None if one never shows), and
     how many of `wanted` show at all."""
-    rows = con.execute("select trace_id, sut, property_id, kind from trace_findings order by trace_id").fetchall()
+    rows = bench_reads.findings_in_order(con)
     firsts = [next((r[0] for r in rows if e.matches(*r[1:])), None) for e in wanted]
     shown = [f for f in firsts if f is not None]
     if len(shown) < len(wanted):
         return None, len(shown)
-    return con.execute("select sum(sim_s) from traces anti join shrink_runs using (trace_id) where trace_id <= ?",
-                       [max(shown)]).fetchone()[0], len(shown)
+    return bench_reads.test_seconds_until(con, max(shown)), len(shown)
 
 
 def shown_after(con, wanted) -> str:
@@ -62,8 +62,7 @@ def shown_after(con, wanted) -> str:
 
 def focused_spent(con) -> tuple[float, str]:
     """Every run's mission seconds (shrink runs are traces too), and why the campaign stopped."""
-    traces = con.execute("select sum(sim_s) from traces").fetchone()[0]
-    return traces, con.execute("select stopped from campaign_budgets").fetchone()[0]
+    return bench_reads.run_totals(con)[1], bench_reads.why_stopped(con)
 
 
 def compare(folder: Path, name: str, mission: Path, suts: str) -> None:
@@ -73,7 +72,7 @@ def compare(folder: Path, name: str, mission: Path, suts: str) -> None:
         db = folder / f"{name}-{strategy}.duckdb"
         wall = campaign(db, mission, suts, "--strategy", strategy, "--mutants", "300")
         con = store.connect(db, read_only=True)
-        total = con.execute("select sum(sim_s) from traces").fetchone()[0]
+        total = bench_reads.run_totals(con)[1]
         print(f"  {strategy:<9} every defect shown after {shown_after(con, wanted)} (campaign {total:,.0f} mission s, "
               f"{wall:.0f} s wall in process; shrinking not counted)")
     db = folder / f"{name}-focused.duckdb"
@@ -116,8 +115,7 @@ def realtime_line(prefix: str, db: Path, twin: Path, wall: float, load: float) -
     in_process = expected(DEFAULT_MISSION_DIR, load_mission(DEFAULT_MISSION_DIR).properties(), variants)
     wanted = [replace(e, sut=f"{prefix}-{e.sut}") for e in in_process]
     missing = [f"{e.sut} {e.what}" for e, r in exposed(con, wanted).items() if r is None]
-    runs, beyond = con.execute("select count(*), median(wall_s - sim_s / time_scale) from traces "
-                               "join trace_runs using (trace_id)").fetchone()
+    runs, beyond = bench_reads.realtime_runs(con)
     return (f"{prefix}-* at 1x on {SLOTS} slots: {wall / 60:.1f} min wall for {spent:,.0f} mission s, stopped "
             f"({stopped}); slots' speed-up {spent / wall:.1f}x real time (of {SLOTS}); in-process prediction "
             f"{predicted:,.0f} mission s ({spent / predicted:.2f}x of it); "
@@ -131,9 +129,7 @@ def realtime_line(prefix: str, db: Path, twin: Path, wall: float, load: float) -
 def slot_use(con, wall: float) -> str:
     """Where the slots' wall time went: in runs (their mission time and beyond it), and idle (a
     round waiting for its slowest run, a shrink for its previous step, the bench between runs)."""
-    in_runs, beyond, hung = con.execute("select sum(wall_s), sum(wall_s - sim_s / time_scale), "
-                                        "count(*) filter (where outcome = 'hung') from traces "
-                                        "join trace_runs using (trace_id)").fetchone()
+    in_runs, beyond, hung = bench_reads.slot_seconds(con)
     return (f"; the slots spent {in_runs / (SLOTS * wall):.0%} of their wall time in runs ({beyond:,.0f} slot-s "
             f"of it beyond mission time), the rest idle; {hung} runs hung" + in_flight(con))
 
@@ -141,7 +137,7 @@ def slot_use(con, wall: float) -> str:
 def in_flight(con) -> str:
     """How long few runs (3 or fewer) and all SLOTS were in flight, from the first run's start to
     the last one's end: the slots' idle time is where few are."""
-    rows = con.execute("select epoch(started_at), wall_s from traces join trace_runs using (trace_id)").fetchall()
+    rows = bench_reads.run_spans(con)
     edges = sorted([(start, 1) for start, _ in rows] + [(start + wall, -1) for start, wall in rows])
     few = full = 0.0
     running = 0
@@ -156,8 +152,7 @@ def in_flight(con) -> str:
 def discovery(con) -> str:
     """How many ROS 2 nodes were started, and the median seconds one took to start and be
     discovered (its adapter's `up in` text)."""
-    starts, up = con.execute("select count(*), median(regexp_extract(sut_info, 'up in ([0-9.]+) s', 1)::double) "
-                             "from trace_runs where sut_info like '%run 1 of this node)'").fetchone()
+    starts, up = bench_reads.node_starts(con)
     return "" if up is None else f"; {starts} nodes started, each up and discovered in {up:.1f} s (median)"
 
 

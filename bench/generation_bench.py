@@ -23,6 +23,7 @@ from harness.analysis.judge import Judge
 from harness.mutator import operators, targeted
 from harness.target.script import load_script
 from harness.campaign.shrink import Behaviour, original, shrink
+from harness.store.bench_reads import bad_behaviour_keys
 from harness.store.sql import render_bench
 
 VARIANTS = "genom,bip-a,bip-b,bare,reference"
@@ -66,8 +67,7 @@ def compare(dbs: dict[str, Path]) -> bool:
         print(f"  {prop:<44}{a:>10}{b:>10}")
     lows = {s: min(n for _, n in rows) for s, rows in covered.items()}
     print(f"  {'minimum':<44}" + "".join(f"{lows[s]:>10}" for s in STRATEGIES))
-    found = {s: set(con.execute("select sut, verdict, property_id from bad_behaviours").fetchall())
-             for s, con in cons.items()}
+    found = {s: bad_behaviour_keys(con) for s, con in cons.items()}
     print(f"\n{'distinct bad behaviours':<46}" + "".join(f"{s:>10}" for s in STRATEGIES))
     for sut in VARIANTS.split(","):
         for kind, test in (("FN", lambda b: b[1] == "FN"), ("FP", lambda b: b[1] == "FP"),

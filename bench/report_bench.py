@@ -32,6 +32,8 @@ from harness import DEFAULT_MISSION_DIR  # noqa: E402
 from harness.analysis.analyzer import materialise  # noqa: E402
 from harness.target.interface import load_interface, load_properties  # noqa: E402
 from harness.store.database import connect  # noqa: E402
+from harness.store.bench_reads import event_count, trace_span  # noqa: E402
+from harness.store.reads import trace_count  # noqa: E402
 from harness.store.sql import render_bench  # noqa: E402
 
 TIME_LINE_S, SIZE_LINE_MB, MEMORY_LINE_MB = 10.0, 100.0, 100.0
@@ -43,7 +45,7 @@ def build(db: Path, traces: int, mutants: int) -> None:
     subprocess.run([sys.executable, "-m", "harness", "campaign", "--mutants", str(mutants), "--seed", "2012",
                     "--db", str(db)], cwd=ROOT, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     con = connect(db)
-    original, top = con.execute("select count(*), max(trace_id) from traces").fetchone()
+    original, top = trace_span(con)
     con.execute(render_bench("copied_traces", copies=-(-traces // original) - 1, top=top))
     interface = load_interface(DEFAULT_MISSION_DIR / "interface.toml")
     materialise(con, load_properties(DEFAULT_MISSION_DIR / "properties.toml", interface), 0.01, interface)
@@ -98,7 +100,7 @@ def main() -> int:
         if not args.db:
             build(db, args.traces, args.mutants)
         con = connect(db, read_only=True)
-        traces, events = con.execute("select (select count(*) from traces), (select count(*) from events)").fetchone()
+        traces, events = trace_count(con), event_count(con)
         con.close()
         print(f"(a store of {traces:,} traces, {events:,} events" +
               ("" if args.db else f", built and judged in {time.perf_counter() - started:.1f} s") + ")")

@@ -27,33 +27,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from harness.cli import main as cli  # noqa: E402
 from harness.store.database import connect  # noqa: E402
+from harness.store.sql import render_bench  # noqa: E402
 from harness.textable import format_table  # noqa: E402
 
 SUTS = "sim-reference,sim-genom,sim-reference-taken,sim-genom-taken"
-PER_SUT = """
-with judged as (
-    select t.sut, v.suspicious
-    from verdicts v join traces t using (trace_id)
-    semi join verdicts_internal using (trace_id, property_id, module, service, rqst_id)
-),
-runs as (
-    select sut, count(*) as traces, count(*) filter (where outcome <> 'completed') as hung_or_crashed,
-           (select count(*) from taken_events k where k.trace_id in
-               (select trace_id from traces u where u.sut = t.sut)) as taken_replies
-    from traces t group by sut
-),
-inverted as (
-    select t.sut, count(*) as inversions, count(*) filter (where suspicious) as inverted_flagged
-    from inversions join traces t using (trace_id) group by t.sut
-)
-select r.sut, r.traces, r.hung_or_crashed, r.taken_replies, count(j.sut) as judged_on_both,
-       coalesce(any_value(i.inversions), 0) as inversions,
-       count(j.sut) filter (where j.suspicious) as flagged,
-       coalesce(any_value(i.inverted_flagged), 0) as inverted_flagged
-from runs r left join judged j using (sut) left join inverted i using (sut)
-group by r.sut, r.traces, r.hung_or_crashed, r.taken_replies
-order by r.sut
-"""
 
 
 def run_campaign(db: Path, args) -> None:
@@ -82,7 +59,7 @@ def main() -> int:
             print(f"before: {load}", flush=True)
             run_campaign(db, args)
         con = connect(db, read_only=True)
-        cursor = con.execute(PER_SUT)
+        cursor = con.execute(render_bench("taken_per_sut"))
         print(format_table([d[0] for d in cursor.description], cursor.fetchall()))
         con.close()
     print("after: load average " + ", ".join(f"{v:.1f}" for v in os.getloadavg()))

@@ -38,6 +38,15 @@ class BudgetSpent(UntimelyError):
         super().__init__(message)
 
 
+class ChildError(UntimelyError):
+    """A child process (a rosmaster, a rosbag recorder, a SUT's node) could not start or died during
+    start-up (the launcher reports it as `error`)."""
+
+
+class Ros2Error(UntimelyError):
+    """ROS 2 is missing for a distro, or no domain id is free."""
+
+
 class InternalSignal(Exception):
     """Base of what the bench raises to tell another part of itself how something ended (a SUT
     that stopped reading, a protocol line that is not one, a kernel process interrupted); each is

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import hashlib
 
-from harness.store.reads import columns
+from harness.store.reads import columns, rows_where
 
 # The order of each fingerprinted table's rows.
 TABLES = {"scripts": "script_id", "traces": "trace_id", "events": "trace_id, seq",
@@ -23,9 +23,9 @@ BATCH_ROWS = 50_000
 
 def table_digest(con, table: str, condition: str = "true") -> str:
     """Hex SHA-256 of the rows of `table` (one of TABLES) that meet the SQL `condition`."""
-    kept = ", ".join(c for c in columns(con, table) if c not in LEFT_OUT)
+    kept = [c for c in columns(con, table) if c not in LEFT_OUT]
     digest = hashlib.sha256()
-    cursor = con.execute(f"select {kept} from {table} where {condition} order by {TABLES[table]}")
+    cursor = rows_where(con, table, kept, condition, TABLES[table])
     while rows := cursor.fetchmany(BATCH_ROWS):
         digest.update("".join(f"{row!r}\n" for row in rows).encode())
     return digest.hexdigest()

@@ -6,6 +6,7 @@ new ones. This module prints both, after `analyze` and at any time with `diff`.
 """
 from __future__ import annotations
 
+from harness.store.analysis_reads import last_analyses
 from harness.store.reads import analyses_made, ordered, require_analysis
 from harness.store.database import connect
 from harness.textable import counted, format_table, percent
@@ -21,8 +22,7 @@ def changes(con) -> str:
     """The verdict transitions and the changed cells of Tables II-IV, as text."""
     if analyses_made(con) < 2:
         return "Changes: this is the first analysis of the store; there is nothing to compare it with."
-    analyses = con.execute("select analysis_id, analysed_at, epsilon from analyses "
-                           "order by analysis_id desc limit 2").fetchall()
+    analyses = last_analyses(con)
     now = analyses[0]
     before = (f"analysis {analyses[1][0]} of {analyses[1][1]:%Y-%m-%d %H:%M:%S}, epsilon {analyses[1][2]:g} s"
               if len(analyses) > 1 else "the analysis before it")

@@ -19,8 +19,8 @@ import duckdb
 from harness.errors import StoreError, UntimelyError
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.analysis.oracles import Judging, render_property
+from harness.store import analysis_reads
 from harness.store.reads import exists, relations, require_analysis, trace_epsilons
-from harness.store.sql import sql_id_list
 from harness.analysis.provenance import default_properties
 from harness.store.database import connect
 from harness.target.mission import INTERFACE_FILE
@@ -36,9 +36,7 @@ DEADLINE_ITEM = "deadline"  # how the ROS 2 types name their deadline, its event
 def judged_files(con, properties: str | None = None) -> tuple[Path, Path]:
     """The properties file (`properties` if given) and interface file the stored verdicts were made
     from: the last analysis's when they are recorded and still there, else the campaign mission's."""
-    found = dict(con.execute("""select role, path from analysis_files where role in ('properties', 'interface')
-                                and analysis_id = (select max(analysis_id) from analyses)""").fetchall()) \
-        if exists(con, "analysis_files") else {}
+    found = analysis_reads.judged_file_paths(con) if exists(con, "analysis_files") else {}
     if properties is not None:
         return Path(properties), Path(properties).parent / INTERFACE_FILE
     usable = "properties" in found and Path(found["properties"]).is_file()
@@ -71,7 +69,7 @@ class Explainer:
 
     def __init__(self, con, interface: Interface, properties: dict[str, Property]):
         self.con, self.interface, self.properties = con, interface, properties
-        self.epsilon = con.execute("select epsilon from analysis").fetchone()[0]
+        self.epsilon = analysis_reads.analysis_epsilon(con)
         tables = relations(con)  # a store read as it is may lack the newer ones
         self.runs, self.taken = "trace_runs" in tables, "taken_events" in tables
         # the epsilon each trace was judged with (its pings' for a real-time run), not the analysis's alone
@@ -81,23 +79,11 @@ class Explainer:
         keys = [k for k in keys if k[1] in self.properties]
         if not keys:
             return {}
-        traces = sql_id_list({t for t, _, _ in keys})
         # a request the SUT replied `taken` to stands at that reply (view requests): its sending is another instant
-        taken = ("left join taken_events k on k.trace_id = r.trace_id and k.rqst_id = r.rqst_id", "k.t is not null"
-                 ) if self.taken else ("", "false")
-        cursor = self.con.execute(f"""select r.trace_id, r.rqst_id, r.module || '.' || r.service as service, r.t,
-                                             r.final_t, r.reply, r.class, e.args, e.t, {taken[1]}
-                                      from requests r left join events e
-                                        on e.trace_id = r.trace_id and e.rqst_id = r.rqst_id and e.kind = 'request'
-                                      {taken[0]} where r.trace_id in ({traces})""")
-        found = cursor.fetchall()
+        found = analysis_reads.explained_requests(self.con, {t for t, _, _ in keys}, self.taken)
         requests = {(r[0], r[1]): r[2:8] for r in found}
         self.sent = {(r[0], r[1]): r[8] for r in found if r[9]}  # the requests placed at their taken reply
-        verdicts = {(t, p, r): rest for t, p, r, *rest in self.con.execute(
-            """select trace_id, property_id, rqst_id, verdict, c_holds, margin_s, suspicious from verdicts
-               semi join (select unnest(?::integer[]) as trace_id, unnest(?::varchar[]) as property_id,
-                                 unnest(?::integer[]) as rqst_id) using (trace_id, property_id, rqst_id)""",
-            [list(column) for column in zip(*keys)]).fetchall()}
+        verdicts = {(t, p, r): rest for t, p, r, *rest in analysis_reads.verdict_rows(self.con, keys)}
         pairs: dict[Key, list[dict]] = defaultdict(list)
         failed: dict[str, str] = {}  # property id -> why its oracle could not explain
         for property_id in dict.fromkeys(p for _, p, _ in keys):
@@ -230,9 +216,7 @@ def main(db: str, trace_id: int, property: str, rqst_id: int | None = None) -> i
     if property not in properties:
         raise StoreError(f"no property {property!r} in the properties the verdicts were made from; "
                          f"use one of: {', '.join(properties)}")
-    requests = [r for r, in con.execute(
-        "select rqst_id from verdicts where trace_id = ? and property_id = ? order by rqst_id",
-        [trace_id, property]).fetchall()]
+    requests = analysis_reads.judged_requests(con, trace_id, property)
     if rqst_id is not None:
         if rqst_id not in requests:
             raise StoreError(f"trace {trace_id} has no verdict of {property} on request {rqst_id}; "

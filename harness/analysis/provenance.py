@@ -13,6 +13,7 @@ from pathlib import Path
 
 from harness import DEFAULT_EPSILON_S, SQL_DIR
 from harness.errors import StoreError
+from harness.store import analysis_reads
 from harness.store.record import records
 from harness.target.mission import INTERFACE_FILE, PROPERTIES_FILE
 
@@ -50,8 +51,7 @@ def stale_files(con) -> list[tuple[str, str]]:
     """(role, path) of the last analysis's files that changed or vanished since it ran. Templates are
     compared by content with this installation's, whatever folder the analysing one was in (a CI
     wheel's, then a checkout's), and named as under sql/ (sql/oracles/pc.sql)."""
-    found = con.execute("""select role, path, sha256 from analysis_files
-                           where analysis_id = (select max(analysis_id) from analyses)""").fetchall()
+    found = analysis_reads.last_analysis_files(con)
     stale = [(role, path) for role, path, sha in found if role != "template" and _sha256(Path(path)) != sha]
     recorded = {_in_package(path): sha for role, path, sha in found if role == "template"}
     current = {t.relative_to(SQL_DIR): t for t in templates()}
@@ -63,8 +63,8 @@ def stale_files(con) -> list[tuple[str, str]]:
 
 def last_epsilon(con) -> float:
     """The epsilon of the last analysis (DEFAULT_EPSILON_S before the first one)."""
-    found = con.execute("select epsilon from analyses order by analysis_id desc limit 1").fetchone()
-    return found[0] if found else DEFAULT_EPSILON_S
+    found = analysis_reads.last_analysis_epsilon(con)
+    return DEFAULT_EPSILON_S if found is None else found
 
 
 def default_properties(con) -> Path:

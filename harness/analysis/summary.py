@@ -5,20 +5,11 @@ from __future__ import annotations
 
 import duckdb
 
+from harness.store import analysis_reads
+from harness.store.analysis_reads import family_order
 from harness.store.reads import ordered
 from harness.store.record import CampaignRecord, records
 from harness.textable import counted, format_table, percent, rate_interval, with_orders
-
-
-def sut_order(con) -> list[str]:
-    """Variants in the order the campaign ran them."""
-    return [r[0] for r in con.execute("select sut from variant_positions semi join traces using (sut) "
-                                      "order by position").fetchall()]
-
-
-def family_order(con) -> list[str]:
-    """Families in the order the properties file lists them, then All."""
-    return [r[0] for r in con.execute("select family from family_positions order by position").fetchall()]
 
 
 def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
@@ -26,8 +17,7 @@ def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
     each cell the rate, its 95% Wilson interval and n, then o= its interval over the orders of events."""
     cells = {(sut, family): with_orders(rate_interval(*values), lowest, highest)
              for sut, family, lowest, highest, *values in
-             con.execute(f"select sut, family, {column}_min, {column}_max, {column}, {column}_low, {column}_high, n "
-                         f"from {view}").fetchall()}
+             analysis_reads.rate_cells(con, view, column)}
     return format_table(["family"] + suts,
                         [[f] + [cells.get((s, f), "-") for s in suts] for f in family_order(con)])
 
@@ -35,10 +25,8 @@ def _rates_by_family(con, view: str, column: str, suts: list[str]) -> str:
 def flag_accuracy(con) -> tuple[int, int, int, int]:
     """Over the requests judged on both timelines: (verdicts, inverted verdicts, inverted and
     flagged, flagged). Recall = inverted and flagged / inverted; precision = inverted and flagged / flagged."""
-    judged, flagged = con.execute("""select count(*), count(*) filter (where suspicious) from verdicts
-                                     semi join verdicts_internal using (trace_id, property_id, module, service, rqst_id)
-                                  """).fetchone()
-    inverted, caught = con.execute("select count(*), count(*) filter (where suspicious) from inversions").fetchone()
+    judged, flagged = analysis_reads.judged_both_ways(con)
+    inverted, caught = analysis_reads.inverted(con)
     return judged, inverted, caught, flagged
 
 
@@ -56,8 +44,7 @@ def analysis_summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
              "Table IV - false positive rates FP/(FP+TN), % [95% Wilson interval] n=FP+TN "
              "o=[lowest, highest] over the orders of events closer than epsilon\n"
              + _rates_by_family(con, "fp_rates", "fp_rate", suts)]
-    left_out = con.execute("select left_out, count(*) from trace_scope where not counted group by all "
-                           "order by all").fetchall()
+    left_out = analysis_reads.left_out(con)
     if left_out:
         parts.append("Not counted in Tables II-IV (view trace_scope): "
                      + "; ".join(f"{n} trace{'s' * (n != 1)}: {why}" for why, n in left_out) + ".")
@@ -71,7 +58,7 @@ def analysis_summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
                      f"caught {caught} of them ({recall}) and is raised on {counted(flagged, 'verdict')} in all "
                      f"({precision}). The SUT's internal events "
                      f"settle all {flagged} uncertain verdicts: {caught} change, {flagged - caught} hold.")
-    cursor = con.execute("select * exclude (campaign_id) from interface_latency order by campaign_id, sut")
+    cursor = analysis_reads.interface_latency(con)
     latency = cursor.fetchall()
     if latency:
         parts.append("Interface latency of the real-time runs (ping round trips, wall s; "
@@ -83,8 +70,7 @@ def analysis_summary(con: duckdb.DuckDBPyConnection, epsilon: float) -> str:
 def epsilons(con) -> str:
     """Which epsilon the traces were judged with (view trace_epsilon): the analysis's, per
     real-time trace the one its pings measured, or 0 for another trace whose SUT told its order."""
-    found = con.execute("""select source, count(*), min(epsilon_s), max(epsilon_s) from trace_epsilon
-                           group by source order by source""").fetchall()
+    found = analysis_reads.epsilon_sources(con)
     said = []
     for source, n, low, high in found:
         value = f"{low:g} s" if low == high else f"{low:g} to {high:g} s"
@@ -97,10 +83,7 @@ def epsilons(con) -> str:
 def least_covered(con: duckdb.DuckDBPyConnection, shown: int = 5) -> str:
     """The properties whose condition was false on the fewest requests, on their worst variant
     (of equally bad ones, the first by name); targeted mutants are suggested unless they made them."""
-    found = con.execute(f"""
-        select property_id, min(c_false) as c_false, arg_min(sut, (c_false, sut)) as sut
-        from coverage left join property_positions using (property_id) group by property_id
-        order by c_false, min(position) limit {int(shown)}""").fetchall()
+    found = analysis_reads.least_covered(con, shown)
     listed = ", ".join(f"{p} {n} ({sut})" for p, n, sut in found)
     targeted = any(r.strategy == "targeted" for _, _, r in records(con, CampaignRecord))
     more = ("More cases: more --mutants, or another --seed, of the targeted campaign" if targeted

@@ -15,8 +15,7 @@ from harness.sut.executive import run_script
 from harness.files import existing_file
 from harness.dispatch import transport
 from harness.target.interface import load_interface
-from harness.target.layer_description import LAYER_FILE
-from harness.target.mission import INTERFACE_FILE, WORLD_FILE
+from harness.target.mission import INTERFACE_FILE, LAYER_FILE, WORLD_FILE
 from harness.target.script import load_script
 from harness.sut.definitions import resolve
 from harness.store.record import RunRecord
@@ -72,7 +71,7 @@ def summary(trace: Trace, replies: dict[str, str]) -> str:
 
 
 def run(args: RunRequest) -> int:
-    script_path = existing_file(args.mission, "file not found; run takes a mission script such as "
+    script_path = existing_file(args.script, "file not found; run takes a mission script such as "
                                               "missions/dala/golden.mission")
     interface_path, world_file = mission_files(script_path, args.interface, args.world)
     interface = load_interface(interface_path)

@@ -21,7 +21,7 @@ from harness.campaign import shrink
 from harness.campaign.slots import Slots
 from harness.errors import BudgetSpent, UntimelyError
 from harness.progress import Progress
-from harness.store.sql import render_query
+from harness.store.campaign_reads import spent_s
 
 UNITS = {"s": 1.0, "m": 60.0, "h": 3600.0}
 DURATION = re.compile(r"(\d+(?:\.\d+)?)([smh])$")
@@ -120,5 +120,5 @@ def progress(con, campaign_id: int, budget_s: float | None) -> Progress:
     resumed campaign's included); without a budget, the runs it makes (the rule's end is not known)."""
     if budget_s is None:
         return Progress(None)
-    traces_s, shrink_s = con.execute(render_query("campaign_spent"), {"campaign": campaign_id}).fetchone()
+    traces_s, shrink_s = spent_s(con, campaign_id)
     return Progress(budget_s, traces_s + shrink_s, unit="mission s", mission_time=True)

@@ -25,10 +25,10 @@ from harness.campaign.budget import RULE, Budget, MeteredOriginal, VariantState
 from harness.campaign.context import CampaignContext
 from harness.campaign.rounds import ROUND_TESTS, Round
 from harness.campaign.slots import Slots, at_once, traced
+from harness.store import campaign_reads
 from harness.store.budgets import BudgetRow, record_budget
 from harness.store.record import ShrinkRecord, records
 from harness.store.scripts import ScriptRow, add_scripts
-from harness.store.sql import render_query
 from harness.analysis.judge import Judge
 from harness.errors import UntimelyError
 from harness.mutator.focused import Plan
@@ -55,28 +55,22 @@ class FocusedRun:
         self.shrinking: list[tuple[shrink.Behaviour, MeteredOriginal, Future]] = []
         self.state = {sut: VariantState() for sut in config.sut}
         self.in_flight: list[Round] = []  # the rounds whose runs were started on slots, not all back
-        (self.stopped,) = con.execute("select stopped from campaign_budgets where campaign_id = ?",
-                                      [campaign_id]).fetchone() or (None,)
+        self.stopped = campaign_reads.budget_stopped(con, campaign_id)
         self.budget, self.shrink_s = Budget(config.budget_s), 0.0
         self.account_from_store()
-        self.scripts = {json.loads(m)[0]["test"]: (script_id, body) for script_id, m, body in con.execute(
-            "select script_id, mutations, body from scripts where campaign_id = ? and kind = 'mutant'",
-            [campaign_id]).fetchall()}
+        self.scripts = {json.loads(m)[0]["test"]: (script_id, body)
+                        for script_id, m, body in campaign_reads.mutant_scripts(con, campaign_id)}
         self.shown = {}  # trace_id -> findings, of the traces stored before this session
-        for trace_id, property_id, kind in con.execute(
-                "select trace_id, property_id, kind from trace_findings join traces using (trace_id) "
-                "where campaign_id = ?", [campaign_id]).fetchall():
+        for trace_id, property_id, kind in campaign_reads.campaign_findings(con, campaign_id):
             self.shown.setdefault(trace_id, set()).add((property_id, kind))
-        self.stored = {t for (t,) in con.execute("select trace_id from traces where campaign_id = ?",
-                                                 [campaign_id]).fetchall()}
+        self.stored = campaign_reads.campaign_trace_ids(con, campaign_id)
         # what was shrunk or tried (its runs stored): not tried again on resume, unless it was interrupted
         self.shrunk = {(s.sut, s.verdict, s.property) for _, _, s in records(con, ShrinkRecord) if not s.interrupted}
 
     def account_from_store(self) -> None:
         """What the campaign has spent: its stored traces' and shrink runs' mission seconds, its test
         runs in flight at their bounds (with no shrink running: its runs are counted, not stored)."""
-        traces_s, self.shrink_s = self.con.execute(render_query("campaign_spent"),
-                                                   {"campaign": self.campaign_id}).fetchone()
+        traces_s, self.shrink_s = campaign_reads.spent_s(self.con, self.campaign_id)
         with self.budget.account:
             self.budget.spent_s = traces_s + self.shrink_s + sum(
                 bound for rnd in self.in_flight for trace_id, bound in rnd.bounds.items() if trace_id not in rnd.fresh)

@@ -13,7 +13,7 @@ MAX_DELAY_S = 0.003  # largest interface observation delay of a simulated run
 @dataclass(frozen=True)
 class RunRequest:
     """`run`: one script on one SUT."""
-    mission: str  # the mission script
+    script: str  # the mission script (the command line's MISSION); a "mission" is a target's folder
     sut: str
     seed: int = 0
     interface: str | None = None  # default: interface.toml beside the script

@@ -1,6 +1,7 @@
 """The bench's commands: a module each, importing its implementation directly (so the import
 contract sees every command), with its NAME and HELP, its flags (`arguments`), its typed
-`Request` and `execute(request)`. `harness.cli` parses the command line into a Request; nothing
+`Request` (the class of its parsed arguments, named for the command: AnalyzeRequest, CampaignRequest,
+...) and `execute(request)`. `harness.cli` parses the command line into a Request; nothing
 below this package sees argparse."""
 from __future__ import annotations
 

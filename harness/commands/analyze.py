@@ -15,13 +15,16 @@ HELP = "(re)materialise verdicts from the stored traces and print Tables II-IV"
 
 
 @dataclass(frozen=True)
-class Request:
+class AnalyzeRequest:
     properties: str | None = None
     interface: str | None = None
     epsilon: float | None = None  # default: the last analysis's
     junit: str | None = None
     fail_on: str = ""
     db: str = options.DEFAULT_DB_TEXT
+
+
+Request = AnalyzeRequest
 
 
 def arguments(c) -> None:
@@ -33,12 +36,12 @@ def arguments(c) -> None:
                         f"else {DEFAULT_EPSILON_S})")
     c.add_argument("--junit", metavar="FILE", help="also write the verdicts as JUnit XML for a CI server: a test "
                    "case per variant and property, failures for FN, FP, hung and crashed traces")
-    c.add_argument("--fail-on", metavar="KINDS", default=Request.fail_on, help="comma-separated among fn, fp, hung, "
+    c.add_argument("--fail-on", metavar="KINDS", default=AnalyzeRequest.fail_on, help="comma-separated among fn, fp, hung, "
                    "crashed: exit with status 1 when any judged trace shows one (a CI gate; default: never)")
     options.db(c)
 
 
-def execute(request: Request) -> int:
+def execute(request: AnalyzeRequest) -> int:
     kinds = junit.fail_on_kinds(request.fail_on)
     out = Path(request.junit) if request.junit else None
     junit.check_path(out)  # refused before the analysis, not after it

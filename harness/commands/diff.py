@@ -11,13 +11,16 @@ HELP = "what the last analysis changed: verdict transitions, Tables II-IV"
 
 
 @dataclass(frozen=True)
-class Request:
+class DiffRequest:
     db: str = options.DEFAULT_DB_TEXT
+
+
+Request = DiffRequest
 
 
 def arguments(c) -> None:
     options.db(c)
 
 
-def execute(request: Request) -> int:
+def execute(request: DiffRequest) -> int:
     return diff.main(request.db)

@@ -11,11 +11,14 @@ HELP = "the events that decided a verdict, its margin and what would flip it"
 
 
 @dataclass(frozen=True)
-class Request:
+class ExplainRequest:
     trace_id: int
     property: str
     rqst_id: int | None = None  # default: every request judged
     db: str = options.DEFAULT_DB_TEXT
+
+
+Request = ExplainRequest
 
 
 def arguments(c) -> None:
@@ -25,5 +28,5 @@ def arguments(c) -> None:
     options.db(c)
 
 
-def execute(request: Request) -> int:
+def execute(request: ExplainRequest) -> int:
     return explain.main(request.db, request.trace_id, request.property, request.rqst_id)

@@ -11,18 +11,21 @@ HELP = "write every table and view of the store as Parquet or CSV files, with a 
 
 
 @dataclass(frozen=True)
-class Request:
+class ExportRequest:
     dir: str
     format: str = "parquet"
     db: str = options.DEFAULT_DB_TEXT
 
 
+Request = ExportRequest
+
+
 def arguments(c) -> None:
     c.add_argument("dir", help="output folder, created if missing")
-    c.add_argument("--format", choices=("parquet", "csv"), default=Request.format,
+    c.add_argument("--format", choices=("parquet", "csv"), default=ExportRequest.format,
                    help="file format (default: %(default)s)")
     options.db(c)
 
 
-def execute(request: Request) -> int:
+def execute(request: ExportRequest) -> int:
     return export.main(request.db, request.dir, request.format)

@@ -11,11 +11,14 @@ HELP = "load foreign traces (CSV, JSON lines, Parquet, ROS bags) into the store"
 
 
 @dataclass(frozen=True)
-class Request:
+class ImportRequest:
     file: str
     interface: str
     ros: str | None = None  # default: ros.toml beside the interface
     db: str = options.DEFAULT_DB_TEXT
+
+
+Request = ImportRequest
 
 
 def arguments(c) -> None:
@@ -26,5 +29,5 @@ def arguments(c) -> None:
     options.db(c)
 
 
-def execute(request: Request) -> int:
+def execute(request: ImportRequest) -> int:
     return importing.main(request.db, request.file, request.interface, request.ros)

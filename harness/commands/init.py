@@ -15,13 +15,16 @@ HELP = "write a target folder that runs: interface, properties, golden mission, 
 
 
 @dataclass(frozen=True)
-class Request:
+class InitRequest:
     dir: str
     from_genom: str | None = None
     include: list[str] = field(default_factory=list)
     from_ros2: str | None = None
     from_bag: str | None = None
     interfaces: list[str] = field(default_factory=list)
+
+
+Request = InitRequest
 
 
 def arguments(c) -> None:
@@ -39,7 +42,7 @@ def arguments(c) -> None:
                    "for every installed distro and found by the node, init and every SUT (repeatable, in build order)")
 
 
-def execute(request: Request) -> int:
+def execute(request: InitRequest) -> int:
     if request.from_bag and not request.from_ros2:
         raise UntimelyError(f"--from-bag {request.from_bag}: give --from-ros2 'COMMAND' too, the node(s) the bag was "
                             "recorded from (their graph gives the interface the bag's requests are read with)")

@@ -10,10 +10,13 @@ HELP = "combine the stores of a sharded campaign (campaign --shard I/N) into one
 
 
 @dataclass(frozen=True)
-class Request:
+class MergeRequest:
     out: str
     stores: list[str]
     properties: str | None = None
+
+
+Request = MergeRequest
 
 
 def arguments(c) -> None:
@@ -23,5 +26,5 @@ def arguments(c) -> None:
                                         "shards' last analysis, else the campaign mission's)")
 
 
-def execute(request: Request) -> int:
+def execute(request: MergeRequest) -> int:
     return sharding.merge(request.out, request.stores, request.properties)

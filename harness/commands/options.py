@@ -47,7 +47,7 @@ EXTERNAL_HELP = ("; or an external SUT over untimely/1: NAME=cmd:COMMAND (starte
 def variants_help() -> str:
     """The default mission's variants, read from its layer description."""
     try:
-        from harness.target.layer_description import load_layer
+        from harness.target.mission import load_layer
         layer = load_layer(DEFAULT_MISSION_DIR)
     except UntimelyError:
         return "those of the mission folder's layer.toml"

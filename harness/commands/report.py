@@ -11,10 +11,13 @@ HELP = "write the HTML report and CSV tables from the store alone"
 
 
 @dataclass(frozen=True)
-class Request:
+class ReportRequest:
     out: str | None = None  # default: the store's folder
     trace: list[int] = field(default_factory=list)  # only these trace pages
     db: str = options.DEFAULT_DB_TEXT
+
+
+Request = ReportRequest
 
 
 def arguments(c) -> None:
@@ -24,5 +27,5 @@ def arguments(c) -> None:
     options.db(c)
 
 
-def execute(request: Request) -> int:
+def execute(request: ReportRequest) -> int:
     return build.main(request.db, request.out, request.trace)

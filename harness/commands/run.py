@@ -11,7 +11,7 @@ Request = RunRequest
 
 
 def arguments(c) -> None:
-    c.add_argument("mission", help="a mission script, e.g. missions/dala/golden.mission")
+    c.add_argument("script", metavar="MISSION", help="a mission script, e.g. missions/dala/golden.mission")
     c.add_argument("--sut", required=True,
                    help=f"implementation variant: {options.variants_help()}{options.EXTERNAL_HELP}")
     c.add_argument("--seed", type=options.SEED, default=Request.seed,

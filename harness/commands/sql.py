@@ -11,9 +11,12 @@ HELP = "run ad-hoc SQL against the store and print an aligned table"
 
 
 @dataclass(frozen=True)
-class Request:
+class SqlRequest:
     query: str
     db: str = options.DEFAULT_DB_TEXT
+
+
+Request = SqlRequest
 
 
 def arguments(c) -> None:
@@ -21,5 +24,5 @@ def arguments(c) -> None:
     options.db(c)
 
 
-def execute(request: Request) -> int:
+def execute(request: SqlRequest) -> int:
     return sqlshell.main(request.db, request.query)

@@ -39,7 +39,7 @@ from harness.target.mission import PROPERTIES_FILE
 from harness.mutator.operators import Mutant, as_cancel, plausible, random_request, step_text, validated
 from harness.mutator.states import entry_needs, leavers
 from harness.mutator.targeted import Falsifier, disturbers, falsifiers
-from harness.mutator.timeline import Timeline
+from harness.mutator.timeline import ScriptTimeline
 from harness.mutator.values import cases, with_value
 from harness.mutator.script_time import bound_s, least_s
 from harness.target.script import Script, Step
@@ -120,7 +120,7 @@ def aims(properties: list[Property], interface: Interface) -> list[Aim]:
 class Builder:
     """Writes the test of an aim from the golden script and its run's timeline."""
 
-    def __init__(self, golden: Script, timeline: Timeline, interface: Interface, properties: list[Property],
+    def __init__(self, golden: Script, timeline: ScriptTimeline, interface: Interface, properties: list[Property],
                  source: str = PROPERTIES_FILE):
         self.golden, self.interface, self.source = golden, interface, source
         # A service needs its module's inits (the interface names them) and the Q of the PC
@@ -268,7 +268,7 @@ class Builder:
 class Plan:
     """The campaign's tests in order (see the module doc)."""
 
-    def __init__(self, golden: Script, timeline: Timeline, interface: Interface, properties: list[Property],
+    def __init__(self, golden: Script, timeline: ScriptTimeline, interface: Interface, properties: list[Property],
                  seed: int, source: str = PROPERTIES_FILE):
         """`source`: the properties' file, named when they need each other in a cycle."""
         self.aims = aims(properties, interface)

@@ -14,7 +14,7 @@ state (`Spans.hold`). Generic: only the properties and the golden run's timeline
 """
 from __future__ import annotations
 
-from harness.mutator.timeline import Timeline
+from harness.mutator.timeline import ScriptTimeline
 from harness.target.interface import Property
 
 # type -> (inside the span: x accepted there; False: x accepted outside it, where a trace starts)
@@ -26,7 +26,7 @@ def _enter_leave(prop: Property) -> tuple[tuple[str, ...], tuple[str, ...]]:
     return (prop.q, prop.y) if SPANS[prop.type] else (prop.y, prop.q)
 
 
-def entry_needs(properties: list[Property], timeline: Timeline) -> dict[str, set[str]]:
+def entry_needs(properties: list[Property], timeline: ScriptTimeline) -> dict[str, set[str]]:
     """Service -> the services one of which (the golden's) must end ok to put it in its state."""
     needs: dict[str, set[str]] = {}
     for prop in (p for p in properties if p.type in SPANS):
@@ -38,14 +38,14 @@ def entry_needs(properties: list[Property], timeline: Timeline) -> dict[str, set
     return needs
 
 
-def _latest_ok(timeline: Timeline, services, before_t: float, step: int):
+def _latest_ok(timeline: ScriptTimeline, services, before_t: float, step: int):
     """The last of `services` whose ok the golden observed before `before_t`, sent before `step`."""
     oks = [a for a in timeline.activities if a.step < step and a.reply == "ok" and a.end is not None
            and a.end < before_t and a.service in services]
     return max(oks, key=lambda a: a.end, default=None)
 
 
-def _golden_entry(timeline: Timeline, x: str, enter, leave, starts_inside: bool) -> str | None:
+def _golden_entry(timeline: ScriptTimeline, x: str, enter, leave, starts_inside: bool) -> str | None:
     first = next((a for a in timeline.activities if a.service == x), None)
     if first is not None:
         latest = _latest_ok(timeline, (*enter, *leave), first.start, first.step)
@@ -71,7 +71,7 @@ def leavers(properties: list[Property]) -> dict[str, set[str]]:
 class Spans:
     """Where in the golden run each service is in the state its span properties need."""
 
-    def __init__(self, properties: list[Property], timeline: Timeline):
+    def __init__(self, properties: list[Property], timeline: ScriptTimeline):
         self.timeline = timeline
         self.of: dict[str, list[tuple]] = {}  # x -> (entering, leaving, starts inside) per property
         for prop in (p for p in properties if p.type in SPANS):

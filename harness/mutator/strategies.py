@@ -21,7 +21,7 @@ from harness.target.mission import PROPERTIES_FILE
 from harness.analysis.judge import Judge
 from harness.mutator import focused, operators, targeted
 from harness.mutator.operators import Mutant
-from harness.mutator.timeline import Timeline
+from harness.mutator.timeline import ScriptTimeline
 from harness.store.record import CampaignRecord
 from harness.target.script import Script
 from harness.trace import Trace
@@ -50,7 +50,7 @@ def plan(config: CampaignRecord, golden: Script, interface: Interface, propertie
          golden_trace: Trace) -> focused.Plan:
     """A focused campaign's tests, made as the campaign goes (harness.campaign.budgeted). Without
     --value-mutations its tests replay golden values: a value-domain property is no aim of theirs."""
-    timeline = Timeline(golden, golden_trace, interface.replies)
+    timeline = ScriptTimeline(golden, golden_trace, interface.replies)
     return focused.Plan(golden, timeline, interface, _aimed(config, properties), config.seed,
                         str(Path(config.mission) / PROPERTIES_FILE))
 

@@ -38,7 +38,7 @@ from harness.target.property_types import interruptions
 from harness.mutator.operators import Draw, Mutant, plausible, random_request, step_text, validated
 from harness.mutator.states import Spans
 from harness.target.script import Script, Step
-from harness.mutator.timeline import Timeline
+from harness.mutator.timeline import ScriptTimeline
 from harness.mutator.values import falsifying_request
 from harness.trace import Trace
 
@@ -121,7 +121,7 @@ def disturbers(prop: Property, interface: Interface) -> list[Falsifier]:
 class Planner:
     """Places falsifying insertions in the golden script, from its run's timeline."""
 
-    def __init__(self, golden: Script, timeline: Timeline, interface: Interface,
+    def __init__(self, golden: Script, timeline: ScriptTimeline, interface: Interface,
                  properties: list[Property], rng: random.Random):
         self.golden, self.timeline, self.interface, self.rng = golden, timeline, interface, rng
         self.needs: dict[str, set[str]] = {}
@@ -217,7 +217,7 @@ def generate(golden_run: GoldenRun, interface: Interface, properties: list[Prope
     each with up to `draw.operations` falsifying insertions (SITES_PER_MUTANT by default)."""
     golden, sites, redraws = golden_run.script, draw.operations, draw.redraws
     rng = random.Random(f"untimely-targeted:{draw.seed}")
-    planner = Planner(golden, Timeline(golden, golden_run.trace, interface.replies), interface, properties, rng)
+    planner = Planner(golden, ScriptTimeline(golden, golden_run.trace, interface.replies), interface, properties, rng)
     base = {p.id: 0 for p in properties}
     for v in golden_run.verdicts:
         if v["c_holds"] is False:

@@ -16,7 +16,8 @@ from harness.trace import Trace
 
 
 @dataclass(frozen=True)
-class Activity:
+class ScriptActivity:
+    """A request of a script as its run's trace shows it: when it was sent, and its final reply."""
     service: str  # "module.Service"
     step: int  # index of its send step
     start: float
@@ -25,7 +26,9 @@ class Activity:
     accepted: bool  # its final reply (if any) is not a rejection
 
 
-class Timeline:
+class ScriptTimeline:
+    """A script's requests on the timeline of its run (the golden's, for the mutators)."""
+
     def __init__(self, script: Script, trace: Trace, reply_classes: dict[str, str]):
         requests, finals = {}, {}
         for _seq, t, kind, rqst_id, module, service, _args, reply in trace.events:
@@ -33,7 +36,7 @@ class Timeline:
                 requests[rqst_id] = t
             elif kind == "final" and rqst_id not in finals:
                 finals[rqst_id] = (t, reply)
-        self.activities: list[Activity] = []
+        self.activities: list[ScriptActivity] = []
         self.start: list[float] = []  # start[p]: when the executive reaches position p
         now, by_handle = 0.0, {}
         for index, step in enumerate(script.steps):
@@ -44,7 +47,7 @@ class Timeline:
                 now = requests.get(rqst_id, now)
                 self.start[-1] = now
                 service = step.service if step.op == "send" else cancel_service(by_handle[step.cancelled].service)
-                activity = Activity(service, index, now, end, reply, reply_classes.get(reply) != "R")
+                activity = ScriptActivity(service, index, now, end, reply, reply_classes.get(reply) != "R")
                 self.activities.append(activity)
                 if step.handle:
                     by_handle[step.handle] = activity
@@ -61,7 +64,7 @@ class Timeline:
     def positions(self) -> range:
         return range(len(self.start))
 
-    def running(self, p: int, services) -> list[Activity]:
+    def running(self, p: int, services) -> list[ScriptActivity]:
         """Accepted activities of `services` sent before position p, not yet ended there."""
         at = self.start[p]
         return [a for a in self.activities if a.service in services and a.step < p and a.accepted

@@ -21,12 +21,13 @@ from pathlib import Path
 
 import duckdb
 
-from harness.analysis.summary import family_order, sut_order
+from harness.store.analysis_reads import family_order, sut_order
 from harness.errors import StoreError, UntimelyError
 from harness.analysis.explain import explanations
 from harness.files import make_folder
 from harness.report import html, pages, queries, sections, trace_pages
 from harness.report.index_tables import IndexTables
+from harness.store import report_reads
 from harness.store.database import connect
 from harness.store.reads import analyses_made, relations, trace_count
 
@@ -87,7 +88,7 @@ def _within_memory(con, limit_mb: int, write):
 
 def write_pages(con, out: Path, trace_ids: list[int]) -> list[int]:
     """The pages of the traces asked for, into out/traces (on demand, the rest untouched)."""
-    missing = set(trace_ids) - set(queries.trace_ids(con, trace_ids))
+    missing = set(trace_ids) - set(report_reads.stored_trace_ids(con, trace_ids))
     if missing:
         raise StoreError(f"no trace {sorted(missing)} in the store; pick ids from "
                          f"python -m harness sql \"select trace_id, sut, outcome from traces\"")
@@ -102,7 +103,7 @@ def _write_trace_pages(con, out: Path, trace_ids: list[int], pool=None, workers:
     processes of `pool` (returns their futures, at most 2 batches per worker are in flight)."""
     modules, shrunk = queries.module_order(con), pages.reproducers(queries.shrunk(con))
     # one explainer pass for all the pages: each pass runs every property's oracle once
-    why = explanations(con, queries.explained_verdicts(con, trace_ids))
+    why = explanations(con, report_reads.explained_verdicts(con, trace_ids))
     pending = deque()
     for batch in queries.trace_rows(con, trace_ids):
         ids = set(batch["traces"].trace_ids())
@@ -150,7 +151,7 @@ def _write_all(con, out: Path) -> dict[str, int]:
     (they import neither DuckDB nor Arrow; this one's reading and the rest of the report take
     about as much CPU as the pages, and on a machine busy with other work a process more gets
     a larger share of it); meanwhile this one writes the rest."""
-    page_ids = sorted(queries.paged_traces(con, html.SHOWN_ROWS))
+    page_ids = sorted(report_reads.paged_trace_ids(con, html.SHOWN_ROWS))
     make_folder(out / "traces", "the trace pages")
     workers = min(len(os.sched_getaffinity(0)), len(page_ids) // PARALLEL_FROM)
     parallel = workers > 0

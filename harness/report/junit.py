@@ -18,6 +18,7 @@ from harness.analysis.explain import explanations
 from harness.errors import UntimelyError
 from harness.files import make_folder
 from harness.store.database import connect
+from harness.store.report_reads import bad_trace_sums
 from harness.store.sql import render_query
 
 # --fail-on's kinds, each with the Table II column that counts its traces.
@@ -130,8 +131,7 @@ def gate(db: str, path: Path | None, kinds: list[str]) -> list[str]:
     try:
         if path:
             _write(junit(con), path)
-        counts = dict(zip(FAIL_ON, con.execute(f"select {', '.join(f'coalesce(sum({c}), 0)' for c in FAIL_ON.values())} "
-                                                "from trace_robustness").fetchone()))
+        counts = dict(zip(FAIL_ON, bad_trace_sums(con, list(FAIL_ON.values()))))
     finally:
         con.close()
     return [f"{counts[k]} trace(s) {k}" for k in kinds if counts[k]]

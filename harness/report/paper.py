@@ -14,7 +14,9 @@ import tomllib
 from pathlib import Path
 
 from harness.errors import StoreError, UntimelyError
+from harness.store.analysis_reads import analysis_epsilon
 from harness.store.database import connect
+from harness.store.report_reads import mutant_counts, whole
 from harness.textable import percent
 
 PAPER = Path(__file__).with_name("paper.toml")
@@ -25,9 +27,7 @@ SAME = 0.0005
 
 def _ours(con) -> dict:
     def by(view, key):
-        cursor = con.execute(f"select * from {view}")
-        names = [d[0] for d in cursor.description]
-        return {key(r): r for r in (dict(zip(names, row)) for row in cursor.fetchall())}
+        return {key(r): r for r in whole(con, view)}
     return {"II": by("trace_robustness", lambda r: r["sut"]),
             "III": by("tp_rates", lambda r: (r["sut"], r["family"])),
             "IV": by("fp_rates", lambda r: (r["sut"], r["family"]))}
@@ -99,9 +99,8 @@ def write(db: str, out: Path) -> list[str]:
     con = connect(db, read_only=True)
     try:
         ours = _ours(con)
-        runs = con.execute("select count(*) filter (where kind = 'mutant'), count(*) filter (where kind = 'mutant' "
-                           "and valid) from scripts").fetchone()
-        epsilon = con.execute("select epsilon from analysis").fetchone()[0]
+        runs = mutant_counts(con)
+        epsilon = analysis_epsilon(con)
     except Exception as e:  # noqa: BLE001 - a store without a judged default campaign
         raise StoreError(f"{db!r} holds no judged campaign ({e}); make paper runs one") from None
     finally:

@@ -1,13 +1,17 @@
-"""Everything the report reads from the store: read-only queries over the contract tables and views."""
+"""The report's tables and trace pages as read from the store: the queries of sql/report/ and whole
+views as Tables, and the pages' rows streamed (the other reads are named reads of harness/store/)."""
 from __future__ import annotations
 
 import json
 from collections.abc import Iterator
 from itertools import islice
 
+from harness.store import report_reads
 from harness.store.reads import columns, exists, ordered, read_older_analysis, relations
+from harness.store.report_reads import as_records
+from harness.store.trace_page_reads import detail_cursors
 from harness.errors import StoreError
-from harness.store.sql import render_query, sql_id_list
+from harness.store.sql import render_query
 from harness.analysis.provenance import stale_files
 from harness.report import configuration
 from harness.report.html import VERDICTS
@@ -21,12 +25,6 @@ ANALYSED = ("verdicts", "requests", "property_verdicts", "family_verdicts", "tra
 COVERAGE_RATES = frozenset(f"{rate}{end}" for rate in ("tp_rate", "fp_rate") for end in ("", "_low", "_high"))
 
 
-def rows(con, sql: str, params=()) -> list[dict]:
-    cursor = con.execute(sql, list(params))
-    names = [d[0] for d in cursor.description]
-    return [dict(zip(names, row)) for row in cursor.fetchall()]
-
-
 def check_analysed(con, db: str) -> None:
     """Refuse a store whose verdicts were never materialised: the report would be empty. A store
     analysed before view trace_scope existed gets it as a temporary view counting every trace,
@@ -36,8 +34,7 @@ def check_analysed(con, db: str) -> None:
     if "traces" in missing:
         raise StoreError(f"{db!r} is not an Untimely store (no traces table); pass the campaign's --db")
     # an analysis with no verdict (every run crashed before a final reply) is still reported
-    analyses = "(select count(*) from analyses)" if "analyses" in have else "0"  # older stores lack it
-    if missing or not con.execute(f"select (select count(*) from verdicts) + {analyses}").fetchone()[0]:
+    if missing or not report_reads.judgements(con, "analyses" in have):  # older stores lack analyses
         lacking = ", ".join(missing) or "any analysis"
         raise StoreError(f"{db!r} has no verdicts yet (lacks {lacking}); "
                          f"run python -m harness analyze --db {db} first")
@@ -58,9 +55,8 @@ def module_order(con) -> list[str]:
 
 def campaigns(con) -> list[dict]:
     """Every campaign, its configuration as the report shows it (harness.report.configuration)."""
-    found = rows(con, render_query("campaigns"))
-    budgets = {r["campaign_id"]: r for r in rows(con, "select campaign_id, tests, stopped from campaign_budgets")
-               } if exists(con, "campaign_budgets") else {}  # a store older than focused campaigns has none
+    found = as_records(con, render_query("campaigns"))
+    budgets = report_reads.campaign_budgets(con)
     for c in found:
         c["config"] = configuration.shown(json.loads(c["config"]) if c["config"] else {},
                                           budgets.get(c["campaign_id"]))
@@ -86,7 +82,7 @@ def view(con, name: str, **options) -> Table:
 
 def verdict_mix(con) -> dict[tuple[str, str], int]:
     """(variant, verdict) -> how many verdicts, over all families."""
-    found = rows(con, render_query("verdict_mix"))
+    found = as_records(con, render_query("verdict_mix"))
     return {(r["sut"], v): r[v.lower()] for r in found for v in VERDICTS}
 
 
@@ -94,12 +90,10 @@ def analysis(con) -> dict:
     """When the verdicts were made, from how many properties, with which epsilon and files, and
     which of those files changed on disk since (the verdicts no longer match them)."""
     if "analysis_id" not in columns(con, "analysis"):  # judged before analyses were recorded: no provenance
-        found = rows(con, "select analysed_at::timestamp as analysed_at, epsilon, properties from analysis")[0]
-        return dict(found, analysis_id=None, seconds=None, files=[], stale=[])
-    found = rows(con, "select analysis_id, analysed_at, epsilon, properties, seconds from analysis")[0]
-    found["files"] = rows(con, """select role, path, left(sha256, 12) as sha256 from analysis_files
-                                  where analysis_id = ? order by role <> 'properties', role <> 'interface', path""",
-                          [found["analysis_id"]])
+        return dict(report_reads.analysis_row(con, with_provenance=False), analysis_id=None, seconds=None,
+                    files=[], stale=[])
+    found = report_reads.analysis_row(con, with_provenance=True)
+    found["files"] = report_reads.analysis_files(con, found["analysis_id"])
     found["stale"] = stale_files(con)
     return found
 
@@ -130,47 +124,6 @@ def family_traces(con) -> Table:
     return query_table(con, "family_traces", render_query("family_traces"))
 
 
-def paged_traces(con, suspicious_shown: int) -> list[int]:
-    """The traces that get a page (sql/report/paged_traces.sql) and those of the suspicious
-    verdicts the index shows (its first `suspicious_shown` rows), so that each of them is a link."""
-    return [r[0] for r in con.execute(f"""select trace_id from ({render_query("paged_traces")})
-        union select trace_id from ({render_query("suspicious")} limit {int(suspicious_shown)})
-        order by trace_id""").fetchall()]
-
-
-# What a trace page shows, one query per kind of data for a chunk of pages (ordered by trace id).
-# The ids are written into the query as a list of numbers: DuckDB pushes such a filter through
-# the requests view into its scan of the events (a parameter it joins after the whole view).
-_WANTED = "trace_id in ({ids})"
-_DETAILS = {
-    "traces": f"""
-        select t.*, s.kind as script_kind, s.body, s.mutations, s.parent, g.body as golden
-        from traces t left join scripts s using (script_id)
-        left join scripts g on g.campaign_id = t.campaign_id and g.kind = 'golden'
-        where t.{_WANTED} order by t.trace_id""",
-    "events": f"""
-        select e.trace_id, e.seq, e.t, e.kind, e.rqst_id, e.module, e.service, e.args, e.reply, c.class
-        from events e left join reply_codes c using (module, service, reply)
-        where e.{_WANTED} order by e.trace_id, e.seq""",
-    # the analyzer's requests view pairs each request with its final reply as the oracles do;
-    # lifecycle_states names a managed ROS 2 node's state at each request sent to it
-    "requests": f"""
-        select r.trace_id, r.rqst_id, r.module, r.service, e.args, r.t as start, r.final_t as "end",
-               r.reply, r.class as reply_class, l.state as lifecycle, l.pending
-        from requests r left join events e on e.trace_id = r.trace_id and e.seq = r.seq
-        left join ({{lifecycle}}) l on l.trace_id = r.trace_id and l.rqst_id = r.rqst_id
-        where r.{_WANTED} order by r.trace_id, r.t, r.seq""",
-    "verdicts": f"select * from verdicts where {_WANTED} order by trace_id, rqst_id, property_id",
-    "world": f"select * from world_events where {_WANTED} order by trace_id, t",
-}
-
-
-def explained_verdicts(con, ids: list[int]) -> list[dict]:
-    """The verdicts a page of these traces explains: the bad ones and the suspicious ones."""
-    return rows(con, f"select trace_id, property_id, rqst_id from verdicts where {_WANTED} "
-                     f"and (verdict in ('FN', 'FP') or suspicious)".format(ids=sql_id_list(ids)))
-
-
 def trace_rows(con, ids: list[int], batch: int = 50, chunk: int = 500) -> Iterator[dict[str, Rows]]:
     """Everything the pages of `ids` show, `batch` traces at a time: per kind of data, its
     columns and rows (as tuples, cheap to hand to another process; trace_pages.traces makes the
@@ -181,18 +134,8 @@ def trace_rows(con, ids: list[int], batch: int = 50, chunk: int = 500) -> Iterat
         yield from _chunk_rows(con, ids[start:start + chunk], batch)
 
 
-def _lifecycle(con, ids: str) -> str:
-    """The lifecycle states of the traces `ids`; none in a store analysed before view
-    lifecycle_states existed (a temporary view would not reach the cursors: connections of their own)."""
-    if exists(con, "lifecycle_states"):
-        return f"select trace_id, rqst_id, state, pending from lifecycle_states where trace_id in ({ids})"
-    return "select null::bigint as trace_id, null::bigint as rqst_id, null::varchar as state, null::varchar as pending"
-
-
 def _chunk_rows(con, ids: list[int], batch: int) -> Iterator[dict[str, Rows]]:
-    listed = sql_id_list(ids)
-    cursors = {name: con.cursor().execute(sql.format(ids=listed, lifecycle=_lifecycle(con, listed)))
-               for name, sql in _DETAILS.items()}
+    cursors = detail_cursors(con, ids)
     columns = {name: [d[0] for d in cursor.description] for name, cursor in cursors.items()}
     streams = {name: _streamed(cursor) for name, cursor in cursors.items()}
     heads = {name: next(stream, None) for name, stream in streams.items() if name != "traces"}
@@ -215,11 +158,6 @@ def _streamed(cursor) -> Iterator[tuple]:
     alongside the others)."""
     while chunk := cursor.fetchmany(1024):
         yield from chunk
-
-
-def trace_ids(con, ids: list[int]) -> list[int]:
-    return [r[0] for r in con.execute("select trace_id from traces where trace_id in "
-                                      "(select unnest(?::integer[]))", [ids]).fetchall()]
 
 
 def inversions(con) -> Table:

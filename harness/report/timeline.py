@@ -18,7 +18,8 @@ LABEL_CHAR_W = 6  # an upper bound of the width of one character of a 9 px bar l
 
 
 @dataclass
-class Request:
+class RequestBar:
+    """A request as a bar of a trace page's timeline: from its sending to its final reply."""
     rqst_id: int
     module: str
     service: str
@@ -51,7 +52,7 @@ class Request:
 @dataclass
 class Bar:
     """Where a request is drawn: its bar, and its verdict marks inside it or, if it is too short, after it."""
-    request: Request
+    request: RequestBar
     verdicts: list[dict]
     x0: float
     x1: float
@@ -94,7 +95,7 @@ def _pack(bars: list[Bar]) -> list[list[Bar]]:
     return rows
 
 
-def _bar_title(r: Request, verdicts: list[dict]) -> str:
+def _bar_title(r: RequestBar, verdicts: list[dict]) -> str:
     ended = ("no final reply before the trace ended" if r.end is None
              else f"final reply {r.reply!r} (class {r.reply_class or '?'}) at {r.end:.3f} s")
     lines = [f"#{r.rqst_id} {r.label()}", f"requested at {r.start:.3f} s, {ended}"]
@@ -116,7 +117,7 @@ def _world_title(w: dict) -> str:
     return f"{w['kind']} at {w['t']:.3f} s" + (f": {words}" if words else "")
 
 
-def timeline(modules: list[str], requests: list[Request], verdicts: list[dict], world: list[dict],
+def timeline(modules: list[str], requests: list[RequestBar], verdicts: list[dict], world: list[dict],
              end_t: float, outcome: str) -> Markup:
     """The trace's timeline; `modules` gives the lane order, `end_t` the end of the trace."""
     end_t = max([end_t, *(r.start if r.end is None else r.end for r in requests), *(w["t"] for w in world)]) or 1.0

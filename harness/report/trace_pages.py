@@ -12,7 +12,7 @@ from markupsafe import Markup
 
 from harness.report.html import VERDICTS, render, trace_href
 from harness.report.svg import text
-from harness.report.timeline import Request, timeline
+from harness.report.timeline import RequestBar, timeline
 from harness.target.mission import GOLDEN_FILE
 
 
@@ -42,7 +42,7 @@ def traces(batch: dict[str, Rows]) -> list[dict]:
         t = dict(zip(batch["traces"].columns, row))
         i = t["trace_id"]
         t.update(events=events.get(i, []), verdicts=verdicts.get(i, []), world=world.get(i, []),
-                 requests=[Request(**{k: v for k, v in r.items() if k != "trace_id"}) for r in requests.get(i, [])],
+                 requests=[RequestBar(**{k: v for k, v in r.items() if k != "trace_id"}) for r in requests.get(i, [])],
                  diff=_diff(t))
         found.append(t)
     return found

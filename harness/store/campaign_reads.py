@@ -3,6 +3,8 @@ traces while it runs, resumes, shrinks or is merged (harness/campaign/), so that
 outside harness/store/ and sql/."""
 from __future__ import annotations
 
+from harness.store.sql import render_query
+
 
 def script_counts(con, campaign_id: int) -> tuple[int, int, int]:
     """A campaign's scripts: how many, how many valid, how many distinct bodies."""
@@ -71,3 +73,28 @@ def findings(con) -> list[tuple]:
     """(variant, property, kind, first trace, traces, reproducer, its steps) of each finding (view findings)."""
     return con.execute("select sut, coalesce(property_id, '-'), kind, first_trace, traces, reproducer, "
                        "reproducer_steps from findings").fetchall()
+
+
+def spent_s(con, campaign_id: int) -> tuple[float, float]:
+    """The mission seconds a campaign has spent: its own traces', and its shrinks' runs' (sql/report/
+    campaign_spent.sql); a focused campaign's --budget bounds their sum."""
+    return con.execute(render_query("campaign_spent"), {"campaign": campaign_id}).fetchone()
+
+
+def budget_stopped(con, campaign_id: int) -> str | None:
+    """Why a focused campaign stopped (table campaign_budgets); None while it has not, or before its budget is stored."""
+    (stopped,) = con.execute("select stopped from campaign_budgets where campaign_id = ?",
+                             [campaign_id]).fetchone() or (None,)
+    return stopped
+
+
+def mutant_scripts(con, campaign_id: int) -> list[tuple[int, str, str]]:
+    """(script_id, mutations as JSON, body) of a campaign's mutants."""
+    return con.execute("select script_id, mutations, body from scripts where campaign_id = ? and kind = 'mutant'",
+                       [campaign_id]).fetchall()
+
+
+def campaign_findings(con, campaign_id: int) -> list[tuple[int, str | None, str]]:
+    """(trace_id, property_id, kind) of the findings of a campaign's traces (view trace_findings)."""
+    return con.execute("select trace_id, property_id, kind from trace_findings join traces using (trace_id) "
+                       "where campaign_id = ?", [campaign_id]).fetchall()

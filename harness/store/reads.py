@@ -25,6 +25,12 @@ def columns(con, relation: str) -> list[str]:
     return [d[0] for d in con.execute(f"select * from {relation} limit 0").description]
 
 
+def rows_where(con, table: str, kept: list[str], condition: str, order: str):
+    """A cursor over the columns `kept` of the rows of `table` that meet the SQL `condition`, in the
+    SQL `order` (to stream them: a table may hold more rows than are worth holding at once)."""
+    return con.execute(f"select {', '.join(kept)} from {table} where {condition} order by {order}")
+
+
 def analyses_made(con) -> int:
     """How many analyses judged the store: with fewer than two, there is nothing to compare."""
     return con.execute("select count(*) from analyses").fetchone()[0] if exists(con, "analyses") else 0

@@ -23,7 +23,7 @@ import sys
 import threading
 import time
 
-from harness.errors import UntimelyError
+from harness.errors import ChildError
 
 PR_SET_PDEATHSIG = 1
 PR_SET_CHILD_SUBREAPER = 36
@@ -228,10 +228,6 @@ def _reaped(pid: int) -> bool:
         return os.waitpid(pid, os.WNOHANG)[0] == pid
     except ChildProcessError:
         return True
-
-
-class ChildError(UntimelyError):
-    """A child process could not start or died during start-up (the launcher reports it as `error`)."""
 
 
 class Child:

@@ -40,9 +40,6 @@ from harness.target.domains import Domain, narrowing
 from harness.target.layer_file import CHECKING, DEFECT_KINDS, DefectTable, LayerFile, ProtectionTable
 from harness.target.interface import Interface
 
-LAYER_FILE = "layer.toml"
-
-
 @dataclass(frozen=True)
 class Protection:
     name: str
@@ -193,7 +190,7 @@ def _behaviour(path: Path, at: str, name: str):
 
 @functools.cache
 def _load(path: Path, _stamp: tuple) -> LayerDescription:
-    data, text = read_toml(path, f"file not found; a simulated target describes its layer in {LAYER_FILE}")
+    data, text = read_toml(path, f"file not found; a simulated target describes its layer in {path.name}")
     spec = validated(LayerFile, data, path, text)
     protections = {n: _protection(path, text, n, s, spec.layer.invalid_args) for n, s in spec.protections.items()}
     defects = {n: _defect(path, text, n, s, protections) for n, s in spec.defects.items()}
@@ -210,9 +207,10 @@ def _load(path: Path, _stamp: tuple) -> LayerDescription:
                             where(text, ("layer", "behaviour")))
 
 
-def load_layer(folder: Path) -> LayerDescription:
-    """The layer description of a mission folder, read once per file version."""
-    path = (Path(folder) / LAYER_FILE).resolve()
+def load_layer_file(path: Path) -> LayerDescription:
+    """The layer description in the file `path` (a mission folder's, harness.target.mission.load_layer),
+    read once per file version."""
+    path = Path(path).resolve()
     try:
         stat = path.stat()
         stamp = (stat.st_mtime_ns, stat.st_size)

@@ -27,9 +27,10 @@ from harness.errors import InputFileError
 from harness.files import read_bytes
 from harness.target.interface import Interface, Property, load_interface, load_properties
 from harness.target.script import Script, load_script
-from harness.target.layer_description import LAYER_FILE, LayerDescription, load_layer
+from harness.target.layer_description import LayerDescription, load_layer_file
 
 INTERFACE_FILE = "interface.toml"
+LAYER_FILE = "layer.toml"
 GOLDEN_FILE = "golden.mission"
 PROPERTIES_FILE = "properties.toml"
 WORLD_FILE = "world.toml"
@@ -38,6 +39,11 @@ ROS_MAPPING_FILE = "ros.toml"
 ROS2_MAPPING_FILE = "ros2.toml"
 REQUIRED = (GOLDEN_FILE, INTERFACE_FILE)
 TRACE_FILES = REQUIRED + (LAYER_FILE, WORLD_FILE)
+
+
+def load_layer(folder: Path) -> LayerDescription:
+    """The layer description of a mission folder (its LAYER_FILE), read once per file version."""
+    return load_layer_file(Path(folder) / LAYER_FILE)
 
 
 @dataclass(frozen=True)

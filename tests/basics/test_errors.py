@@ -45,16 +45,12 @@ def test_every_error_class_pickles_with_its_message_and_fields():
         "missions/x/golden.mission", "line 3", "unknown service 'rflex.Fly'; use one of Init, Stop")
 
 
-# User errors still defined beside the code that raises them, in files being edited elsewhere (issue 45).
-LEFT_OUTSIDE = {"harness.sut.processes.ChildError", "harness.sut.ros2.environment.Ros2Error"}
-
-
 def test_every_user_error_lives_in_errors_py_and_every_other_exception_is_an_internal_signal():
     """errors.py is the one home of what a user may read; an exception class defined elsewhere is
     one of the bench's internal signals, and says so by its base (or is how a signal stops the bench)."""
     outside = {f"{cls.__module__}.{cls.__qualname__}": cls for cls in _error_classes() if cls.__module__ != "harness.errors"}
     users = {name for name, cls in outside.items() if issubclass(cls, UntimelyError)}
-    assert users == {name for name in LEFT_OUTSIDE if name in outside}, "define user errors in harness/errors.py"
+    assert users == set(), "define user errors in harness/errors.py"
     unmarked = {name for name, cls in outside.items()
                 if not issubclass(cls, (UntimelyError, InternalSignal)) and cls is not Stopped}
     assert not unmarked, "an internal signal derives from harness.errors.InternalSignal"

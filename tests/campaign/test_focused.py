@@ -13,7 +13,7 @@ from harness.campaign.budget import Budget, MeteredOriginal, parse_duration
 from harness.errors import BudgetSpent
 from harness.mutator.focused import Plan
 from harness.mutator.script_time import bound_s
-from harness.mutator.timeline import Timeline
+from harness.mutator.timeline import ScriptTimeline
 from harness.sut.executive import run_script
 from harness.target.mission import load_mission
 from tests.support.toy_target import GOLDEN, INTERFACE, LAYER, PROPERTIES
@@ -114,7 +114,7 @@ def test_every_test_is_valid_and_ends_within_its_bound():
     target = load_mission(DEFAULT_MISSION_DIR)
     golden, interface = target.golden(), target.interface
     trace = run_script(golden, "reference", 1, interface, target.world_file)
-    plan = Plan(golden, Timeline(golden, trace, interface.replies), interface, target.properties(), 7)
+    plan = Plan(golden, ScriptTimeline(golden, trace, interface.replies), interface, target.properties(), 7)
     assert len(plan.aims) > 100 and all(a.properties for a in plan.aims)
     for n in range(0, len(plan.aims) + 20, 5):
         test = plan.test(n, f"test {n}")

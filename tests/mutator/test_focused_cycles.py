@@ -6,7 +6,7 @@ import pytest
 
 from harness.errors import UntimelyError
 from harness.mutator.focused import Plan
-from harness.mutator.timeline import Timeline
+from harness.mutator.timeline import ScriptTimeline
 from harness.target.interface import load_interface, load_properties
 from harness.target.script import parse
 from harness.trace import Trace
@@ -61,7 +61,7 @@ def plan(tmp_path, properties: str) -> Plan:
     (tmp_path / "properties.toml").write_text(properties)
     interface = load_interface(tmp_path / "interface.toml")
     golden = parse(GOLDEN, "golden.mission")
-    timeline = Timeline(golden, Trace("sim", 0, events=[]), interface.replies)
+    timeline = ScriptTimeline(golden, Trace("sim", 0, events=[]), interface.replies)
     return Plan(golden, timeline, interface, load_properties(tmp_path / "properties.toml", interface), 1,
                 str(tmp_path / "properties.toml"))
 

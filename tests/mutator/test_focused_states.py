@@ -8,7 +8,7 @@ import pytest
 
 from harness.mutator.focused import Plan
 from harness.mutator.states import entry_needs, leavers
-from harness.mutator.timeline import Timeline
+from harness.mutator.timeline import ScriptTimeline
 from harness.target.interface import Property, load_interface, load_properties
 from harness.target.script import parse
 from harness.trace import Trace
@@ -85,7 +85,7 @@ def plan(tmp_path, properties: str, extra: tuple[Property, ...] = ()) -> Plan:
     (tmp_path / "properties.toml").write_text(properties)
     interface = load_interface(tmp_path / "interface.toml")
     golden, trace = golden_run()
-    timeline = Timeline(golden, trace, interface.replies)
+    timeline = ScriptTimeline(golden, trace, interface.replies)
     loaded = load_properties(tmp_path / "properties.toml", interface) + list(extra)
     return Plan(golden, timeline, interface, loaded, 1, str(tmp_path / "properties.toml"))
 
@@ -122,7 +122,7 @@ def test_the_state_is_entered_the_goldens_way_and_the_outside_needs_nothing(tmp_
     p = plan(tmp_path, LIFECYCLE)
     golden, trace = golden_run()
     properties = load_properties(tmp_path / "properties.toml", load_interface(tmp_path / "interface.toml"))
-    needs = entry_needs(properties, Timeline(golden, trace, p.interface.replies))
+    needs = entry_needs(properties, ScriptTimeline(golden, trace, p.interface.replies))
     # cleanup's state (inactive) was entered by deactivate in the golden, activate's by configure
     assert needs == {"arm.move": {"arm.activate"}, "arm.grip": {"arm.activate"}, "arm.home": {"arm.activate"},
                      "arm.activate": {"arm.configure"}, "arm.deactivate": {"arm.activate"},
@@ -180,7 +180,7 @@ def test_a_targeted_mutants_fresh_goal_goes_where_the_node_was_brought_up(tmp_pa
     p = plan(tmp_path, LIFECYCLE + INTERLOCK)
     golden, trace = golden_run()
     properties = load_properties(tmp_path / "properties.toml", p.interface)
-    planner = Planner(golden, Timeline(golden, trace, p.interface.replies), p.interface, properties,
+    planner = Planner(golden, ScriptTimeline(golden, trace, p.interface.replies), p.interface, properties,
                       random.Random(5))
     fresh = Falsifier("during", send=("arm.grip",), running=("arm.move",))
     sites = [planner.site(fresh) for _ in range(60)]

@@ -8,7 +8,7 @@ import pytest
 from harness import DEFAULT_MISSION_DIR
 from harness.mutator import operators
 from harness.mutator.operators import Draw, chosen, generate, mutate
-from harness.mutator.timeline import Timeline
+from harness.mutator.timeline import ScriptTimeline
 from harness.target.script import Script, load_script, parse, validate
 from harness.trace import Trace
 from tests.support.arm_interface import arm_interface
@@ -230,7 +230,7 @@ def test_the_timeline_counts_a_cancel_as_a_request_of_its_cancel_service(arm):
     events = [(1, 0.0, "request", 1, "arm", "move", "{}", None), (2, 0.1, "request", 2, "arm", "move_cancel", "{}", None),
               (3, 0.1, "request", 3, "arm", "grip", "{}", None), (4, 0.2, "final", 2, "arm", "move_cancel", None, "ok"),
               (5, 0.3, "final", 1, "arm", "move", None, "canceled"), (6, 0.4, "final", 3, "arm", "grip", None, "ok")]
-    timeline = Timeline(script, Trace("arm", 0, events=events), arm.replies)
+    timeline = ScriptTimeline(script, Trace("arm", 0, events=events), arm.replies)
     assert [(a.service, a.end, a.reply) for a in timeline.activities] == [
         ("arm.move", 0.3, "canceled"), ("arm.move_cancel", 0.2, "ok"), ("arm.grip", 0.4, "ok")]
     assert timeline.ended_ok(3) == set() and timeline.ended_ok(4) == {"arm.move_cancel"}  # after wait c

@@ -17,7 +17,7 @@ from harness.mutator import targeted
 from harness.mutator.operators import Draw
 from harness.mutator.targeted import GoldenRun
 from harness.target.script import load_script, parse
-from harness.mutator.timeline import Timeline
+from harness.mutator.timeline import ScriptTimeline
 from harness.trace import Trace
 
 
@@ -55,7 +55,7 @@ def golden_run(interface, properties):
 
 def test_the_timeline_says_what_runs_and_what_ended_ok_at_each_place(interface, golden_run):
     golden, trace, _ = golden_run
-    timeline = Timeline(golden, trace, interface.replies)
+    timeline = ScriptTimeline(golden, trace, interface.replies)
     steps = [s.render() for s in golden.steps]
     assert timeline.ended_ok(0) == set() and timeline.running(1, ["rflex.Init"])  # Init just sent
     after_inits = steps.index("wait all") + 1

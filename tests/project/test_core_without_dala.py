@@ -10,7 +10,7 @@ import tokenize
 
 from harness import DEFAULT_MISSION_DIR, ROOT
 from harness.target.interface import load_interface
-from harness.target.layer_description import load_layer
+from harness.target.mission import load_layer
 
 CORE = ("harness/sut/simulated/kernel.py", "harness/sut/simulated/module.py", "harness/sut/simulated/layer.py",
         "harness/target/layer_description.py", "harness/sut/simulated/host.py", "harness/sut/simulated/realtime.py",

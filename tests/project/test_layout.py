@@ -12,16 +12,14 @@ from harness import DEFAULT_MISSION_DIR, MOVED_MODULES, ROOT, current_modules
 from harness.sut.definitions import ExternalSut
 from harness.sut.external.runner import run_external
 from harness.target import mission
-from harness.target.layer_description import load_layer
+from harness.target.mission import load_layer
 from harness.target.script import parse
 
 TARGET = ROOT / "harness" / "target"
 HOME = TARGET / "mission.py"
-# Literals left in harness/target/: the second home of
-# LAYER_FILE (mission.py imports it from there), and the adapter skeleton init copies into a
-# user's target, which runs without the bench and so spells its file's name.
-LEFT = frozenset({"harness/target/layer_description.py:43: 'layer.toml'",
-                  "harness/target/skeleton/adapter.py:40: 'interface.toml'"})
+# The one literal left in harness/target/: the adapter skeleton init copies into a user's target,
+# which runs without the bench and so spells its file's name.
+LEFT = frozenset({"harness/target/skeleton/adapter.py:40: 'interface.toml'"})
 FILE_NAMES = frozenset(value for name, value in vars(mission).items() if name.endswith("_FILE"))
 
 
@@ -47,8 +45,7 @@ def test_the_target_owns_its_file_names():
             "ros.toml", "ros2.toml"} <= FILE_NAMES
     found = file_names_outside_their_home(ROOT / "harness")
     assert [f for f in found if f not in LEFT] == [], "import the name from harness/target/mission.py"
-    assert not {f for f in LEFT if f.split(":")[0] != "harness/target/ros2_texts.py"} - set(found), \
-        "a literal left is gone: take it out of LEFT"
+    assert not LEFT - set(found), "a literal left is gone: take it out of LEFT"
 
 
 def test_the_check_finds_a_file_name_where_there_is_one(tmp_path):

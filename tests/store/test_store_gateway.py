@@ -69,20 +69,6 @@ def test_the_check_finds_a_write_where_there_is_one(tmp_path, monkeypatch):
 # a query for the `sql` command (`python -m harness sql "select ..."`) is a message, not a read.
 READS = re.compile(r"\bselect\b[\s\S]*\bfrom\b|\bfrom\s+\w+\s+(where|order\s+by|group\s+by)\b", re.I)
 HINT = re.compile(r"""harness sql "|e\.g\. "select""")
-# The files whose reads have not moved into harness/store/ or sql/ yet (issue 45), with how many
-# SQL texts each held when the check came: none may hold more, no other file any (harness/analysis/
-# is being rewritten, so a file may hold fewer; its entry goes when it holds none).
-READS_LEFT = {
-    "bench/bag_bench.py": 2, "bench/campaign_bench.py": 1, "bench/cluster_bench.py": 1,
-    "bench/focused_bench.py": 9, "bench/generation_bench.py": 1, "bench/report_bench.py": 2,
-    "bench/taken_bench.py": 1, "bench/writer_bench.py": 1,
-    "harness/analysis/diff.py": 1, "harness/analysis/explain.py": 5,
-    "harness/analysis/provenance.py": 2, "harness/analysis/summary.py": 9,
-    "harness/campaign/budgeted.py": 4, "harness/fingerprint.py": 1, "harness/report/junit.py": 1,
-    "harness/report/paper.py": 3, "harness/report/queries.py": 15,
-}
-
-
 def reads_outside_the_store(folder: Path) -> dict[str, int]:
     """Python file (relative to ROOT) -> how many of its string literals are SQL that reads."""
     found = {}
@@ -98,10 +84,9 @@ def reads_outside_the_store(folder: Path) -> dict[str, int]:
     return found
 
 
-def test_no_sql_text_outside_the_store_and_sql_but_the_files_left():
+def test_no_sql_text_outside_the_store_and_sql():
     found = {**reads_outside_the_store(ROOT / "harness"), **reads_outside_the_store(ROOT / "bench")}
-    more = {path: count for path, count in found.items() if count > READS_LEFT.get(path, 0)}
-    assert more == {}, "a read is a named function of harness/store/ (e.g. campaign_reads.py) or a file of sql/"
+    assert found == {}, "a read is a named function of harness/store/ (e.g. campaign_reads.py) or a file of sql/"
 
 
 def test_the_check_finds_a_read_where_there_is_one(tmp_path, monkeypatch):

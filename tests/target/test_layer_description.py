@@ -10,7 +10,7 @@ from harness.campaign.request import CampaignRequest
 from harness.errors import UntimelyError
 from harness.target.interface import load_interface
 from harness.target.mission import load_mission
-from harness.target.layer_description import load_layer
+from harness.target.mission import load_layer
 from harness.sut.simulated.kernel import Environment
 from harness.sut.simulated.layer import FunctionalLayer
 

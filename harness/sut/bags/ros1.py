@@ -17,7 +17,7 @@ from rosbags.highlevel import AnyReader
 
 from harness.errors import UntimelyError
 from harness.sut.bags.routes import Routes, check_type
-from harness.sut.bags.timeline import Timeline, seconds, stamped
+from harness.sut.bags.timeline import BagTimeline, seconds, stamped
 
 STATUS = ("PENDING", "ACTIVE", "PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED", "PREEMPTING", "RECALLING",
           "RECALLED", "LOST")
@@ -27,7 +27,7 @@ TYPES = {"goal": "ActionGoal", "feedback": "ActionFeedback", "result": "ActionRe
 TERMINAL = {"PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED", "RECALLED"}
 
 
-def read_ros1(path: Path, routes: Routes) -> tuple[Timeline, list[str]]:
+def read_ros1(path: Path, routes: Routes) -> tuple[BagTimeline, list[str]]:
     """The bag's timeline, and notes on what it cannot hold."""
     actions = routes.named("action")
     with AnyReader([path]) as reader:
@@ -39,7 +39,7 @@ def read_ros1(path: Path, routes: Routes) -> tuple[Timeline, list[str]]:
         if not topics:
             raise UntimelyError(f"no actionlib topic of the mapping {routes.mapping.path} in this bag; it records "
                              f"{', '.join(sorted({c.topic for c in reader.connections})) or 'nothing'}")
-        timeline = Timeline(reader.start_time * 1e-9)
+        timeline = BagTimeline(reader.start_time * 1e-9)
         wanted = [c for connections in topics.values() for c in connections]
         for connection in wanted:
             leaf = connection.topic.rpartition("/")[2]

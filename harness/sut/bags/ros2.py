@@ -26,7 +26,7 @@ from rosbags.rosbag2 import Reader
 from harness.sut.bags.ros2_types import register, typestore
 from harness.errors import UntimelyError
 from harness.sut.bags.routes import Routes, check_type
-from harness.sut.bags.timeline import Timeline, seconds, stamped
+from harness.sut.bags.timeline import BagTimeline, seconds, stamped
 
 STATUS = {4: "SUCCEEDED", 5: "PREEMPTED", 6: "ABORTED"}  # action_msgs/GoalStatus terminal codes
 REQUEST_SENT, REQUEST_RECEIVED, RESPONSE_SENT, RESPONSE_RECEIVED = range(4)
@@ -52,7 +52,7 @@ def _key(uuid) -> bytes:
     return bytes(bytearray(uuid.uuid))
 
 
-class Call(NamedTuple):
+class CallEvents(NamedTuple):
     """One call's events: the observed instants (the client's when recorded, else the server's), and
     the server's own stamps (the SUT's clock) where its side was recorded."""
     key: tuple  # the client's participant (GID prefix), sequence number
@@ -72,7 +72,7 @@ def _participant(gid) -> bytes:
     return bytes(bytearray(gid))[:12]
 
 
-def _calls(events: list) -> list[Call]:
+def _calls(events: list) -> list[CallEvents]:
     """Each call, its events paired by the client's participant and sequence number."""
     calls: dict[tuple, dict[int, tuple]] = {}
     for received, event in events:
@@ -85,13 +85,13 @@ def _calls(events: list) -> list[Call]:
         if sent and sent[1].request:
             server = {kind: stamped(pair[kind][1].info.stamp)
                       for kind in (REQUEST_RECEIVED, RESPONSE_SENT) if kind in pair}
-            paired.append(Call(key, sent[0], sent[1].request[0], answered[0] if answered else None,
+            paired.append(CallEvents(key, sent[0], sent[1].request[0], answered[0] if answered else None,
                                answered[1].response[0] if answered and answered[1].response else None,
                                seconds(sent[1].info.stamp), server.get(REQUEST_RECEIVED), server.get(RESPONSE_SENT)))
     return paired
 
 
-def _send_goals(timeline: Timeline, routes: Routes, carried, events) -> None:
+def _send_goals(timeline: BagTimeline, routes: Routes, carried, events) -> None:
     route = carried[0][1]
     for call in _calls(events):
         target = routes.target(carried, call.request.goal)
@@ -103,7 +103,7 @@ def _send_goals(timeline: Timeline, routes: Routes, carried, events) -> None:
                 timeline.final(key, call.answered, routes.final_code(route, "REJECTED", None, ""), call.answer_stamp)
 
 
-def _service_calls(timeline: Timeline, routes: Routes, carried, events) -> None:
+def _service_calls(timeline: BagTimeline, routes: Routes, carried, events) -> None:
     for call in _calls(events):
         key = (carried[0][1].name, *call.key)  # one client may call several services, each counting from 1
         timeline.request(key, call.sent, *routes.target(carried, call.request), sent_s=call.sent_s)
@@ -113,7 +113,7 @@ def _service_calls(timeline: Timeline, routes: Routes, carried, events) -> None:
                            call.answer_stamp)
 
 
-def _statuses(timeline: Timeline, routes: Routes, carried, events) -> None:
+def _statuses(timeline: BagTimeline, routes: Routes, carried, events) -> None:
     route = carried[0][1]
     for received, message in events:
         for status in message.status_list:
@@ -125,7 +125,7 @@ def _statuses(timeline: Timeline, routes: Routes, carried, events) -> None:
                 timeline.status_final(key, received, routes.final_code(route, STATUS[status.status], None, ""))
 
 
-def _results(timeline: Timeline, routes: Routes, carried, events) -> None:
+def _results(timeline: BagTimeline, routes: Routes, carried, events) -> None:
     for call in _calls(events):
         response = call.response
         if response is not None and response.status in STATUS:
@@ -134,7 +134,7 @@ def _results(timeline: Timeline, routes: Routes, carried, events) -> None:
                            call.answer_stamp)
 
 
-def _feedback(timeline: Timeline, routes: Routes, carried, events) -> None:
+def _feedback(timeline: BagTimeline, routes: Routes, carried, events) -> None:
     for received, message in events:  # a FeedbackMessage has no stamp: no SUT instant
         timeline.intermediate(_key(message.goal_id), received)
 
@@ -147,7 +147,7 @@ HANDLERS = {"send_goal": _send_goals, "call": _service_calls, "status": _statuse
             "feedback": _feedback}
 
 
-def read_ros2(folder, routes: Routes) -> tuple[Timeline, list[str]]:
+def read_ros2(folder, routes: Routes) -> tuple[BagTimeline, list[str]]:
     topics, store = _topics(routes), typestore()
     by_kind: dict[tuple[str, str], list] = {}
     with Reader(folder) as reader:
@@ -159,7 +159,7 @@ def read_ros2(folder, routes: Routes) -> tuple[Timeline, list[str]]:
             what = topics[connection.topic][0]
             check_type(connection, TYPES[what], f"a {what} message")
             register(store, connection.msgtype, connection.msgdef.data)
-        timeline = Timeline(reader.start_time * 1e-9)
+        timeline = BagTimeline(reader.start_time * 1e-9)
         for connection, received_ns, raw in reader.messages(connections=wanted):
             by_kind.setdefault(topics[connection.topic], []).append(
                 (received_ns * 1e-9, store.deserialize_cdr(raw, connection.msgtype)))

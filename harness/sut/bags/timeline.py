@@ -27,7 +27,8 @@ from harness.errors import UntimelyError
 
 
 @dataclass
-class Request:
+class BagRequest:
+    """A request the bag holds, with the replies and the SUT's own stamps found for it so far."""
     order: tuple  # the client's send stamp, then the receive time: the request's number
     t: float
     qualified: str
@@ -46,10 +47,12 @@ class Request:
             self.final, self.final_stamp = self.status_final, self.status_stamp
 
 
-class Timeline:
+class BagTimeline:
+    """The requests of one bag, numbered in their clients' order, as they are read."""
+
     def __init__(self, origin_s: float):
         self.origin_s = origin_s  # the bag's first receive stamp: t = 0
-        self.requests: dict[object, Request] = {}
+        self.requests: dict[object, BagRequest] = {}
         self.orphans = 0  # replies to goals whose request the bag does not hold
         # replies received before their goal (a recorder's order of its topics), until finish()
         self.early: list[tuple[str, tuple]] = []
@@ -65,7 +68,7 @@ class Timeline:
     def request(self, key, received_s: float, qualified: str, args: dict | None, sent_s: float | None = None) -> None:
         if key not in self.requests:
             t = received_s - self.origin_s
-            self.requests[key] = Request((sent_s if sent_s is not None else received_s, received_s), t, qualified, args)
+            self.requests[key] = BagRequest((sent_s if sent_s is not None else received_s, received_s), t, qualified, args)
 
     def intermediate(self, key, received_s: float, stamp_s: float | None = None) -> None:
         request = self.requests.get(key)

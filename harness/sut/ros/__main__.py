@@ -74,10 +74,10 @@ def run(args, out: LineWriter) -> None:
         os.environ.update(env)
         import rospy  # only now: rospy reads the master's address from the environment
 
-        from harness.sut.ros.adapter import Adapter
+        from harness.sut.ros.adapter import Ros1Adapter
         rospy.init_node("untimely_adapter", disable_signals=True, disable_rosout=True)
         ros_up = True
-        adapter = Adapter(mapping, hello["interface"], time_scale, out.write)
+        adapter = Ros1Adapter(mapping, hello["interface"], time_scale, out.write)
 
         def ready() -> None:
             adapter.wait_for_servers(args.startup_timeout, node.failure)

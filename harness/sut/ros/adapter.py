@@ -42,7 +42,7 @@ STATUS_NAMES = {getattr(GoalStatus, name): name for name in
                  "PREEMPTING", "RECALLING", "RECALLED", "LOST")}
 
 
-class Adapter(Bridge):
+class Ros1Adapter(Bridge):
     def __init__(self, mapping: Mapping, interface: dict, time_scale: float, write: Callable[[dict], None]):
         super().__init__(mapping, interface, time_scale, write)
         self.routes = mapping.routes(interface_services(interface))

@@ -99,7 +99,7 @@ class Goal(Ending):
             handle.set_aborted(result, code)
 
 
-class Call(Ending):
+class ServiceCall(Ending):
     """A request that came as a ROS service call: the call waits for the final reply."""
 
     def __init__(self, call_id: str):
@@ -113,7 +113,7 @@ class Call(Ending):
         self.done.set()
 
 
-class DalaNode(LayerFace):
+class Ros1DalaNode(LayerFace):
     def __init__(self, variant: str, mission: Path, mapping: Path, time_scale: float):
         self.interface = load_interface(mission / INTERFACE_FILE)
         self.mapping = load_mapping(mapping)
@@ -127,7 +127,7 @@ class DalaNode(LayerFace):
         self.pong = rospy.Publisher(self.mapping.pong_topic, String, queue_size=100) \
             if self.mapping.ping_topic else None
         self.ids = itertools.count(1)
-        self.open: dict[int, Goal | Call] = {}
+        self.open: dict[int, Goal | ServiceCall] = {}
         routes = self.mapping.routes([(s.module, s.name) for s in self.interface.services.values()])
         # generic action name -> {goal's service name -> "module.Service"}
         self.generic: dict[str, dict[str, str]] = {}
@@ -192,7 +192,7 @@ class DalaNode(LayerFace):
 
     def _call_for(self, qualified: str, route: Route, response_class):
         def serve(request):
-            call = Call(request._connection_header.get("untimely_call", ""))
+            call = ServiceCall(request._connection_header.get("untimely_call", ""))
             self._request(qualified, {arg: read_field(request, path) for arg, path in route.fields.items()}, call)
             call.done.wait()
             response = response_class()
@@ -241,7 +241,7 @@ def main(argv: list[str] | None = None) -> int:
         signal.signal(signum, lambda *_: stopped.set())
     rospy.init_node("dala", disable_rosout=True, disable_signals=True)
     try:
-        node = DalaNode(args.variant, args.mission, args.mapping, args.time_scale)
+        node = Ros1DalaNode(args.variant, args.mission, args.mapping, args.time_scale)
     except (UntimelyError, ValueError) as e:
         print(f"dala_node: {e}", file=sys.stderr, flush=True)
         return 2

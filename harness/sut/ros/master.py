@@ -12,7 +12,8 @@ import tempfile
 import time
 import xmlrpc.client
 
-from harness.sut.processes import Child, ChildError
+from harness.errors import ChildError
+from harness.sut.processes import Child
 
 
 def free_port() -> int:

@@ -23,7 +23,8 @@ import xmlrpc.client
 from pathlib import Path
 
 from harness.sut.roscommon.mapping import Mapping
-from harness.sut.processes import Child, ChildError
+from harness.errors import ChildError
+from harness.sut.processes import Child
 
 ACTION_TOPICS = ("goal", "cancel", "status", "feedback", "result")
 RECORDER_NODE = "untimely_record"  # its node name; the master and the publishers say "/untimely_record"
@@ -38,13 +39,13 @@ def recorded_topics(mapping: Mapping, services: list[tuple[str, str]]) -> list[s
                                  mapping.pong_topic) if t]
 
 
-class Recorder(Child):
+class RosbagRecorder(Child):
     def __init__(self, path: Path, argv: list[str], env: dict[str, str]):
         super().__init__("rosbag", argv, env, death_signal=signal.SIGINT, own_group=True)
         self.path = path
 
 
-def start_recorder(folder: str, run: int, topics: list[str], env: dict[str, str]) -> Recorder:
+def start_recorder(folder: str, run: int, topics: list[str], env: dict[str, str]) -> RosbagRecorder:
     """`rosbag record` of `topics` into folder/trace-RUN.bag; it records once wait_connected says so."""
     import roslib.packages  # ROS's own lookup, as the rosbag command does
 
@@ -52,7 +53,7 @@ def start_recorder(folder: str, run: int, topics: list[str], env: dict[str, str]
     if not found:
         raise ChildError("--rosbag records with Debian's rosbag, which is not installed: apt-get install python3-rosbag")
     path = Path(folder) / f"trace-{run}.bag"
-    return Recorder(path, [found[0], "--quiet", "-O", str(path), f"__name:={RECORDER_NODE}", *topics], env)
+    return RosbagRecorder(path, [found[0], "--quiet", "-O", str(path), f"__name:={RECORDER_NODE}", *topics], env)
 
 
 def unconnected(topics: list[str], master) -> list[str]:
@@ -75,7 +76,7 @@ def unconnected(topics: list[str], master) -> list[str]:
     return missing
 
 
-def wait_connected(recorder: Recorder, topics: list[str], env: dict[str, str], timeout_s: float) -> None:
+def wait_connected(recorder: RosbagRecorder, topics: list[str], env: dict[str, str], timeout_s: float) -> None:
     """Block until every publisher of every topic has accepted the recorder, so that the first goal
     is in the bag; called once the node and the adapter have all their publishers up."""
     master = xmlrpc.client.ServerProxy(env["ROS_MASTER_URI"])
@@ -90,7 +91,7 @@ def wait_connected(recorder: Recorder, topics: list[str], env: dict[str, str], t
         time.sleep(0.05)
 
 
-def stop_recorder(recorder: Recorder, timeout_s: float = 10.0) -> None:
+def stop_recorder(recorder: RosbagRecorder, timeout_s: float = 10.0) -> None:
     """SIGINT, as Ctrl-C: the recorder closes the bag (BAG.active becomes BAG) and exits."""
     time.sleep(DRAIN_S)
     if recorder.process.poll() is None:

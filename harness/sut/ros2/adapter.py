@@ -68,7 +68,7 @@ PROBE_PERIOD_S = 0.2
 PENDING_TABLES = ("_pending_requests", "_pending_goal_requests", "_pending_cancel_requests", "_pending_result_requests")
 
 
-class Adapter(Bridge):
+class Ros2Adapter(Bridge):
     def __init__(self, mapping: Mapping, interface: dict, time_scale: float, write: Callable[[dict], None]):
         super().__init__(mapping, interface, time_scale, write)
         # "module.Service" cancelled -> its action route; a cancel service has no route of its own
@@ -208,10 +208,10 @@ class Adapter(Bridge):
         self.lifecycle.transition(transitions, timeout_s)
 
     def record(self, path, timeout_s: float):
-        """A Recorder of this run's traffic into the bag `path`, spun by this adapter's executor, once
+        """A McapRecorder of this run's traffic into the bag `path`, spun by this adapter's executor, once
         every topic it records has its publisher: each route's topics and introspection (the clients'
         side too), and the ground truth and virtual damage topics."""
-        from harness.sut.ros2.recorder import Recorder, action_topics, service_topics
+        from harness.sut.ros2.recorder import McapRecorder, action_topics, service_topics
 
         distro, topics = os.environ.get("UNTIMELY_ROS2_DISTRO"), []
         for route in {route.name: route for route in self.routes.values()}.values():
@@ -222,7 +222,7 @@ class Adapter(Bridge):
                 client.configure_introspection(self.node.get_clock(), QOS, ServiceIntrospectionState.CONTENTS)
         topics += [(topic, "std_msgs/msg/String") for topic in (self.mapping.internal_topic, self.mapping.world_topic)
                    if topic]
-        recorder = Recorder(path, topics)
+        recorder = McapRecorder(path, topics)
         missing = recorder.wait_for_publishers(timeout_s)
         if missing:
             recorder.close()

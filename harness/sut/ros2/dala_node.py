@@ -76,7 +76,7 @@ class AwaitedEnding:
             self.ended.set_result(code)
 
 
-class DalaNode(LayerFace, LifecycleNode):
+class Ros2DalaNode(LayerFace, LifecycleNode):
     def __init__(self, variant: str, mission: Path, mapping_file: Path, time_scale: float):
         self.mapping = load_mapping(mapping_file)
         if not self.mapping.node:
@@ -222,7 +222,7 @@ def main(argv: list[str] | None = None) -> int:
     args = dala_arguments(argv, __doc__.split("\n\n")[0], ROS2_MAPPING_FILE)
     rclpy.init()
     try:
-        node = DalaNode(args.variant, args.mission, args.mapping, args.time_scale)
+        node = Ros2DalaNode(args.variant, args.mission, args.mapping, args.time_scale)
     except (UntimelyError, ValueError) as e:
         print(f"dala_node: {e}", file=sys.stderr, flush=True)
         return 2

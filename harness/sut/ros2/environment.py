@@ -37,7 +37,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from harness.errors import UntimelyError
+from harness.errors import Ros2Error
 from harness.target.ros2_texts import INTERFACES_VARIABLE
 
 DISTROS = ("jazzy", "kilted")
@@ -56,10 +56,6 @@ SEGMENT = re.compile(r"(fastrtps|fastdds)_(port\d+|[0-9a-f]{16})")
 # Fast DDS creates a segment's lock file and locks it in the next system call: a younger unlocked
 # one may be in that gap, an older one has lost its owner.
 SETTLE_S = 1.0
-
-
-class Ros2Error(UntimelyError):
-    """ROS 2 is missing for a distro, or no domain id is free."""
 
 
 def venv(root: Path, distro: str) -> Path:

@@ -123,7 +123,7 @@ def _used(package: str, text: str) -> list[tuple[str, str]]:
     return used
 
 
-class Recorder:
+class McapRecorder:
     """Records `topics` [(topic, type)] into the MCAP bag `path` from a node of its own, `node`,
     which the caller spins (or `spin()` does); `close()` ends the node and closes the bag."""
 
@@ -210,7 +210,7 @@ def main(argv: list[str] | None = None) -> None:
     stop = threading.Event()
     for signum in (signal.SIGINT, signal.SIGTERM):
         signal.signal(signum, lambda *_: stop.set())
-    recorder = Recorder(args.bag, topics)
+    recorder = McapRecorder(args.bag, topics)
     try:
         recorder.wait_for_publishers(args.wait)
         print("recording", flush=True)

@@ -47,10 +47,10 @@ def run(args, out: LineWriter) -> None:
     try:
         import rclpy  # only here: the launcher's environment is what makes it importable
 
-        from harness.sut.ros2.adapter import Adapter
+        from harness.sut.ros2.adapter import Ros2Adapter
         from harness.sut.ros2.lifecycle import BRING_UP, RESET
         rclpy.init(signal_handler_options=rclpy.signals.SignalHandlerOptions.NO)
-        adapter = Adapter(mapping, hello["interface"], hello["time_scale"], out.write)
+        adapter = Ros2Adapter(mapping, hello["interface"], hello["time_scale"], out.write)
         adapter.wait_for_servers(args.startup_timeout, node.failure)
         discovery = time.monotonic() - started  # the node's start-up and its discovery by the adapter
         if recording_folder():  # one bag per run, so no reuse

@@ -18,7 +18,8 @@ from typing import Callable
 from harness.errors import UntimelyError
 from harness.target.domains import carried, number, violation
 from harness.target.interface import Interface, Service
-from harness.target.layer_description import Protection, load_layer
+from harness.target.layer_description import Protection
+from harness.target.mission import load_layer
 from harness.sut.simulated.kernel import Environment
 from harness.sut.simulated.module import CONTROL_LATENCY_S, Activity, Module
 

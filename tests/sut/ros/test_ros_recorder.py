@@ -7,7 +7,7 @@ from xmlrpc.server import SimpleXMLRPCServer
 
 import pytest
 
-from harness.sut.processes import ChildError
+from harness.errors import ChildError
 from harness.sut.ros.recorder import wait_connected
 
 

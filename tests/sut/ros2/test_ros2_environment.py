@@ -10,9 +10,10 @@ import time
 import pytest
 
 from harness import ROOT
+from harness.errors import Ros2Error
 from harness.sut.ros2 import environment
 from harness.sut.ros2.environment import (DOMAIN_IDS, DISTROS, PROFILE, PROFILE_VARIABLE, Ros2Environment,
-                                               Ros2Error, SETTLE_S, domain_ids_in_use, hold_domain_id,
+                                               SETTLE_S, domain_ids_in_use, hold_domain_id,
                                                installed, sweep_dead_segments)
 
 HOLDER = """
