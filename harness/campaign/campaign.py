@@ -34,7 +34,6 @@ from harness.progress import Progress
 from harness.store import campaign_reads
 from harness.sut.executive import run_script
 from harness.dispatch.executor import open_executor
-from harness.sut.definitions import from_configs
 from harness.sut.external.kept import kept_adapters
 from harness.dispatch import transport
 from harness.dispatch.description import script_label
@@ -152,7 +151,7 @@ def main(request: CampaignRequest, runner=None) -> int:
     config = campaign_config(request)
     target = load_mission(request.mission)
     golden, properties = target.golden(), target.properties()  # refused before anything starts
-    external = from_configs(config.external)
+    external = config.external
     setup = transport.setup(runner or run_script, target.interface_file, target.world_file, request.max_delay,
                   external, REALTIME_WALL_LIMIT_S if external else RUN_WALL_LIMIT_S)
     # A real-time run mostly waits: its slots may outnumber the cores.

@@ -48,7 +48,7 @@ def campaign_config(args: CampaignRequest) -> CampaignRecord:
                             "found: run it whole, without --shard")
     budget = {} if given is None else {"budget_s": _budget(given, mission.golden(), len(suts))}
     return CampaignRecord(**budget, mission=str(mission.folder.resolve()), mutants=args.mutants, sut=suts,
-                          external={name: sut.config() for name, sut in external.items()},
+                          external=external,
                           strategy=args.strategy, seed=args.seed, ops_per_mutant=ops_per_mutant,
                           time_mutations=args.time_mutations, operators=named,
                           value_mutations=args.value_mutations,
@@ -73,7 +73,7 @@ def _difference(stored: CampaignRecord, wanted: CampaignRecord) -> str | None:
             if not changed:
                 continue
             return f"--mission {stored.mission} had other contents: {', '.join(changed)} differ from {wanted.mission}"
-        theirs, ours = stored[key], wanted[key]
+        theirs, ours = _compared(stored, key), _compared(wanted, key)
         if theirs == ours:
             continue
         if key == "external":
@@ -83,6 +83,12 @@ def _difference(stored: CampaignRecord, wanted: CampaignRecord) -> str | None:
         flag = "--budget" if key == "budget_s" else "--" + key.replace("_", "-")
         return f"{flag} {show(theirs)}, not {show(ours)}"
     return None
+
+
+def _compared(record: CampaignRecord, key: str):
+    """A key's value as two campaigns are told apart by: an external SUT by the fields its record
+    stores (one stored before a field existed lacks it, and is not the SUT the field's default makes)."""
+    return record.stored().get("external", {}) if key == "external" else getattr(record, key)
 
 
 def _code_change(campaign_id: int, stored: CampaignRecord, wanted: CampaignRecord, db, allowed: bool) -> None:

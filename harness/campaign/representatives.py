@@ -61,7 +61,7 @@ def representatives(ctx: CampaignContext, say: Callable[[str], None]) -> None:
     run as the campaign's arguments define them, not as the store records them."""
     con = ctx.con
     done = {(s.sut, s.verdict, s.property) for _, _, s in records(con, ShrinkRecord) if s.steps_after is not None}
-    mine = {name: sut.config() for name, sut in ctx.setup.external.items()}
+    mine = ctx.setup.external
     found = [(Behaviour(sut, verdict, property_id), trace_id)
              for sut, property_id, verdict, trace_id in campaign_reads.representatives(con)
              if (sut, verdict, property_id) not in done]

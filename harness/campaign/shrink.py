@@ -34,7 +34,7 @@ from harness.analysis.judge import Judge
 from harness.mutator.ddmin import ddmin
 from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
-from harness.sut.definitions import from_configs
+from harness.target.suts import ExternalSut
 from harness.trace import Trace
 from harness.dispatch import transport
 from harness.dispatch.description import Task
@@ -70,7 +70,7 @@ class Original:
     body: str
     mission: Path
     max_delay: float
-    external: dict  # the campaign's external SUTs (name -> ExternalSut fields)
+    external: dict[str, ExternalSut]  # the campaign's external SUTs, by name
     slot: int = 0  # the slot its re-runs take (shrinks running side by side take different ones)
     made: list = field(default_factory=list, init=False)  # every re-run: (body, Trace), to be stored
 
@@ -81,7 +81,7 @@ class Original:
     def run(self, body: str, runner=run_script) -> Trace:
         """Run a script on the trace's variant with its seed, as the campaign's workers do."""
         setup = transport.setup(runner, self.mission / INTERFACE_FILE, self.mission / WORLD_FILE, self.max_delay,
-                      from_configs(self.external))
+                      self.external)
         trace = setup.run(Task(self.trace_id, self.script_id, self.sut, self.seed, body), self.interface, self.slot)
         self.made.append((body, trace))
         return trace
@@ -237,7 +237,7 @@ def replay_command(orig: Original, path: Path) -> str:
     """The command that replays a shrunk file as written from any folder: the installed `untimely`,
     absolute paths, the target named by its interface (run takes the world and SUTs beside it), an
     external SUT at the time scale it ran at."""
-    scale = orig.external.get(orig.sut, {}).get("time_scale")
+    scale = orig.external[orig.sut].time_scale if orig.sut in orig.external else None
     words = ["untimely", "run", str(path.resolve()), "--sut", orig.sut, "--seed", str(orig.seed),
              "--max-delay", f"{orig.max_delay:g}", "--interface", str((orig.mission / INTERFACE_FILE).resolve()),
              *(["--time-scale", f"{scale:g}"] if scale is not None else [])]

@@ -111,5 +111,5 @@ def test_the_default_campaign_expectation_is_main_s_default_campaign():
         store.ScriptRow(1 + n, 1, "mutant", m.body, 1, m.operations, m.valid, m.invalid_reason)
         for n, m in enumerate(mutants, 1)])
     assert fingerprint(con, ["scripts"]) == {"scripts": stored["fingerprint"]["scripts"]}
-    assert stored["runs"] == len(config["sut"]) * (1 + sum(m.valid for m in mutants)) == \
+    assert stored["runs"] == len(config.sut) * (1 + sum(m.valid for m in mutants)) == \
         sum(row[1] for row in stored["tables"]["II"])

@@ -22,6 +22,7 @@ from harness.campaign.representatives import representatives
 from harness.campaign import shrink as shrink_module
 from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, replay_command, shorter_sleeps, store_shrink
 from harness.sut.executive import run_script
+from harness.target.suts import ExternalSut
 from harness.dispatch import transport
 from harness.target.mission import load_mission
 from harness.store.sql import render_query
@@ -233,7 +234,7 @@ def test_a_replay_line_names_the_installed_command_absolute_paths_and_no_missing
     target = tmp_path / "target"
     target.mkdir()
     (target / "interface.toml").write_text("")
-    orig = Original(7, 3, "ros2-node", 42, "completed", "", target, 0.003, {"ros2-node": {"time_scale": 2.0}})
+    orig = Original(7, 3, "ros2-node", 42, "completed", "", target, 0.003, {"ros2-node": ExternalSut("ros2-node", command="adapter", time_scale=2.0)})
     words = shlex.split(replay_command(orig, Path("shrunk") / "script-9.mission"))
     assert words == ["untimely", "run", str(Path("shrunk/script-9.mission").resolve()), "--sut", "ros2-node",
                      "--seed", "42", "--max-delay", "0.003", "--interface", str(target / "interface.toml"),

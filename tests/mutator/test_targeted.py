@@ -166,7 +166,7 @@ def _args(**changes):
 
 
 def test_strategy_is_part_of_the_campaign_and_time_mutations_stay_random():
-    assert campaign_config(_args())["ops_per_mutant"] == 1
+    assert campaign_config(_args()).ops_per_mutant == 1
     with pytest.raises(UntimelyError, match="--time-mutations applies to --strategy random only"):
         campaign_config(_args(strategy="targeted", time_mutations=True))
     con = store.connect()
@@ -179,8 +179,8 @@ def test_strategy_is_part_of_the_campaign_and_time_mutations_stay_random():
 
 def test_operators_are_part_of_the_campaign_and_stay_random():
     config = campaign_config(_args(operators="swap_requests,delete_request"))
-    assert config["operators"] == ["delete_request", "swap_requests"]
-    assert campaign_config(_args())["operators"] is None
+    assert config.operators == ["delete_request", "swap_requests"]
+    assert campaign_config(_args()).operators is None
     with pytest.raises(UntimelyError, match="--operators applies to --strategy random only"):
         campaign_config(_args(strategy="targeted", operators="swap_requests"))
     con = store.connect()
