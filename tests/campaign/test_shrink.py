@@ -200,7 +200,7 @@ def test_a_shrink_that_fails_is_recorded_and_shown_and_the_others_go_on(tmp_path
     assert {sut for sut, *_ in behaviours} == {"genom", "bip-a"}
     target = load_mission(DEFAULT_MISSION_DIR)
     setup = transport.setup(_runner_broken_on_genom, target.interface_file, target.world_file, 0.003)
-    ctx = CampaignContext(con=con, db=str(db), target=target, golden=target.golden(), properties=target.properties(),
+    ctx = CampaignContext(con=con, db=str(db), target=target, golden=target.golden(), golden_text="", properties=target.properties(),
                           config={}, setup=setup, executor=None, jobs=2, shrink_to=tmp_path / "shrunk")
     lines = []
     representatives(ctx, lines.append)
