@@ -30,7 +30,7 @@ class ShrinkTask:
 
     def perform(self, setup: Setup, interface: Interface, slot: int) -> Shrunk:
         try:
-            return shrunk(replace(self.orig, slot=slot), self.behaviour, self.properties, setup.runner)
+            return shrunk(replace(self.orig, slot=slot, runner=setup.runner), self.behaviour, self.properties)
         except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
             processes.raise_if_stopping()
             return self.crashed(str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}")

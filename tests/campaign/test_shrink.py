@@ -246,7 +246,7 @@ class Spending(Original):
     and the budget is spent after `runs` runs."""
     runs = 4
 
-    def run(self, body, runner=None):
+    def run(self, body):
         if len(self.made) == self.runs:
             raise BudgetSpent()
         trace = SimpleNamespace(outcome="hung" if "rflex.Init" in body else "completed")
