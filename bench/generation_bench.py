@@ -100,7 +100,7 @@ def shrink_times(db: Path) -> None:
     for sut, verdict, prop, trace_id in picked:
         orig = original(con, trace_id)
         start = time.perf_counter()
-        script, runs = shrink(orig, Behaviour(sut, verdict, prop), properties)
+        script, runs, _ = shrink(orig, Behaviour(sut, verdict, prop), properties)
         times.append(time.perf_counter() - start)
         steps.append(len(script.steps))
         print(f"  {str(Behaviour(sut, verdict, prop)):<58} {len(orig.body.splitlines()):>3} -> "

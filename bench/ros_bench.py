@@ -12,7 +12,8 @@ from harness import DEFAULT_MISSION_DIR, ROOT
 from harness.sut.external.channel import Connection
 from harness.target.interface import load_interface
 from harness.sut.protocol import PROTO, decode, encode
-from harness.sut.definitions import ExternalSut, load_suts_file
+from harness.sut.definitions import load_suts_file
+from harness.target.suts import ExternalSut
 
 ROUND_TRIPS = 150
 INTERFACE = load_interface(DEFAULT_MISSION_DIR / "interface.toml")

@@ -88,7 +88,7 @@ def run(args: RunRequest) -> int:
     trace = setup.transport(sut).run(script, args.seed, interface, 0, store.next_id(con, "traces", "trace_id"))
     # the target folder: analyze, explain and shrink read its properties and files
     record = RunRecord(sut=sut, max_delay=args.max_delay, target=str(interface_path.resolve().parent),
-                       **({"external": {sut: external[sut].config()}} if sut in external else {}))
+                       **({"external": {sut: external[sut]}} if sut in external else {}))
     with store.transaction(con):
         campaign_id = store.next_id(con, "campaigns", "campaign_id")
         store.add_campaign(con, campaign_id, str(script_path), args.seed, record)

@@ -97,7 +97,7 @@ class MeteredOriginal(shrink.Original):
     bound: float = 0.0  # no candidate outlasts the original script's bound
     slots: Slots | None = None  # None: in process, on slot 0
 
-    def run(self, body: str, runner=None):
+    def run(self, body: str):
         with self.budget.account:
             while not self.budget.fits(self.bound):
                 if not self.budget.in_flight:
@@ -107,7 +107,7 @@ class MeteredOriginal(shrink.Original):
         took = self.bound  # kept counted if the run fails
         try:
             with self.slots.taken() if self.slots else nullcontext(self.slot) as self.slot:
-                trace = super().run(body, runner) if runner else super().run(body)
+                trace = super().run(body)
             took = trace.sim_s
         finally:
             with self.budget.account:

@@ -27,21 +27,21 @@ from harness.campaign.context import CampaignContext
 from harness.campaign.request import CampaignRequest
 from harness.campaign.runs import Batches, Tally, pending_tasks, tasks
 from harness.campaign.slots import campaign_slots
-from harness.files import read_text
 from harness.mutator import strategies
 from harness.mutator.operators import Mutant
 from harness.progress import Progress
 from harness.store import campaign_reads
 from harness.sut.executive import run_script
 from harness.dispatch.executor import open_executor
-from harness.sut.definitions import from_configs
 from harness.sut.external.kept import kept_adapters
 from harness.dispatch import transport
 from harness.dispatch.description import script_label
 from harness.schema import cut
 from harness.store.reads import observed_events
 from harness.store.sql import render_query
-from harness.target.mission import GOLDEN_FILE, PROPERTIES_FILE, load_mission
+from harness.files import read_text
+from harness.target.mission import MISSING, PROPERTIES_FILE, load_mission
+from harness.target.script import script_of
 from harness.trace import Trace
 from harness.textable import real_time_factor
 
@@ -52,7 +52,7 @@ SHOW_GENERATION = 2_000  # from this many mutants on, generating them shows its 
 
 def _create(ctx: CampaignContext, golden_id: int, mutants: list[Mutant], tally: Tally) -> int:
     """The golden runs on every variant, then the campaign, its scripts and those traces, stored together."""
-    config, golden_runs, golden_text = ctx.config, [], read_text(ctx.mission / GOLDEN_FILE)
+    config, golden_runs, golden_text = ctx.config, [], ctx.golden_text
 
     def keep(task, trace):
         golden_runs.append((task, trace))
@@ -149,10 +149,12 @@ def _focused(ctx: CampaignContext, start: float) -> None:
 
 def main(request: CampaignRequest, runner=None) -> int:
     """`runner` replaces harness.sut.executive.run_script (tests inject failing ones)."""
-    config = campaign_config(request)
     target = load_mission(request.mission)
-    golden, properties = target.golden(), target.properties()  # refused before anything starts
-    external = from_configs(config.external)
+    golden_text = read_text(target.golden_file, MISSING)
+    golden = script_of(golden_text, target.golden_file, target.interface)
+    config = campaign_config(request, target, golden)
+    properties = target.properties()  # refused before anything starts
+    external = config.external
     setup = transport.setup(runner or run_script, target.interface_file, target.world_file, request.max_delay,
                   external, REALTIME_WALL_LIMIT_S if external else RUN_WALL_LIMIT_S)
     # A real-time run mostly waits: its slots may outnumber the cores.
@@ -161,8 +163,8 @@ def main(request: CampaignRequest, runner=None) -> int:
         executor = stack.enter_context(open_executor(request.cluster, setup, jobs))
         stack.enter_context(kept_adapters())
         ctx = CampaignContext(con=store.connect(request.db), db=request.db, target=target, golden=golden,
-                              properties=properties, config=config, setup=setup, executor=executor, jobs=jobs,
-                              cluster=request.cluster,
+                              golden_text=golden_text, properties=properties, config=config, setup=setup,
+                              executor=executor, jobs=jobs, cluster=request.cluster,
                               shrink_to=shrink.default_out(request.db) if request.shrink else None,
                               allow_code_change=request.allow_code_change)
         return _run(ctx)

@@ -14,7 +14,8 @@ from harness.mutator.operators import chosen as chosen_operators
 from harness.dispatch import cluster
 from harness.store.record import CampaignRecord, records
 from harness.sut.definitions import resolve
-from harness.target.mission import load_mission
+from harness.target.mission import Mission
+from harness.target.script import Script
 
 # Arguments that decide what is run; --jobs, --cluster and --db do not.
 COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", "time_mutations", "operators",
@@ -23,9 +24,10 @@ COMPARED = ("mutants", "strategy", "sut", "external", "seed", "ops_per_mutant", 
 MAX_MUTANTS = 100_000
 
 
-def campaign_config(args: CampaignRequest) -> CampaignRecord:
-    """The campaign's identity (stored in campaigns.config); refuses arguments that make no sense
-    together (each flag's own range is checked once, by the command line)."""
+def campaign_config(args: CampaignRequest, mission: Mission, golden: Script) -> CampaignRecord:
+    """The campaign's identity (stored in campaigns.config) on the mission of `args.mission`, loaded,
+    and its golden script; refuses arguments that make no sense together (each flag's own range is
+    checked once, by the command line)."""
     if not 0 <= args.mutants <= MAX_MUTANTS:
         raise UntimelyError(f"--mutants {args.mutants}: give a number of mutants from 0 to {MAX_MUTANTS:,}; "
                             "split a larger study into campaigns of other --seed values")
@@ -34,7 +36,6 @@ def campaign_config(args: CampaignRequest) -> CampaignRecord:
                                                                           args.value_mutations))
     if ops_per_mutant < 1:
         raise UntimelyError(f"--ops-per-mutant {ops_per_mutant}: give at least 1 operation per mutant")
-    mission = load_mission(args.mission)
     suts, external = resolve(args.sut or mission.default_suts(), mission.folder, args.time_scale)
     if mission.simulated and set(suts) - set(external):  # variants: a bad behaviour fails here, not in every run
         mission.layer.behaviour_module()
@@ -46,9 +47,9 @@ def campaign_config(args: CampaignRequest) -> CampaignRecord:
         raise UntimelyError(f"--shard {args.shard} applies to random and targeted campaigns, whose runs are known "
                             "before they start; a focused campaign chooses its next tests from what the last ones "
                             "found: run it whole, without --shard")
-    budget = {} if given is None else {"budget_s": _budget(given, mission.golden(), len(suts))}
+    budget = {} if given is None else {"budget_s": _budget(given, golden, len(suts))}
     return CampaignRecord(**budget, mission=str(mission.folder.resolve()), mutants=args.mutants, sut=suts,
-                          external={name: sut.config() for name, sut in external.items()},
+                          external=external,
                           strategy=args.strategy, seed=args.seed, ops_per_mutant=ops_per_mutant,
                           time_mutations=args.time_mutations, operators=named,
                           value_mutations=args.value_mutations,
@@ -73,7 +74,7 @@ def _difference(stored: CampaignRecord, wanted: CampaignRecord) -> str | None:
             if not changed:
                 continue
             return f"--mission {stored.mission} had other contents: {', '.join(changed)} differ from {wanted.mission}"
-        theirs, ours = stored[key], wanted[key]
+        theirs, ours = _compared(stored, key), _compared(wanted, key)
         if theirs == ours:
             continue
         if key == "external":
@@ -83,6 +84,12 @@ def _difference(stored: CampaignRecord, wanted: CampaignRecord) -> str | None:
         flag = "--budget" if key == "budget_s" else "--" + key.replace("_", "-")
         return f"{flag} {show(theirs)}, not {show(ours)}"
     return None
+
+
+def _compared(record: CampaignRecord, key: str):
+    """A key's value as two campaigns are told apart by: an external SUT by the fields its record
+    stores (one stored before a field existed lacks it, and is not the SUT the field's default makes)."""
+    return record.stored().get("external", {}) if key == "external" else getattr(record, key)
 
 
 def _code_change(campaign_id: int, stored: CampaignRecord, wanted: CampaignRecord, db, allowed: bool) -> None:

@@ -21,6 +21,7 @@ class CampaignContext:
     db: str  # the store's path, as the user gave it (messages name it)
     target: Mission
     golden: Script
+    golden_text: str  # the golden script as its file holds it, read once: the campaign stores this text
     properties: list[Property]
     config: CampaignRecord  # the campaign's record (campaigns.config)
     setup: Setup  # how each SUT is reached: the transports' runner, files and external definitions

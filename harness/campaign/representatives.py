@@ -30,7 +30,7 @@ class ShrinkTask:
 
     def perform(self, setup: Setup, interface: Interface, slot: int) -> Shrunk:
         try:
-            return shrunk(replace(self.orig, slot=slot), self.behaviour, self.properties, setup.runner)
+            return shrunk(replace(self.orig, slot=slot, runner=setup.runner), self.behaviour, self.properties)
         except Exception as e:  # noqa: BLE001 - one behaviour's failure must not stop the others
             processes.raise_if_stopping()
             return self.crashed(str(e) if isinstance(e, UntimelyError) else f"{type(e).__name__}: {e}")
@@ -61,7 +61,7 @@ def representatives(ctx: CampaignContext, say: Callable[[str], None]) -> None:
     run as the campaign's arguments define them, not as the store records them."""
     con = ctx.con
     done = {(s.sut, s.verdict, s.property) for _, _, s in records(con, ShrinkRecord) if s.steps_after is not None}
-    mine = {name: sut.config() for name, sut in ctx.setup.external.items()}
+    mine = ctx.setup.external
     found = [(Behaviour(sut, verdict, property_id), trace_id)
              for sut, property_id, verdict, trace_id in campaign_reads.representatives(con)
              if (sut, verdict, property_id) not in done]

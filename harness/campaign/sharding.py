@@ -97,11 +97,11 @@ def check(configs: dict[str, CampaignRecord]) -> None:
     """Refuses stores that are not the N distinct parts of one campaign."""
     (first_path, first), *others = configs.items()
     for path, config in others:
-        differing = sorted(k for k in CampaignRecord.model_fields if k not in LOCAL and config[k] != first[k])
+        differing = sorted(k for k in CampaignRecord.model_fields if k not in LOCAL and getattr(config, k) != getattr(first, k))
         if differing:
             raise StoreError(f"{path} holds another campaign than {first_path} (its {', '.join(differing)} "
                              "differ); merge the shards of one campaign only")
-    count = first["shard"][1]
+    count = first.shard[1]
     parts: dict[int, str] = {}
     for path, config in configs.items():
         index, total = config.shard

@@ -22,6 +22,7 @@ import time
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
+from typing import Callable
 
 from harness import DEFAULT_EPSILON_S, store
 from harness.errors import BudgetSpent, ScriptError, StoreError, UntimelyError
@@ -34,7 +35,7 @@ from harness.analysis.judge import Judge
 from harness.mutator.ddmin import ddmin
 from harness.mutator.operators import plausible
 from harness.target.script import Script, parse, validate
-from harness.sut.definitions import from_configs
+from harness.target.suts import ExternalSut
 from harness.trace import Trace
 from harness.dispatch import transport
 from harness.dispatch.description import Task
@@ -70,18 +71,20 @@ class Original:
     body: str
     mission: Path
     max_delay: float
-    external: dict  # the campaign's external SUTs (name -> ExternalSut fields)
+    external: dict[str, ExternalSut]  # the campaign's external SUTs, by name
     slot: int = 0  # the slot its re-runs take (shrinks running side by side take different ones)
+    # what runs a script on a simulated variant, with run_script's signature (tests give a broken one)
+    runner: Callable = field(default=run_script, repr=False)
     made: list = field(default_factory=list, init=False)  # every re-run: (body, Trace), to be stored
 
     @cached_property
     def interface(self) -> Interface:
         return load_interface(self.mission / INTERFACE_FILE)
 
-    def run(self, body: str, runner=run_script) -> Trace:
+    def run(self, body: str) -> Trace:
         """Run a script on the trace's variant with its seed, as the campaign's workers do."""
-        setup = transport.setup(runner, self.mission / INTERFACE_FILE, self.mission / WORLD_FILE, self.max_delay,
-                      from_configs(self.external))
+        setup = transport.setup(self.runner, self.mission / INTERFACE_FILE, self.mission / WORLD_FILE, self.max_delay,
+                      self.external)
         trace = setup.run(Task(self.trace_id, self.script_id, self.sut, self.seed, body), self.interface, self.slot)
         self.made.append((body, trace))
         return trace
@@ -109,8 +112,8 @@ def _codes(prop: Property) -> set[str]:
 class Reproducer:
     """Runs candidate scripts and says whether they still show the behaviour (memoised)."""
 
-    def __init__(self, orig: Original, behaviour: Behaviour, properties: list[Property], runner=run_script):
-        self.orig, self.behaviour, self.runner = orig, behaviour, runner
+    def __init__(self, orig: Original, behaviour: Behaviour, properties: list[Property]):
+        self.orig, self.behaviour = orig, behaviour
         self.interface = orig.interface
         target = next((p for p in properties if p.id == behaviour.property_id), None)
         # the property and those sharing its codes: enough for the shared-code rule of FP verdicts
@@ -128,7 +131,7 @@ class Reproducer:
             except ScriptError:
                 self.seen[body] = False
                 return False
-            trace = self.orig.run(body, self.runner)
+            trace = self.orig.run(body)
             self.runs += 1
             self.seen[body] = self.behaviour.shown_by(trace.outcome, self.judge.verdicts([trace])[0])
             if self.seen[body] and (self.smallest is None or len(steps) <= len(self.smallest)):
@@ -136,11 +139,11 @@ class Reproducer:
         return self.seen[body]
 
 
-def behaviour_of(orig: Original, properties: list[Property], property_id: str | None, verdict: str | None = None,
-                 runner=run_script) -> Behaviour:
+def behaviour_of(orig: Original, properties: list[Property], property_id: str | None,
+                 verdict: str | None = None) -> Behaviour:
     """The trace's bad behaviour, from re-running it: the hang, else its first FN or FP (on
     `property_id` if given: the `verdict` given, else an FN before an FP)."""
-    trace = orig.run(orig.body, runner)
+    trace = orig.run(orig.body)
     bad = [v for v in Judge(orig.interface, properties).verdicts([trace])[0] if v["verdict"] in ("FN", "FP")]
     if property_id is not None:
         wanted = sorted((v for v in bad if v["property_id"] == property_id and verdict in (None, v["verdict"])),
@@ -170,11 +173,10 @@ def shorter_sleeps(steps: list, shows) -> list:
     return steps
 
 
-def shrink(orig: Original, behaviour: Behaviour, properties: list[Property],
-           runner=run_script) -> tuple[Script, int, bool]:
+def shrink(orig: Original, behaviour: Behaviour, properties: list[Property]) -> tuple[Script, int, bool]:
     """The shrunk script, the number of runs it took, and whether it went to its end: a budget
     spent once the script has shown the behaviour again gives the smallest one a run showed it with."""
-    reproducer = Reproducer(orig, behaviour, properties, runner)
+    reproducer = Reproducer(orig, behaviour, properties)
     steps = list(parse(orig.body, f"trace {orig.trace_id}").steps)
     if not reproducer.shows(steps):
         raise UntimelyError(f"trace {orig.trace_id}'s script does not show the {behaviour} again when re-run "
@@ -237,7 +239,7 @@ def replay_command(orig: Original, path: Path) -> str:
     """The command that replays a shrunk file as written from any folder: the installed `untimely`,
     absolute paths, the target named by its interface (run takes the world and SUTs beside it), an
     external SUT at the time scale it ran at."""
-    scale = orig.external.get(orig.sut, {}).get("time_scale")
+    scale = orig.external[orig.sut].time_scale if orig.sut in orig.external else None
     words = ["untimely", "run", str(path.resolve()), "--sut", orig.sut, "--seed", str(orig.seed),
              "--max-delay", f"{orig.max_delay:g}", "--interface", str((orig.mission / INTERFACE_FILE).resolve()),
              *(["--time-scale", f"{scale:g}"] if scale is not None else [])]
@@ -266,10 +268,10 @@ class Shrunk:
     whole: bool = True  # False: the budget was spent before the shrink's end (the smallest shown so far)
 
 
-def shrunk(orig: Original, behaviour: Behaviour, properties: list[Property], runner=run_script) -> Shrunk:
+def shrunk(orig: Original, behaviour: Behaviour, properties: list[Property]) -> Shrunk:
     started = time.perf_counter()
     try:
-        script, runs, whole = shrink(orig, behaviour, properties, runner)
+        script, runs, whole = shrink(orig, behaviour, properties)
     except UntimelyError as e:
         return Shrunk(orig, None, 0, time.perf_counter() - started, str(e))
     return Shrunk(orig, script, runs, time.perf_counter() - started, whole=whole)

@@ -68,11 +68,11 @@ def with_trusted_sut(orig: shrink.Original, sut_option: str | None, mission_give
         if orig.sut not in names:
             raise UntimelyError(f"--sut {sut_option!r} does not name trace {orig.trace_id}'s SUT {orig.sut!r}; "
                                 f"give --sut {orig.sut} (with =cmd:COMMAND or =tcp://HOST:PORT if it is external)")
-        return replace(orig, external={n: s.config() for n, s in external.items() if n == orig.sut})
+        return replace(orig, external={n: s for n, s in external.items() if n == orig.sut})
     defined = load_suts_file(orig.mission / SUTS_FILE) if mission_given else {}
     if orig.sut in defined:
-        return replace(orig, external={orig.sut: defined[orig.sut].config()})
-    command = orig.external.get(orig.sut, {}).get("command")
+        return replace(orig, external={orig.sut: defined[orig.sut]})
+    command = orig.external[orig.sut].command if orig.sut in orig.external else None
     if command and not confirmed:
         raise UntimelyError(f"trace {orig.trace_id} ran on {orig.sut!r}, whose command the store records as "
                             f"{command!r}; shrink does not run a command read from a store: name the SUT "

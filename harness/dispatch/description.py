@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Callable
 
 from harness.errors import UntimelyError
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 from harness.target.script import parse
 from harness.trace import Trace
 

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Callable, Protocol
 
 from harness.dispatch.description import Setup
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 from harness.sut.external.runner import run_external
 from harness.target.interface import Interface
 from harness.target.script import Script

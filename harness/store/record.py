@@ -7,7 +7,7 @@ it (`KINDS`), and `record_of` reads it from then on (tests/store/test_record.py 
 A key that a store written before it existed lacks reads as the field's default (a campaign made
 before --strategy is a random one), so older stores read as they always did; a record is written
 with the keys it was made or read with and no others, so a record read and written back (merge)
-is stored as it was. SQL reads the same JSON keys (sql/views/trace_scope.sql, the shrinks of
+is stored as it was (an external SUT's definition too: its fields as given, nested). SQL reads the same JSON keys (sql/views/trace_scope.sql, the shrinks of
 sql/report/_shrinks.sql).
 """
 from __future__ import annotations
@@ -21,6 +21,7 @@ from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, ValidationError
 
 from harness.errors import StoreError
 from harness.schema import cut
+from harness.target.suts import ExternalSut
 
 DEFAULT_MAX_DELAY_S = 0.003  # of a run stored before the max delay was recorded
 
@@ -45,10 +46,6 @@ class Record(BaseModel):
         """The JSON object stored in campaigns.config: its kind and the keys it was given."""
         return {"kind": self.kind, **self.model_dump(mode="json", by_alias=True, exclude_unset=True)}
 
-    def __getitem__(self, key: str):
-        """A field by its stored key (record["sut"]), as the JSON object it is stored as reads."""
-        return getattr(self, key)
-
     def target(self, mission: str) -> Path:
         """The target folder the campaign was made from, given its `mission` column: that folder,
         or the folder of the file it names (a script, an imported file)."""
@@ -61,7 +58,7 @@ class CampaignRecord(Record):
     mission: str
     mutants: int
     sut: list[str]
-    external: dict[str, dict] = {}  # name -> the fields of its ExternalSut
+    external: dict[str, ExternalSut] = {}  # by name; stored with the fields it was given (read)
     strategy: str = "random"
     seed: int
     ops_per_mutant: int
@@ -85,7 +82,7 @@ class RunRecord(Record):
     sut: str
     max_delay: float = DEFAULT_MAX_DELAY_S
     target_folder: str | None = Field(None, alias="target")  # None: stored before runs recorded it
-    external: dict[str, dict] = {}
+    external: dict[str, ExternalSut] = {}  # its SUT, if external
 
     def target(self, mission: str) -> Path:
         return Path(self.target_folder) if self.target_folder else super().target(mission)

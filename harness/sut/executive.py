@@ -50,7 +50,8 @@ class LayerMisbehaved(InternalSignal):
 
 
 @dataclass
-class Request:
+class SentRequest:
+    """A request the executive sent (a send's or a cancel's), followed until its final reply is observed."""
     rqst_id: int
     step: Step
     args: str  # as JSON text
@@ -64,7 +65,7 @@ class Request:
 class _Log:
     rows: list[tuple] = field(default_factory=list)
 
-    def add(self, t, kind, request: Request, reply=None):
+    def add(self, t, kind, request: SentRequest, reply=None):
         """One event row; only a request carries the arguments."""
         module, service = request.step.service.split(".")
         args = request.args if kind == "request" else None
@@ -77,8 +78,8 @@ class Executive:
         self.env, self.layer, self.interface = env, layer, interface
         self.rng, self.max_delay = rng, max_delay
         self.probe_period, self.probe_timeout = probe.period_s, probe.timeout_s
-        self.requests: dict[int, Request] = {}
-        self.handles: dict[str, Request] = {}
+        self.requests: dict[int, SentRequest] = {}
+        self.handles: dict[str, SentRequest] = {}
         self.observed, self.internal = _Log(), _Log()
         self.notes: list[tuple[float, str, str]] = []
         self.done = env.event()  # value: the outcome
@@ -93,7 +94,7 @@ class Executive:
             goal = self.handles[step.cancelled]
             step, args = replace(step, service=cancel_service(goal.step.service)), {CANCEL_GOAL_ARG: goal.rqst_id}
         typed = json.dumps(self.interface.services[step.service].typed(args))
-        request = Request(len(self.requests) + 1, step, typed, observed=self.env.event())
+        request = SentRequest(len(self.requests) + 1, step, typed, observed=self.env.event())
         self.requests[request.rqst_id] = request
         if step.handle:
             self.handles[step.handle] = request
@@ -136,7 +137,7 @@ class Executive:
                 request.observed.succeed()
         self.env.call_at(self.env.now + self._delay(), observe)
 
-    def _await(self, requests: list[Request], timeout: float, what: str):
+    def _await(self, requests: list[SentRequest], timeout: float, what: str):
         deadline = self.env.now + timeout
         for request in requests:
             while not request.observed.triggered:

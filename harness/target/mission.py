@@ -93,11 +93,14 @@ class Mission:
         return {name: _sha256(self.folder / name, name in REQUIRED) for name in TRACE_FILES}
 
 
+# what a file of the mission folder that is not there is told as
+MISSING = "file not found; a mission folder holds " + ", ".join(REQUIRED) + " (and properties.toml, layer.toml, world.toml)"
+
+
 def _sha256(path: Path, required: bool) -> str | None:
     if not required and not path.exists() and not path.is_symlink():
         return None
-    return hashlib.sha256(read_bytes(path, "file not found; a mission folder holds " + ", ".join(REQUIRED)
-                                     + " (and properties.toml, layer.toml, world.toml)")).hexdigest()
+    return hashlib.sha256(read_bytes(path, MISSING)).hexdigest()
 
 
 def load_mission(folder: str | Path) -> Mission:

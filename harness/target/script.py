@@ -258,7 +258,11 @@ def refuse_cancels(script: Script, why: str) -> None:
 
 
 def load_script(path: str | Path, interface: Interface) -> Script:
-    path = Path(path)
-    script = parse(read_text(path, "file not found; pass an existing mission script"), str(path))
+    return script_of(read_text(path, "file not found; pass an existing mission script"), path, interface)
+
+
+def script_of(text: str, path: str | Path, interface: Interface) -> Script:
+    """The script a file of `path` holds as `text`, checked against the interface."""
+    script = parse(text, str(path))
     validate(script, interface)
     return script

@@ -102,8 +102,8 @@ def test_the_default_campaign_expectation_is_main_s_default_campaign():
     assert stored["arguments"] == ["--mutants", str(parser_defaults.mutants), "--sut",
                                    mission.default_suts(), "--seed", str(parser_defaults.seed)]
     args = cli._parser().parse_args(["campaign", *stored["arguments"]])
-    config = campaign_config(args)
     golden = mission.golden()
+    config = campaign_config(args, mission, golden)
     mutants = strategies.generate(config, golden, mission.interface, mission.properties(), run_golden=None,
                                   name=lambda n: script_label(1 + n))
     con = store.connect()
@@ -111,5 +111,5 @@ def test_the_default_campaign_expectation_is_main_s_default_campaign():
         store.ScriptRow(1 + n, 1, "mutant", m.body, 1, m.operations, m.valid, m.invalid_reason)
         for n, m in enumerate(mutants, 1)])
     assert fingerprint(con, ["scripts"]) == {"scripts": stored["fingerprint"]["scripts"]}
-    assert stored["runs"] == len(config["sut"]) * (1 + sum(m.valid for m in mutants)) == \
+    assert stored["runs"] == len(config.sut) * (1 + sum(m.valid for m in mutants)) == \
         sum(row[1] for row in stored["tables"]["II"])

@@ -248,7 +248,7 @@ class Took:
 
 def metered(budget, monkeypatch):
     """A shrink's original whose runs take 3 mission s (no SUT: the budget's account is the test)."""
-    monkeypatch.setattr(shrink.Original, "run", lambda self, body, runner=None: Took())
+    monkeypatch.setattr(shrink.Original, "run", lambda self, body: Took())
     return MeteredOriginal(1, 1, "genom", 0, "FN", "body", ROOT, 0.0, {}, budget=budget, bound=10.0)
 
 

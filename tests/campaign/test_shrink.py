@@ -22,6 +22,7 @@ from harness.campaign.representatives import representatives
 from harness.campaign import shrink as shrink_module
 from harness.campaign.shrink import MIN_SLEEP_S, Behaviour, Original, replay_command, shorter_sleeps, store_shrink
 from harness.sut.executive import run_script
+from harness.target.suts import ExternalSut
 from harness.dispatch import transport
 from harness.target.mission import load_mission
 from harness.store.sql import render_query
@@ -199,7 +200,7 @@ def test_a_shrink_that_fails_is_recorded_and_shown_and_the_others_go_on(tmp_path
     assert {sut for sut, *_ in behaviours} == {"genom", "bip-a"}
     target = load_mission(DEFAULT_MISSION_DIR)
     setup = transport.setup(_runner_broken_on_genom, target.interface_file, target.world_file, 0.003)
-    ctx = CampaignContext(con=con, db=str(db), target=target, golden=target.golden(), properties=target.properties(),
+    ctx = CampaignContext(con=con, db=str(db), target=target, golden=target.golden(), golden_text="", properties=target.properties(),
                           config={}, setup=setup, executor=None, jobs=2, shrink_to=tmp_path / "shrunk")
     lines = []
     representatives(ctx, lines.append)
@@ -233,7 +234,7 @@ def test_a_replay_line_names_the_installed_command_absolute_paths_and_no_missing
     target = tmp_path / "target"
     target.mkdir()
     (target / "interface.toml").write_text("")
-    orig = Original(7, 3, "ros2-node", 42, "completed", "", target, 0.003, {"ros2-node": {"time_scale": 2.0}})
+    orig = Original(7, 3, "ros2-node", 42, "completed", "", target, 0.003, {"ros2-node": ExternalSut("ros2-node", command="adapter", time_scale=2.0)})
     words = shlex.split(replay_command(orig, Path("shrunk") / "script-9.mission"))
     assert words == ["untimely", "run", str(Path("shrunk/script-9.mission").resolve()), "--sut", "ros2-node",
                      "--seed", "42", "--max-delay", "0.003", "--interface", str(target / "interface.toml"),
@@ -245,7 +246,7 @@ class Spending(Original):
     and the budget is spent after `runs` runs."""
     runs = 4
 
-    def run(self, body, runner=None):
+    def run(self, body):
         if len(self.made) == self.runs:
             raise BudgetSpent()
         trace = SimpleNamespace(outcome="hung" if "rflex.Init" in body else "completed")

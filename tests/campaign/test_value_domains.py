@@ -7,7 +7,7 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR, cli, store
 from harness.analysis.judge import Judge
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 from harness.mutator import strategies
 from harness.sut.executive import run_script
 from harness.store.record import CampaignRecord

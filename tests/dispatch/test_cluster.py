@@ -186,7 +186,7 @@ def test_workers_with_other_mission_files_are_refused(scheduler, monkeypatch, tm
 
 
 def test_external_suts_need_a_worker_offering_the_sut_resource(scheduler, monkeypatch):
-    from harness.sut.definitions import ExternalSut
+    from harness.target.suts import ExternalSut
     setup = setup_for(external={"toy": ExternalSut("toy", command="adapter")})
     with pytest.raises(UntimelyError, match=r"no worker of tcp://\S+ offers the `sut` resource .* "
                                             r"`dask worker tcp://\S+ --resources sut=K`"):

@@ -11,7 +11,7 @@ from harness.campaign.slots import Slots, SlotsClosed
 from harness.errors import UntimelyError
 from harness.sut.external import channel
 from harness.sut.external.channel import StdioChannel
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 from harness.dispatch.description import Task
 from harness.trace import Trace
 

@@ -12,7 +12,7 @@ from harness.campaign.request import CampaignRequest
 from harness.cli import main
 from harness.dispatch import transport
 from harness.sut.executive import Runner, run_script
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 
 ECHO_S = 0.05  # virtual seconds the echo layer takes to answer
 

@@ -16,6 +16,7 @@ from harness.analysis.judge import Judge
 from harness.mutator import targeted
 from harness.mutator.operators import Draw
 from harness.mutator.targeted import GoldenRun
+from harness.target.mission import load_mission
 from harness.target.script import load_script, parse
 from harness.mutator.timeline import ScriptTimeline
 from harness.trace import Trace
@@ -165,27 +166,32 @@ def _args(**changes):
     return CampaignRequest(**{**values, **changes})
 
 
+def _config(request: CampaignRequest):
+    mission = load_mission(request.mission)
+    return campaign_config(request, mission, mission.golden())
+
+
 def test_strategy_is_part_of_the_campaign_and_time_mutations_stay_random():
-    assert campaign_config(_args())["ops_per_mutant"] == 1
+    assert _config(_args()).ops_per_mutant == 1
     with pytest.raises(UntimelyError, match="--time-mutations applies to --strategy random only"):
-        campaign_config(_args(strategy="targeted", time_mutations=True))
+        _config(_args(strategy="targeted", time_mutations=True))
     con = store.connect()
-    old = {k: v for k, v in campaign_config(_args()).stored().items() if k != "strategy"}  # made before --strategy
+    old = {k: v for k, v in _config(_args()).stored().items() if k != "strategy"}  # made before --strategy
     store.add_campaign(con, 1, "m", 1, record_of(old))
-    assert find_campaign(con, campaign_config(_args()), "db") == 1
+    assert find_campaign(con, _config(_args()), "db") == 1
     with pytest.raises(StoreError, match="made with --strategy random, not targeted"):
-        find_campaign(con, campaign_config(_args(strategy="targeted")), "db")
+        find_campaign(con, _config(_args(strategy="targeted")), "db")
 
 
 def test_operators_are_part_of_the_campaign_and_stay_random():
-    config = campaign_config(_args(operators="swap_requests,delete_request"))
-    assert config["operators"] == ["delete_request", "swap_requests"]
-    assert campaign_config(_args())["operators"] is None
+    config = _config(_args(operators="swap_requests,delete_request"))
+    assert config.operators == ["delete_request", "swap_requests"]
+    assert _config(_args()).operators is None
     with pytest.raises(UntimelyError, match="--operators applies to --strategy random only"):
-        campaign_config(_args(strategy="targeted", operators="swap_requests"))
+        _config(_args(strategy="targeted", operators="swap_requests"))
     con = store.connect()
-    store.add_campaign(con, 1, "m", 1, record_of({k: v for k, v in campaign_config(_args()).stored().items()
+    store.add_campaign(con, 1, "m", 1, record_of({k: v for k, v in _config(_args()).stored().items()
                                                   if k != "operators"}))  # made before --operators
-    assert find_campaign(con, campaign_config(_args()), "db") == 1
+    assert find_campaign(con, _config(_args()), "db") == 1
     with pytest.raises(StoreError, match=r"made with --operators \(the default\), not delete_request,swap_requests"):
         find_campaign(con, config, "db")

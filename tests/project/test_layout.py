@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from harness import DEFAULT_MISSION_DIR, MOVED_MODULES, ROOT, current_modules
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 from harness.sut.external.runner import run_external
 from harness.target import mission
 from harness.target.mission import load_layer

@@ -8,7 +8,7 @@ import pytest
 from harness import ROOT, SQL_DIR
 from harness.sut.roscommon.mapping import TERMINAL_STATUSES
 from harness.cli import _parser
-from harness.sut.definitions import KEYS as SUT_KEYS
+from harness.target.suts import KEYS as SUT_KEYS
 from harness.store.sql import VERDICTS
 from harness.target.interface import INTERFACE_KEYS, SERVICE_KINDS
 from harness.target.property_types import property_types

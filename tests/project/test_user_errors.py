@@ -186,7 +186,7 @@ def test_a_long_mutant_generation_shows_its_progress(monkeypatch, capsys):
     from harness.target.mission import load_mission
     target = load_mission(DEFAULT_MISSION_DIR)
     config = CampaignRecord(mission=str(DEFAULT_MISSION_DIR), mutants=20, sut=["genom"], seed=1, ops_per_mutant=1)
-    ctx = CampaignContext(con=None, db="", target=target, golden=target.golden(), properties=[], config=config,
+    ctx = CampaignContext(con=None, db="", target=target, golden=target.golden(), golden_text="", properties=[], config=config,
                           setup=None, executor=None, jobs=1)
     monkeypatch.setattr(campaign, "SHOW_GENERATION", 10)
     assert len(campaign._generate(ctx, 1)) == 20

@@ -3,7 +3,7 @@ process's children (the adapters it started)."""
 import os
 from pathlib import Path
 
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 from harness.sut.external.runner import run_external
 from harness.target.script import parse
 

@@ -79,7 +79,9 @@ def test_a_behaviour_module_that_builds_nothing_is_refused_before_any_run(folder
     with pytest.raises(UntimelyError, match=message):
         load_layer(folder).behaviour_module()
     with pytest.raises(UntimelyError, match=message):  # a campaign checks it before it runs anything
-        campaign_config(CampaignRequest(mission=str(folder), mutants=1, jobs=1, max_delay=0.0, seed=1))
+        mission = load_mission(folder)
+        campaign_config(CampaignRequest(mission=str(folder), mutants=1, jobs=1, max_delay=0.0, seed=1), mission,
+                        mission.golden())
 
 
 def test_codes_and_services_must_be_the_interfaces(folder):

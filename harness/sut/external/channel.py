@@ -26,7 +26,7 @@ from typing import Callable
 
 from harness.errors import InternalSignal, UntimelyError
 from harness.sut import processes
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 from harness.sut.external.transcript import Transcript
 
 MAX_LINE_BYTES = 1 << 20

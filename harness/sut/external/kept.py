@@ -13,20 +13,19 @@ channel: no process left behind.
 """
 from __future__ import annotations
 
-import json
 import threading
 from contextlib import contextmanager
 from typing import Iterator
 
 from harness.sut.external.channel import Channel
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 
 _lock = threading.Lock()
 _idle: dict[tuple[str, int], Channel] | None = None  # None: outside a kept_adapters() block
 
 
 def _key(sut: ExternalSut, slot: int) -> tuple[str, int]:
-    return json.dumps(sut.config(), sort_keys=True), slot
+    return sut.model_dump_json(), slot
 
 
 @contextmanager

@@ -30,7 +30,7 @@ from harness.target.script import Script
 from harness.sut.protocol import (INTERNAL_KINDS, PROTO, REPLY_KINDS, REUSE, SUT_FAREWELL,
                                            ProtocolViolation, decode, encode, has_type)
 from harness.sut.simulated.realtime import RealtimeEnvironment
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 from harness.trace import Trace
 
 PROBE_PERIOD_WALL_S = 1.0

@@ -12,7 +12,8 @@ from harness.cli import main as cli
 from harness.errors import UntimelyError
 from harness.sut.external.runner import run_external
 from harness.target.script import parse
-from harness.sut.definitions import ExternalSut, resolve
+from harness.sut.definitions import resolve
+from harness.target.suts import ExternalSut
 from tests.support.external import FAULTY, SHORT
 
 
@@ -141,15 +142,19 @@ def test_suts_file_entries_are_checked_naming_file_and_key(tmp_path):
     assert external["ros"] == ExternalSut("ros", command="launch", slots=8, time_scale=2.0, cwd=str(tmp_path.resolve()))
 
 
-def test_an_external_sut_is_a_suts_table_with_a_name_and_round_trips_through_the_store():
-    from harness.sut.definitions import KEYS, SutTable
+def test_an_external_sut_is_a_suts_table_with_a_name_and_round_trips_through_the_store(tmp_path):
+    from harness.store.record import RunRecord, record_of, stored_json
+    from harness.target.suts import KEYS, SutTable
     sut = ExternalSut("toy", command="adapter")
     # one home for the fields and their defaults: a table with no key but its transport gives them
     assert {key: getattr(sut, key) for key in KEYS} == SutTable(command="adapter").model_dump()
-    # campaigns.config keeps the order it always had (the fingerprint tests hash it), cwd only when set
-    assert list(sut.config()) == ["name", *KEYS]
-    kept = sut.model_copy(update={"cwd": "/robot", "slots": 3})
-    assert list(kept.config())[-1] == "cwd" and ExternalSut(**kept.config()) == kept
+    # campaigns.config stores every field of a SUT that --sut or suts.toml defines, cwd only when set
+    (tmp_path / "suts.toml").write_text('[kept]\ncommand = "adapter"\nslots = 3\n')
+    (_, given), (_, defined) = resolve("toy=cmd:adapter", tmp_path), resolve("kept", tmp_path)
+    for defined_sut, keys in [(given["toy"], {"name", *KEYS}), (defined["kept"], {"name", *KEYS, "cwd"})]:
+        record = RunRecord(sut=defined_sut.name, external={defined_sut.name: defined_sut})
+        assert set(record.stored()["external"][defined_sut.name]) == keys
+        assert record_of(stored_json(record)) == record and stored_json(record_of(stored_json(record))) == stored_json(record)
     with pytest.raises(ValueError, match="give exactly one of command"):
         ExternalSut("both", command="adapter", address="127.0.0.1:7400")
 

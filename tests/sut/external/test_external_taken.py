@@ -5,7 +5,7 @@ import pytest
 
 from harness import DEFAULT_MISSION_DIR, store
 from harness.cli import main as cli
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 from harness.sut.external.runner import run_external
 from harness.target.script import parse
 

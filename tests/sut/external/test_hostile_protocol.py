@@ -12,7 +12,7 @@ import time
 import pytest
 
 from harness.sut.external.channel import MAX_LINE_BYTES, STDERR_KEEP_BYTES, Channel, TcpChannel
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 from harness.sut.external.runner import run_external
 from harness.target.script import parse
 

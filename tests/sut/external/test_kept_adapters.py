@@ -5,7 +5,7 @@ the block's end leaves no adapter running."""
 import pytest
 
 from harness.sut.external import kept
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 from tests.support.external import FAULTY
 from tests.support.kept import SIMULATOR, adapters, codes, run
 

@@ -7,7 +7,7 @@ import sys
 import pytest
 
 from harness import ROOT
-from harness.sut.definitions import ExternalSut
+from harness.target.suts import ExternalSut
 from harness.sut.external.runner import run_external
 from harness.sut.ros2.environment import installed
 from harness.target.interface import load_interface
