@@ -64,7 +64,7 @@ case when reply is null then 'omega'
 {% macro undefined_alternatives(code, accepted, keyed) -%}
 list_sort(list_distinct(list_filter([{{ verdict('true', 'false', code, accepted, keyed) }},
                                      {{ verdict('false', 'false', code, accepted, keyed) }}],
-                                    lambda other: reply is not null and other <> 'op')))
+                                    lambda other: other <> verdict)))
 {%- endmacro %}
 
 {% macro judged(name, code, accepted, keyed=false, undefined_settles=false) -%}

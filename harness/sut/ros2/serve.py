@@ -77,8 +77,8 @@ def run(args, out: LineWriter) -> None:
             """The node as a fresh one starts (unconfigured, nothing of the ended run unanswered), else
             False: this adapter ends, and the bench starts a fresh node for the next run."""
             why = adapter.lifecycle.unconfigure(TAKE_BACK_S)
-            unanswered = adapter.unanswered(TAKE_BACK_S) if why is None else 0
-            why = why or (f"{unanswered} request(s) of the ended run still unanswered" if unanswered else None)
+            if why is None and (unanswered := adapter.unanswered(TAKE_BACK_S)):
+                why = f"{unanswered} request(s) of the ended run still unanswered"
             if why:
                 print(f"ros2 adapter: not reused: {why}; a fresh node serves the next run", file=sys.stderr, flush=True)
             return why is None
